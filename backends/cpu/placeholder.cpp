@@ -1,0 +1,1 @@
+int prism_cpu_backend_placeholder;

@@ -1,0 +1,16 @@
+// What every bench/ result file records besides its numbers (architecture.md, "Benchmark method").
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace prism::bench {
+
+// {"commit", "date" (UTC, ISO 8601), "build_type", "host" (CPU model, cores)}; callers add device/driver/API.
+nlohmann::json result_header();
+// Writes pretty JSON to `path`, creating parent folders; prints the path.
+void write_result(const std::filesystem::path& path, const nlohmann::json& result);
+
+}  // namespace prism::bench

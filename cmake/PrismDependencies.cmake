@@ -1,0 +1,12 @@
+# Host libraries, all from Debian 12 packages (README lists the apt-get line).
+find_package(Threads REQUIRED)
+find_package(glm REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)
+find_package(TinyGLTF REQUIRED)
+find_package(tinyobjloader REQUIRED)
+find_package(ZLIB REQUIRED)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
+find_path(CLI11_INCLUDE_DIR CLI/CLI.hpp REQUIRED)
+add_library(prism_cli11 INTERFACE)
+target_include_directories(prism_cli11 SYSTEM INTERFACE ${CLI11_INCLUDE_DIR})

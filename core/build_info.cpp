@@ -1,0 +1,6 @@
+#include "core/build_info.h"
+
+namespace prism {
+const char* build_commit() { return PRISM_GIT_COMMIT; }
+const char* build_type() { return PRISM_BUILD_TYPE; }
+}  // namespace prism

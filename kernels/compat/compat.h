@@ -1,0 +1,20 @@
+// Selects the one compat header for the language this translation unit is compiled as.
+// The build defines exactly one of RT_CPU, RT_CUDA, RT_OPENCL, RT_GLSL; nothing is auto-detected.
+#ifndef RT_COMPAT_H
+#define RT_COMPAT_H
+
+#if defined(RT_CPU) + defined(RT_CUDA) + defined(RT_OPENCL) + defined(RT_GLSL) != 1
+#error "define exactly one of RT_CPU, RT_CUDA, RT_OPENCL, RT_GLSL"
+#endif
+
+#if defined(RT_CPU)
+#include "compat/cpu.h"
+#elif defined(RT_CUDA)
+#include "compat/cuda.h"
+#elif defined(RT_OPENCL)
+#include "compat/opencl.h"
+#else
+#include "compat/glsl.h"
+#endif
+
+#endif

@@ -1,0 +1,24 @@
+// KernelGlobals: how stage code reaches the device arrays. On C++/CUDA/OpenCL it is a struct of pointers built
+// from data_arrays.h; in GLSL the arrays are global buffer blocks and `kg` is a dummy int.
+#ifndef RT_GLOBALS_H
+#define RT_GLOBALS_H
+
+#include "types.h"
+
+#if defined(RT_GLSL)
+#define RT_DATA_ARRAY(slot, type, name, access) \
+    layout(std430, set = 0, binding = slot) RT_GLSL_ACCESS_##access buffer name##_block { type name[]; };
+#define RT_GLSL_ACCESS_ro readonly
+#define RT_GLSL_ACCESS_rw
+#include "data_arrays.h"
+#undef RT_DATA_ARRAY
+#define KernelGlobals int
+#else
+RT_STRUCT_BEGIN(KernelGlobals)
+#define RT_DATA_ARRAY(slot, type, name, access) RT_GLOBAL_PTR(type) name;
+#include "data_arrays.h"
+#undef RT_DATA_ARRAY
+RT_STRUCT_END(KernelGlobals)
+#endif
+
+#endif

@@ -1,0 +1,24 @@
+// Helpers shared by the tests: where the assets are, temporary files, running the prism command.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace prism::test {
+
+// ../shared/scenes (or $PRISM_SCENES_DIR).
+std::filesystem::path scenes_dir();
+std::filesystem::path scene(const std::string& relative);
+// A fresh directory for one test, removed by nobody (ctest's build tree is disposable).
+std::filesystem::path temp_dir(const std::string& name);
+// Writes bytes to a file under temp_dir("files") and returns its path.
+std::filesystem::path write_file(const std::string& name, const std::string& bytes);
+
+struct CommandResult {
+    int exit_code = -1;   // the process exit status; 128 + signal when killed by a signal
+    std::string output;   // stdout and stderr together
+};
+// Runs the prism binary with the given arguments (a shell-quoted string).
+CommandResult run_prism(const std::string& arguments);
+
+}  // namespace prism::test
