@@ -5,9 +5,11 @@
 #include <new>
 
 #include "apps/commands.h"
+#include "backends/backend_list.h"
 #include "core/error.h"
 
 int main(int argc, char** argv) {
+    prism::register_builtin_backends();
     CLI::App app{"Prism: one ray-tracing source, four compute APIs (CPU, CUDA, OpenCL, Vulkan)"};
     app.require_subcommand(1);
     app.set_help_all_flag("--help-all", "Show help for every subcommand");

@@ -1,8 +1,30 @@
-// Registers every backend this build has; the prism command, the tests and the bench programs link this.
-#include "core/backend.h"
+// Registers every backend this build has; the prism command, the tests and the bench programs call this once.
+#include "backends/backend_list.h"
+
+#include "backends/cpu/cpu_backend.h"
+#ifdef PRISM_HAVE_CUDA
+#include "backends/cuda/cuda_backend.h"
+#endif
+#ifdef PRISM_HAVE_OPENCL
+#include "backends/opencl/opencl_backend.h"
+#endif
+#ifdef PRISM_HAVE_VULKAN
+#include "backends/vulkan/vulkan_backend.h"
+#endif
 
 namespace prism {
 
-void register_builtin_backends() {}
+void register_builtin_backends() {
+    register_backend(cpu_backend_factory());
+#ifdef PRISM_HAVE_CUDA
+    register_backend(cuda_backend_factory());
+#endif
+#ifdef PRISM_HAVE_OPENCL
+    register_backend(opencl_backend_factory());
+#endif
+#ifdef PRISM_HAVE_VULKAN
+    register_backend(vulkan_backend_factory());
+#endif
+}
 
 }  // namespace prism

@@ -26,7 +26,7 @@ RT_STRUCT_END(BvhNode)
 #define RT_BVH_STACK_SIZE 64
 
 // Triangle geometry in BVH leaf order, ready for intersection (v0 and two edges).
-//  v0.w = as_float(primitive index within its mesh, in file order), e1.w = as_float(mesh-local material slot)
+//  v0.w = as_float(primitive index within its mesh, in file order); e1.w, e2.w unused
 RT_STRUCT_BEGIN(TriangleGeometry)
     float4 v0;
     float4 e1;
@@ -47,7 +47,7 @@ RT_STRUCT_BEGIN(Vertex)
 RT_STRUCT_END(Vertex)
 
 // An instance of a mesh (thesis 6.2: the Node Primitive). Rows of 3x4 affine matrices.
-//  info.x = root of the mesh's BLAS in blas_nodes, info.y = first triangle of the mesh in triangles,
+//  info.x = root of the mesh's BVH in nodes, info.y = first triangle of the mesh in triangles,
 //  info.z = first entry of the mesh in triangle_shading, info.w = 1 if the transform mirrors (det < 0)
 RT_STRUCT_BEGIN(Instance)
     float4 world_to_object0;
@@ -97,10 +97,11 @@ RT_STRUCT_BEGIN(TextureInfo)
 RT_STRUCT_END(TextureInfo)
 
 // ---- Lights and frame ----------------------------------------------------------------------------------------
-#define RT_LIGHT_POINT 0u
-#define RT_LIGHT_DIRECTIONAL 1u
+#define RT_LIGHT_POINT_CODE 0.0f
+#define RT_LIGHT_DIRECTIONAL_CODE 1.0f
 
-// position.xyz (point) or direction.xyz (directional, the way light travels), position.w = as_float(type);
+// position.xyz (point) or direction.xyz (directional, the way light travels), position.w = the type as a float
+// (RT_LIGHT_*_CODE: a plain number, so no bit pattern has to survive a float load);
 // color.xyz = colour * intensity
 RT_STRUCT_BEGIN(Light)
     float4 position;
@@ -154,7 +155,7 @@ RT_STRUCT_BEGIN(Ray)
 RT_STRUCT_END(Ray)
 
 // tuv = (t, u, v, unused): t = +inf on a miss; u, v = barycentric weights of the second and third vertex
-// ids = (instance, primitive within its mesh, unused, unused)
+// ids = (instance, primitive within its mesh, slot in `triangles` (for the geometric normal), unused)
 RT_STRUCT_BEGIN(Hit)
     float4 tuv;
     uint4 ids;

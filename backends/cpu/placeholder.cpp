@@ -1,1 +1,0 @@
-int prism_cpu_backend_placeholder;

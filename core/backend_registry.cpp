@@ -1,0 +1,70 @@
+#include <algorithm>
+#include <cctype>
+
+#include "core/backend.h"
+#include "core/error.h"
+
+namespace prism {
+
+const char* device_array_name(DeviceArray array) {
+    switch (array) {
+#define RT_DATA_ARRAY(slot, type, name, access) \
+    case DeviceArray::name:                     \
+        return #name;
+#include "kernels/data_arrays.h"
+#undef RT_DATA_ARRAY
+        default:
+            return "?";
+    }
+}
+
+size_t device_array_element_size(DeviceArray array) {
+    switch (array) {
+#define RT_DATA_ARRAY(slot, type, name, access) \
+    case DeviceArray::name:                     \
+        return sizeof(type);
+#include "kernels/data_arrays.h"
+#undef RT_DATA_ARRAY
+        default:
+            return 0;
+    }
+}
+
+const char* stage_name(Stage stage) {
+    static const char* names[] = {"generate", "intersect", "miss", "shade", "shadow", "resolve"};
+    return names[static_cast<size_t>(stage)];
+}
+
+BackendSpec parse_backend_spec(const std::string& text) {
+    BackendSpec spec;
+    auto colon = text.find(':');
+    spec.api = text.substr(0, colon);
+    if (colon != std::string::npos) spec.device_filter = text.substr(colon + 1);
+    std::transform(spec.api.begin(), spec.api.end(), spec.api.begin(), [](unsigned char c) { return std::tolower(c); });
+    return spec;
+}
+
+static std::vector<BackendFactory>& registry() {
+    static std::vector<BackendFactory> factories;
+    return factories;
+}
+
+void register_backend(BackendFactory factory) {
+    for (const BackendFactory& existing : registry())
+        if (existing.name == factory.name) return;
+    registry().push_back(std::move(factory));
+}
+
+const std::vector<BackendFactory>& registered_backends() { return registry(); }
+
+std::unique_ptr<Backend> create_backend(const std::string& text) {
+    BackendSpec spec = parse_backend_spec(text);
+    std::string known = "cpu-ref";
+    for (const BackendFactory& factory : registry()) {
+        known += ", " + factory.name;
+        if (factory.name == spec.api) return factory.create(spec.device_filter);
+    }
+    throw Error("unknown backend '" + text + "' (this build has: " + known + "; `prism info` says which run here)");
+}
+
+}  // namespace prism

@@ -1,0 +1,280 @@
+#include "core/device_scene.h"
+
+#include <bit>
+#include <chrono>
+#include <cmath>
+
+#include "core/error.h"
+
+namespace prism {
+namespace {
+
+float4 to_float4(glm::vec3 v, float w) { return float4{v.x, v.y, v.z, w}; }
+float4 to_float4(glm::vec4 v) { return float4{v.x, v.y, v.z, v.w}; }
+float as_float(uint32_t u) { return std::bit_cast<float>(u); }
+uint32_t as_uint(float f) { return std::bit_cast<uint32_t>(f); }
+
+// A triangle that no ray can hit reliably (zero area or non-finite) is left out of its BVH; it keeps its index.
+bool degenerate(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+    glm::vec3 n = glm::cross(b - a, c - a);
+    float area2 = glm::dot(n, n);
+    return !(area2 > 0.0f) || !std::isfinite(area2);
+}
+
+// Node indices of a separately built BVH moved to where it lands in the shared arrays.
+void rebase_nodes(std::vector<BvhNode>& nodes, BvhLayout layout, uint32_t node_offset, uint32_t primitive_offset) {
+    for (BvhNode& node : nodes) {
+        uint32_t lower_w = as_uint(node.lower.w);
+        uint32_t upper_w = as_uint(node.upper.w);
+        if (layout == BvhLayout::Stack) {
+            bool leaf = upper_w != 0;
+            node.lower.w = as_float(lower_w + (leaf ? primitive_offset : node_offset));
+        } else {
+            node.lower.w = as_float(lower_w + node_offset);
+            if (upper_w != RT_ESCAPE_INTERIOR) {
+                uint32_t first = (upper_w & RT_ESCAPE_FIRST_MASK) + primitive_offset;
+                if (first > RT_ESCAPE_FIRST_MASK)
+                    throw Error("scene: more than 16,777,215 triangles do not fit the escape BVH layout "
+                                "(use the stack layout)");
+                node.upper.w = as_float((upper_w & ~RT_ESCAPE_FIRST_MASK) | first);
+            }
+        }
+    }
+}
+
+// Top-level leaves index `primitive_order`; the kernels want the instance index itself. The builder's tree is
+// kept unchanged for refits; this returns the nodes the device sees.
+std::vector<BvhNode> top_level_device_nodes(const Bvh& bvh) {
+    std::vector<BvhNode> nodes = bvh.nodes;
+    for (BvhNode& node : nodes) {
+        uint32_t upper_w = as_uint(node.upper.w);
+        if (bvh.layout == BvhLayout::Stack) {
+            if (upper_w == 0) continue;
+            if (upper_w != 1) throw Error("internal: top-level BVH leaf with more than one instance");
+            node.lower.w = as_float(bvh.primitive_order[as_uint(node.lower.w)]);
+        } else {
+            if (upper_w == RT_ESCAPE_INTERIOR) continue;
+            if ((upper_w >> RT_ESCAPE_COUNT_SHIFT) != 1)
+                throw Error("internal: top-level BVH leaf with more than one instance");
+            uint32_t instance = bvh.primitive_order[upper_w & RT_ESCAPE_FIRST_MASK];
+            node.upper.w = as_float((1u << RT_ESCAPE_COUNT_SHIFT) | instance);
+        }
+    }
+    return nodes;
+}
+
+Aabb transformed_bounds(const Aabb& box, const glm::mat4& m) {
+    Aabb out;
+    for (int corner = 0; corner < 8; ++corner) {
+        glm::vec3 p{(corner & 1) ? box.upper.x : box.lower.x, (corner & 2) ? box.upper.y : box.lower.y,
+                    (corner & 4) ? box.upper.z : box.lower.z};
+        out.grow(glm::vec3(m * glm::vec4(p, 1.0f)));
+    }
+    return out;
+}
+
+::Instance device_instance(const glm::mat4& transform, uint32_t root, uint32_t first_triangle,
+                           uint32_t first_shading) {
+    glm::mat4 inverse = glm::inverse(transform);
+    ::Instance out{};
+    // glm is column-major: row r of the 3x4 matrix is (m[0][r], m[1][r], m[2][r], m[3][r]).
+    auto row = [](const glm::mat4& m, int r) { return float4{m[0][r], m[1][r], m[2][r], m[3][r]}; };
+    out.world_to_object0 = row(inverse, 0);
+    out.world_to_object1 = row(inverse, 1);
+    out.world_to_object2 = row(inverse, 2);
+    out.object_to_world0 = row(transform, 0);
+    out.object_to_world1 = row(transform, 1);
+    out.object_to_world2 = row(transform, 2);
+    out.info = uint4{root, first_triangle, first_shading, glm::determinant(glm::mat3(transform)) < 0.0f ? 1u : 0u};
+    return out;
+}
+
+void build_top_level(DeviceScene& device, const std::vector<glm::mat4>& transforms, bool rebuild) {
+    std::vector<Aabb> bounds(transforms.size());
+    for (size_t i = 0; i < transforms.size(); ++i)
+        bounds[i] = transformed_bounds(device.mesh_bounds[device.instance_meshes[i]], transforms[i]);
+    if (rebuild) {
+        BvhBuildOptions options = device.bvh_options;
+        options.max_leaf_size = 1;
+        device.top_level = build_bvh(bounds, options);
+    } else {
+        // refit_bvh maps leaves through primitive_order, which still holds the instance order.
+        refit_bvh(device.top_level, bounds);
+    }
+}
+
+::Material device_material(const prism::Material& m, uint32_t first_layer) {
+    ::Material out{};
+    out.diffuse = to_float4(m.diffuse, m.use_vertex_colors ? 1.0f : 0.0f);
+    out.specular = to_float4(m.specular, m.reflectivity);
+    out.ambient = to_float4(m.ambient, m.transmittance);
+    out.fresnel = float4{m.fresnel_bias, m.fresnel_scale, m.fresnel_power, m.thickness};
+    out.ior = to_float4(m.ior, 0.0f);
+    out.emissive = to_float4(m.emissive, 0.0f);
+    out.textures = uint4{first_layer, static_cast<uint32_t>(m.textures.size()), 0, 0};
+    return out;
+}
+
+}  // namespace
+
+size_t DeviceScene::byte_size() const {
+    return nodes.size() * sizeof(BvhNode) + instances.size() * sizeof(::Instance) +
+           triangles.size() * sizeof(TriangleGeometry) + triangle_shading.size() * sizeof(TriangleShading) +
+           vertices.size() * sizeof(Vertex) + materials.size() * sizeof(::Material) +
+           texture_layers.size() * sizeof(::TextureLayer) + texture_infos.size() * sizeof(TextureInfo) +
+           texels.size() * sizeof(uint32_t) + lights.size() * sizeof(::Light);
+}
+
+DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& options) {
+    auto start = std::chrono::steady_clock::now();
+    DeviceScene device;
+    device.bvh_options = options;
+
+    // Mesh BVHs, built separately then placed after the top level.
+    struct MeshPlacement {
+        uint32_t first_vertex, first_shading, first_triangle;
+        Bvh bvh;
+    };
+    std::vector<MeshPlacement> placements;
+    placements.reserve(scene.meshes.size());
+    double triangle_weighted_sah = 0.0;
+    size_t bvh_triangles = 0;
+    device.mesh_bounds.resize(scene.meshes.size());
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        const Mesh& mesh = scene.meshes[m];
+        MeshPlacement placement{static_cast<uint32_t>(device.vertices.size()),
+                                static_cast<uint32_t>(device.triangle_shading.size()),
+                                static_cast<uint32_t>(device.triangles.size()), {}};
+        for (size_t v = 0; v < mesh.positions.size(); ++v) {
+            Vertex vertex{};
+            vertex.normal = mesh.normals.empty() ? float4{0, 0, 0, 0} : to_float4(mesh.normals[v], 1.0f);
+            vertex.color = mesh.colors.empty() ? float4{1, 1, 1, 1} : to_float4(mesh.colors[v]);
+            glm::vec2 uv0 = mesh.uv0.empty() ? glm::vec2(0.0f) : mesh.uv0[v];
+            glm::vec2 uv1 = mesh.uv1.empty() ? uv0 : mesh.uv1[v];
+            vertex.uv = float4{uv0.x, uv0.y, uv1.x, uv1.y};
+            device.vertices.push_back(vertex);
+        }
+        std::vector<Aabb> bounds(mesh.triangles.size());
+        for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+            glm::uvec3 tri = mesh.triangles[t];
+            uint32_t material = mesh.triangle_materials.empty() ? 0u : mesh.triangle_materials[t];
+            device.triangle_shading.push_back(TriangleShading{uint4{placement.first_vertex + tri.x,
+                                                                    placement.first_vertex + tri.y,
+                                                                    placement.first_vertex + tri.z, material}});
+            glm::vec3 a = mesh.positions[tri.x], b = mesh.positions[tri.y], c = mesh.positions[tri.z];
+            if (degenerate(a, b, c)) {
+                ++device.degenerate_triangles;
+                continue;   // empty bounds: the builder leaves it out
+            }
+            bounds[t].grow(a);
+            bounds[t].grow(b);
+            bounds[t].grow(c);
+            device.mesh_bounds[m].grow(bounds[t]);
+        }
+        placement.bvh = build_bvh(bounds, options);
+        for (uint32_t t : placement.bvh.primitive_order) {
+            glm::uvec3 tri = mesh.triangles[t];
+            glm::vec3 a = mesh.positions[tri.x], b = mesh.positions[tri.y], c = mesh.positions[tri.z];
+            device.triangles.push_back(TriangleGeometry{to_float4(a, as_float(t)), to_float4(b - a, 0.0f),
+                                                        to_float4(c - a, 0.0f)});
+        }
+        triangle_weighted_sah += double(placement.bvh.sah_cost) * placement.bvh.primitive_order.size();
+        bvh_triangles += placement.bvh.primitive_order.size();
+        placements.push_back(std::move(placement));
+    }
+
+    // Instances whose mesh has nothing to hit are left out of the top level (they can never be hit).
+    std::vector<glm::mat4> transforms;
+    std::vector<uint32_t> kept;
+    for (size_t i = 0; i < scene.instances.size(); ++i) {
+        const prism::Instance& instance = scene.instances[i];
+        if (device.mesh_bounds[instance.mesh].empty()) continue;
+        kept.push_back(static_cast<uint32_t>(i));
+        transforms.push_back(instance.transform);
+        device.instance_meshes.push_back(instance.mesh);
+        device.traced_triangles += placements[instance.mesh].bvh.primitive_order.size();
+    }
+    if (kept.empty())
+        throw Error(scene.source + ": scene has no triangles that can be hit (all " +
+                    std::to_string(device.degenerate_triangles) + " are degenerate or none exist)");
+    if (kept.size() != scene.instances.size())
+        throw Error(scene.source + ": an instance's mesh has only degenerate triangles");   // keeps instance ids = scene ids
+    build_top_level(device, transforms, true);
+    device.top_level_nodes = device.top_level.nodes.size();
+
+    device.nodes = top_level_device_nodes(device.top_level);
+    for (size_t m = 0; m < placements.size(); ++m) {
+        MeshPlacement& placement = placements[m];
+        uint32_t node_offset = static_cast<uint32_t>(device.nodes.size());
+        rebase_nodes(placement.bvh.nodes, options.layout, node_offset, placement.first_triangle);
+        device.nodes.insert(device.nodes.end(), placement.bvh.nodes.begin(), placement.bvh.nodes.end());
+        placement.first_vertex = node_offset;   // reused below as the mesh's root node index
+    }
+    for (size_t i = 0; i < scene.instances.size(); ++i) {
+        const MeshPlacement& placement = placements[scene.instances[i].mesh];
+        device.instances.push_back(device_instance(scene.instances[i].transform, placement.first_vertex,
+                                                   placement.first_triangle, placement.first_shading));
+    }
+
+    // Materials and their texture stacks.
+    for (const prism::Material& material : scene.materials) {
+        device.materials.push_back(device_material(material, static_cast<uint32_t>(device.texture_layers.size())));
+        for (const prism::TextureLayer& layer : material.textures) {
+            ::TextureLayer out{};
+            out.info = uint4{layer.texture, static_cast<uint32_t>(layer.mode), layer.uv_set, 0};
+            out.environment_color = to_float4(layer.environment_color);
+            out.uv_row0 = to_float4(layer.uv_row0, 0.0f);
+            out.uv_row1 = to_float4(layer.uv_row1, 0.0f);
+            device.texture_layers.push_back(out);
+        }
+    }
+    if (device.materials.empty()) device.materials.push_back(device_material(prism::Material{}, 0));
+
+    std::vector<uint32_t> texel_offsets;
+    for (const Texture& texture : scene.textures) {
+        texel_offsets.push_back(static_cast<uint32_t>(device.texels.size()));
+        device.texture_infos.push_back(TextureInfo{uint4{texel_offsets.back(), uint32_t(texture.width),
+                                                         uint32_t(texture.height), uint32_t(texture.encoding)}});
+        device.texels.insert(device.texels.end(), texture.texels.begin(), texture.texels.end());
+    }
+    // The environment's textures get their own consecutive entries (a cube map is addressed as first + face).
+    device.environment_kind = scene.environment.kind;
+    device.environment_tint = scene.environment.color * scene.environment.intensity;
+    device.environment_texture = static_cast<uint32_t>(device.texture_infos.size());
+    for (uint32_t texture : scene.environment.textures) device.texture_infos.push_back(device.texture_infos.at(texture));
+    if (device.texture_infos.empty()) {   // GPU APIs dislike empty buffers
+        device.texture_infos.push_back(TextureInfo{uint4{0, 1, 1, RT_TEXENC_LINEAR8}});
+    }
+    if (device.texels.empty()) device.texels.push_back(0xffffffffu);
+    if (device.texture_layers.empty()) device.texture_layers.push_back(::TextureLayer{});
+
+    for (const prism::Light& light : scene.lights) {
+        bool directional = light.type == LightType::Directional;
+        glm::vec3 where = directional ? glm::normalize(light.direction) : light.position;
+        device.lights.push_back(::Light{to_float4(where, directional ? RT_LIGHT_DIRECTIONAL_CODE : RT_LIGHT_POINT_CODE),
+                                        to_float4(light.color * light.intensity, 0.0f)});
+    }
+    device.light_count = static_cast<uint32_t>(device.lights.size());
+    if (device.lights.empty()) device.lights.push_back(::Light{});   // placeholder; the frame says 0 lights
+    device.ambient_light = scene.ambient_light;
+
+    device.sah_cost = bvh_triangles ? float(triangle_weighted_sah / double(bvh_triangles)) : 0.0f;
+    device.bvh_build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return device;
+}
+
+void update_instance_transforms(DeviceScene& device, const std::vector<glm::mat4>& transforms, bool rebuild) {
+    if (transforms.size() != device.instances.size())
+        throw Error("update_instance_transforms: expected " + std::to_string(device.instances.size()) + " transforms");
+    for (size_t i = 0; i < transforms.size(); ++i) {
+        const uint4 info = device.instances[i].info;
+        device.instances[i] = device_instance(transforms[i], info.x, info.y, info.z);
+    }
+    build_top_level(device, transforms, rebuild);
+    if (device.top_level.nodes.size() != device.top_level_nodes)
+        throw Error("internal: top-level BVH changed size on update");
+    std::vector<BvhNode> top = top_level_device_nodes(device.top_level);
+    std::copy(top.begin(), top.end(), device.nodes.begin());
+}
+
+}  // namespace prism

@@ -1,0 +1,55 @@
+// A Scene flattened into the arrays of kernels/data_arrays.h: what every backend uploads and the reference
+// renderer reads in place. Built once per scene; moving instances only refits or rebuilds the top level.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/bvh.h"
+#include "core/scene.h"
+#include "kernels/types.h"
+
+namespace prism {
+
+struct DeviceScene {
+    std::vector<BvhNode> nodes;   // top level first (root 0), then each mesh's BVH
+    std::vector<::Instance> instances;
+    std::vector<TriangleGeometry> triangles;
+    std::vector<TriangleShading> triangle_shading;
+    std::vector<Vertex> vertices;
+    std::vector<::Material> materials;
+    std::vector<::TextureLayer> texture_layers;
+    std::vector<TextureInfo> texture_infos;
+    std::vector<uint32_t> texels;
+    std::vector<::Light> lights;
+
+    BvhBuildOptions bvh_options;
+    EnvironmentKind environment_kind = EnvironmentKind::Constant;
+    uint32_t environment_texture = 0;   // first of six (cube map) or the one (equirect), in texture_infos
+    glm::vec3 environment_tint{0.0f};
+    glm::vec3 ambient_light{0.0f};
+    uint32_t light_count = 0;           // `lights` holds a placeholder when the scene has none
+
+    // For `prism info` and the benchmarks.
+    size_t traced_triangles = 0;        // over instances, degenerate ones excluded
+    size_t degenerate_triangles = 0;    // over meshes
+    size_t top_level_nodes = 0;
+    float sah_cost = 0.0f;              // triangle-weighted mean SAH cost of the mesh BVHs
+    double bvh_build_ms = 0.0;
+
+    // Top level, kept for refits: mesh object-space bounds and the built tree.
+    std::vector<Aabb> mesh_bounds;
+    std::vector<uint32_t> instance_meshes;
+    Bvh top_level;
+
+    size_t byte_size() const;
+};
+
+// Throws prism::Error (naming scene.source) when nothing traceable remains or an index exceeds a GPU format limit.
+DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& options = {});
+
+// New instance transforms (same instances, same meshes): refits the top level, or rebuilds it when `rebuild`.
+// Only `instances` and the first `top_level_nodes` entries of `nodes` change.
+void update_instance_transforms(DeviceScene& device, const std::vector<glm::mat4>& transforms, bool rebuild);
+
+}  // namespace prism

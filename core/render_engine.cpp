@@ -1,0 +1,59 @@
+#include "core/render_engine.h"
+
+#include <thread>
+
+#include "core/error.h"
+
+namespace prism {
+
+std::string resolve_backend_name(const std::string& requested) {
+    if (requested != "auto") return requested;
+    for (const BackendFactory& factory : registered_backends())
+        if (factory.name == "cuda" && factory.probe().available) return "cuda";
+    return "cpu";
+}
+
+RenderEngine::RenderEngine(const std::string& backend_name, const DeviceScene& scene)
+    : name_(resolve_backend_name(backend_name)), scene_(scene) {
+    BackendSpec spec = parse_backend_spec(name_);
+    if (spec.api == "cpu-ref") {
+        unsigned threads = 0;
+        if (!spec.device_filter.empty()) threads = static_cast<unsigned>(std::stoul(spec.device_filter));
+        reference_ = std::make_unique<ReferenceRenderer>(scene, threads);
+    } else {
+        backend_ = create_backend(name_);
+        renderer_ = std::make_unique<Renderer>(*backend_, scene);
+    }
+}
+
+RenderEngine::~RenderEngine() = default;
+
+BackendInfo RenderEngine::info() const {
+    if (backend_) return backend_->info();
+    BackendInfo info;
+    info.name = "cpu-ref";
+    info.device = "host CPU (" + std::to_string(std::thread::hardware_concurrency()) + " threads)";
+    info.driver = "host";
+    info.api_version = "C++20 (recursive reference)";
+    return info;
+}
+
+FrameResult RenderEngine::render(const Camera& camera, const RenderSettings& settings,
+                                 const std::function<void(double)>& progress) {
+    if (reference_) return reference_->render(camera, settings, progress);
+    return renderer_->render(camera, settings, [&](uint32_t depth, uint32_t max_depth) {
+        if (progress) progress(double(depth) / max_depth);
+    });
+}
+
+std::vector<RayHit> RenderEngine::trace(std::span<const RayQuery> rays, bool any_hit) {
+    if (reference_) return reference_->trace(rays, any_hit);
+    return renderer_->trace(rays, any_hit);
+}
+
+void RenderEngine::update_instances(DeviceScene& scene, const std::vector<glm::mat4>& transforms, bool rebuild) {
+    update_instance_transforms(scene, transforms, rebuild);
+    if (renderer_) renderer_->update_instances(scene);
+}
+
+}  // namespace prism

@@ -1,0 +1,38 @@
+// One way to render with any backend name, "cpu-ref" included: what the prism command, the tests and the
+// benchmarks use. Wraps either the recursive reference renderer or a Backend driven by the wavefront Renderer.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "core/backend.h"
+#include "core/reference_renderer.h"
+#include "core/renderer.h"
+
+namespace prism {
+
+// "auto" becomes the fastest backend this machine runs: cuda when a CUDA device answers, else cpu.
+std::string resolve_backend_name(const std::string& requested);
+
+class RenderEngine {
+public:
+    // Throws prism::Error for unknown or unavailable backends (listing what is available).
+    RenderEngine(const std::string& backend_name, const DeviceScene& scene);
+    ~RenderEngine();
+
+    BackendInfo info() const;
+    FrameResult render(const Camera& camera, const RenderSettings& settings,
+                       const std::function<void(double fraction)>& progress = {});
+    std::vector<RayHit> trace(std::span<const RayQuery> rays, bool any_hit);
+    // Moving instances: refit (or rebuild) the top level and re-upload it.
+    void update_instances(DeviceScene& scene, const std::vector<glm::mat4>& transforms, bool rebuild);
+
+private:
+    std::string name_;
+    const DeviceScene& scene_;
+    std::unique_ptr<ReferenceRenderer> reference_;
+    std::unique_ptr<Backend> backend_;
+    std::unique_ptr<Renderer> renderer_;
+};
+
+}  // namespace prism

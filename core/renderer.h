@@ -1,0 +1,80 @@
+// The wavefront frame (architecture.md): the order of stages, queue sizing and read-back, driven through the
+// Backend interface so every API runs exactly the same schedule.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/backend.h"
+#include "core/device_scene.h"
+
+namespace prism {
+
+struct RenderSettings {
+    uint32_t width = 1280;
+    uint32_t height = 720;
+    uint32_t max_depth = 8;          // ray generations traced: 1 = primary rays only
+    float min_weight = 1e-4f;        // rays whose RGB weight is below this everywhere are not spawned
+    float queue_factor = 2.0f;       // ray queue capacity per pixel; grown automatically when a frame overflows
+};
+
+struct FrameStats {
+    double frame_ms = 0.0;                    // wall time of the whole frame, upload of parameters to read-back
+    std::vector<StageTiming> stages;          // per stage and depth (device timers where the API has them)
+    std::vector<uint32_t> rays_per_depth;     // closest-hit rays traced at each depth
+    std::vector<uint32_t> shadow_rays_per_depth;
+    uint32_t queue_capacity = 0;
+    uint32_t regrows = 0;                     // frames re-run with larger queues because one overflowed
+    uint64_t total_rays() const;
+};
+
+struct FrameResult {
+    uint32_t width = 0, height = 0;
+    std::vector<uint32_t> image;    // RGBA8 sRGB, row 0 at the top
+    std::vector<float> radiance;    // linear RGBA
+    FrameStats stats;
+};
+
+// The camera basis and frame constants the kernels read.
+FrameParams make_frame_params(const DeviceScene& scene, const Camera& camera, const RenderSettings& settings,
+                              uint32_t queue_capacity, uint32_t shadow_capacity, uint32_t flags);
+
+// One-line hit record of a ray query (the `prism rays` output, docs/ray-queries.md).
+struct RayHit {
+    float t;            // +inf on a miss
+    uint32_t instance;
+    uint32_t primitive;
+    float u, v;
+};
+struct RayQuery {
+    float origin[3];
+    float tmin;
+    float direction[3];
+    float tmax;
+};
+
+class Renderer {
+public:
+    Renderer(Backend& backend, const DeviceScene& scene);
+    FrameResult render(const Camera& camera, const RenderSettings& settings,
+                       const std::function<void(uint32_t depth, uint32_t max_depth)>& progress = {});
+    // Closest (or any) hit of each ray: the intersect stage alone, in batches that fit the device.
+    std::vector<RayHit> trace(std::span<const RayQuery> rays, bool any_hit);
+    // After update_instance_transforms: re-uploads the instances and the top-level nodes only.
+    void update_instances(const DeviceScene& scene);
+
+private:
+    void upload_scene();
+    void ensure_queues(uint32_t pixels, uint32_t rays_capacity, uint32_t shadow_capacity);
+
+    Backend& backend_;
+    const DeviceScene& scene_;
+    uint32_t ray_capacity_ = 0;
+    uint32_t shadow_capacity_ = 0;
+    uint32_t pixel_capacity_ = 0;
+};
+
+}  // namespace prism

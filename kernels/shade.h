@@ -1,0 +1,201 @@
+// What one ray-surface hit contributes and which rays it spawns (thesis eq. 6.7 unrolled for the wavefront,
+// eqs. 6.31/6.32). The wavefront `shade` stage and the recursive reference renderer both call rt_shade, so they
+// differ only in how rays are scheduled.
+//
+// For a hit with colour C, Fresnel R_f/T_f, reflectivity r, transmittance t, specular S, ambient A and ray
+// weight W, eq. 6.7 R = R_f (C(1-r) + C_r S r) + T_f (C(1-t) + C_t A t) becomes:
+//   local colour:      W * (R_f (1-r) + T_f (1-t)) * C * (ambient light + sum of visible lights) + W * emission
+//   reflection ray:    weight W * R_f * S * r          (eq. 6.31)
+//   refraction ray(s): weight W * T_f * A * t          (eq. 6.32); a white ray through a dispersive material
+//                      becomes three single-channel rays with per-channel IOR (thesis 6.3.5)
+// Lights are reached by shadow rays (Whitted); the ambient term needs none.
+#ifndef RT_SHADE_H
+#define RT_SHADE_H
+
+#include "material.h"
+
+#define RT_MAX_CHILDREN 4
+
+// The surface at a hit, in world space. Normals face the incoming ray.
+RT_STRUCT_BEGIN(Surface)
+    float4 position;
+    float4 normal;      // shading normal (interpolated vertex normals, or the geometric one)
+    float4 geometric;   // geometric normal; w = 1 when the ray arrives from outside (the front side)
+    float4 vertex_color;
+    float4 uv;          // TEXCOORD_0 in xy, TEXCOORD_1 in zw
+    uint4 ids;          // x = material
+RT_STRUCT_END(Surface)
+
+RT_FUNC Surface rt_surface(KernelGlobals kg, float3 origin, float3 direction, Hit hit) {
+    Instance inst = RT_FETCH(kg, instances, hit.ids.x);
+    TriangleGeometry geometry = RT_FETCH(kg, triangles, hit.ids.z);
+    TriangleShading shading = RT_FETCH(kg, triangle_shading, inst.info.z + hit.ids.y);
+    Vertex a = RT_FETCH(kg, vertices, shading.vertices.x);
+    Vertex b = RT_FETCH(kg, vertices, shading.vertices.y);
+    Vertex c = RT_FETCH(kg, vertices, shading.vertices.z);
+    float u = hit.tuv.y;
+    float v = hit.tuv.z;
+    float w = 1.0f - u - v;
+
+    // Front faces wind counter-clockwise in world space (glTF's rule), so a mirroring transform flips the
+    // object-space geometric normal.
+    float3 ng = cross(rt_xyz(geometry.e1), rt_xyz(geometry.e2));
+    if (inst.info.w != 0u) ng = -ng;
+    ng = normalize(rt_transform_normal(inst.world_to_object0, inst.world_to_object1, inst.world_to_object2, ng));
+    float3 n = ng;
+    if (a.normal.w > 0.5f) {
+        float3 n_object = rt_xyz(a.normal) * w + rt_xyz(b.normal) * u + rt_xyz(c.normal) * v;
+        float3 n_world =
+            rt_transform_normal(inst.world_to_object0, inst.world_to_object1, inst.world_to_object2, n_object);
+        if (dot(n_world, n_world) > 0.0f) n = normalize(n_world);
+    }
+    bool front = dot(direction, ng) < 0.0f;
+    float3 ng_facing = front ? ng : -ng;
+    float3 n_facing = dot(n, ng_facing) < 0.0f ? -n : n;
+
+    Surface s;
+    s.position = rt_float4(origin + direction * hit.tuv.x, 0.0f);
+    s.normal = rt_float4(n_facing, 0.0f);
+    s.geometric = rt_float4(ng_facing, front ? 1.0f : 0.0f);
+    s.vertex_color = a.color * w + b.color * u + c.color * v;
+    s.uv = a.uv * w + b.uv * u + c.uv * v;
+    s.ids = make_uint4(shading.vertices.w, 0u, 0u, 0u);
+    return s;
+}
+
+RT_STRUCT_BEGIN(ShadeResult)
+    float4 emitted;        // xyz: what this hit adds to its pixel with no further ray (ambient + emission)
+    float4 light_weight;   // xyz: multiplies each light's irradiance reaching the point (shadow rays)
+    float4 lit_origin;     // xyz: the point moved off the surface on the side the ray came from
+    float4 normal;         // xyz: shading normal facing the ray
+    Ray children[RT_MAX_CHILDREN];
+    uint4 counts;          // x = number of children
+RT_STRUCT_END(ShadeResult)
+
+RT_FUNC Ray rt_make_ray(float3 origin, float3 direction, float3 weight, uint pixel, uint mask, uint depth) {
+    Ray r;
+    r.origin = rt_float4(origin, 0.0f);
+    r.direction = rt_float4(direction, RT_INFINITY);
+    r.weight = rt_float4(weight, 0.0f);
+    r.info = make_uint4(pixel, mask, depth, 0u);
+    return r;
+}
+
+// The refracted ray of one channel (or of all three when the IOR does not depend on the channel).
+RT_FUNC Ray rt_refraction_ray(Surface s, Material m, float3 d, float3 weight, uint pixel, uint mask, uint depth,
+                              uint channel) {
+    float3 n = rt_xyz(s.normal);
+    float3 ng = rt_xyz(s.geometric);
+    float3 outside = rt_offset_ray_origin(rt_xyz(s.position), ng);
+    float3 inside = rt_offset_ray_origin(rt_xyz(s.position), -ng);
+    float ior = rt_channel(rt_xyz(m.ior), channel);
+    float thickness = m.fresnel.w;
+    if (thickness > 0.0f) {
+        // Thin shell (thesis 6.3.4): the ray travels `thickness` inside along the refracted direction and leaves
+        // through a parallel face, so it continues in its original direction, displaced.
+        float4 t_in = rt_refract(d, n, 1.0f / ior);
+        float3 inward = t_in.w != 0.0f ? rt_xyz(t_in) : d;
+        return rt_make_ray(inside + inward * thickness, d, weight, pixel, mask, depth);
+    }
+    float eta = s.geometric.w != 0.0f ? 1.0f / ior : ior;
+    float4 t = rt_refract(d, n, eta);
+    if (t.w == 0.0f) return rt_make_ray(outside, rt_reflect(d, n), weight, pixel, mask, depth);   // total internal reflection
+    float3 dir = normalize(rt_xyz(t));
+    // A shading normal far from the geometric one can bend the ray back out; refract about the true surface then.
+    if (dot(dir, ng) >= 0.0f) {
+        float4 tg = rt_refract(d, ng, eta);
+        if (tg.w == 0.0f) return rt_make_ray(outside, rt_reflect(d, ng), weight, pixel, mask, depth);
+        dir = normalize(rt_xyz(tg));
+    }
+    return rt_make_ray(inside, dir, weight, pixel, mask, depth);
+}
+
+RT_FUNC ShadeResult rt_shade(KernelGlobals kg, Ray ray, Hit hit) {
+    FrameParams frame = RT_FETCH(kg, frame, 0u);
+    float3 d = rt_xyz(ray.direction);
+    Surface s = rt_surface(kg, rt_xyz(ray.origin), d, hit);
+    Material m = RT_FETCH(kg, materials, s.ids.x);
+    float3 n = rt_xyz(s.normal);
+    float3 ng = rt_xyz(s.geometric);
+    float3 weight = rt_xyz(ray.weight);
+    uint pixel = ray.info.x;
+    uint mask = ray.info.y;
+    uint depth = ray.info.z;
+
+    float3 color = rt_diffuse_color(kg, m, s.vertex_color, s.uv);
+    float reflectivity = m.specular.w;
+    float transmittance = m.ambient.w;
+    float rf = rt_fresnel_reflection(m.fresnel, dot(d, n));
+    float tf = 1.0f - rf;
+    float3 base = color * (rf * (1.0f - reflectivity) + tf * (1.0f - transmittance));
+
+    ShadeResult result;
+    result.light_weight = rt_float4(weight * base, 0.0f);
+    result.emitted = rt_float4(weight * (base * rt_xyz(frame.ambient_light) + rt_xyz(m.emissive)), 0.0f);
+    result.lit_origin = rt_float4(rt_offset_ray_origin(rt_xyz(s.position), ng), 0.0f);
+    result.normal = s.normal;
+    result.counts = make_uint4(0u, 0u, 0u, 0u);
+    uint count = 0u;
+    if (depth + 1u < frame.size.z) {
+        float min_weight = frame.ambient_light.w;
+        float3 w_reflect = weight * rt_xyz(m.specular) * (rf * reflectivity);
+        if (rt_max3(w_reflect) > min_weight) {
+            float3 dir = rt_reflect(d, n);
+            if (dot(dir, ng) <= 0.0f) dir = rt_reflect(d, ng);   // shading normal pointed it into the surface
+            result.children[count] = rt_make_ray(rt_xyz(result.lit_origin), dir, w_reflect, pixel, mask, depth + 1u);
+            count += 1u;
+        }
+        float3 w_refract = weight * rt_xyz(m.ambient) * (tf * transmittance);
+        if (rt_max3(w_refract) > min_weight) {
+            bool dispersive = m.ior.x != m.ior.y || m.ior.y != m.ior.z;
+            if (mask == RT_CHANNEL_ALL && dispersive) {
+                for (uint c = 0u; c < 3u; ++c) {
+                    uint channel_mask = 1u << c;
+                    float3 w_channel = rt_mask3(w_refract, channel_mask);
+                    if (rt_max3(w_channel) > min_weight) {
+                        result.children[count] =
+                            rt_refraction_ray(s, m, d, w_channel, pixel, channel_mask, depth + 1u, c);
+                        count += 1u;
+                    }
+                }
+            } else {
+                uint channel = mask == 1u ? 0u : (mask == 4u ? 2u : 1u);
+                result.children[count] = rt_refraction_ray(s, m, d, w_refract, pixel, mask, depth + 1u, channel);
+                count += 1u;
+            }
+        }
+    }
+    result.counts.x = count;
+    return result;
+}
+
+// The shadow ray towards light `index` and what it delivers if nothing blocks it; contribution.w = 0 when the
+// light is behind the surface (no ray needed).
+RT_FUNC ShadowRay rt_shadow_ray(KernelGlobals kg, ShadeResult shade, uint index, uint pixel) {
+    Light light = RT_FETCH(kg, lights, index);
+    float3 origin = rt_xyz(shade.lit_origin);
+    float3 to_light;
+    float distance;
+    float falloff;
+    if (light.position.w == RT_LIGHT_DIRECTIONAL_CODE) {
+        to_light = -normalize(rt_xyz(light.position));
+        distance = RT_INFINITY;
+        falloff = 1.0f;
+    } else {
+        float3 l = rt_xyz(light.position) - origin;
+        float d2 = dot(l, l);
+        distance = rt_sqrt(d2);
+        to_light = l * (1.0f / distance);
+        falloff = 1.0f / d2;
+    }
+    float cosine = dot(rt_xyz(shade.normal), to_light);
+    ShadowRay sr;
+    sr.origin = rt_float4(origin, 0.0f);
+    sr.direction = rt_float4(to_light, distance);
+    float3 contribution = rt_xyz(shade.light_weight) * rt_xyz(light.color) * (rt_max(cosine, 0.0f) * falloff);
+    sr.contribution = rt_float4(contribution, cosine > 0.0f && rt_max3(contribution) > 0.0f ? 1.0f : 0.0f);
+    sr.info = make_uint4(pixel, 0u, 0u, 0u);
+    return sr;
+}
+
+#endif

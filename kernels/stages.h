@@ -1,0 +1,132 @@
+// The wavefront stages (architecture.md, "The wavefront frame"; thesis 6.4.2 improved). Each rt_stage_* handles
+// one item; each rt_kernel_* is the whole launch (a grid loop over the item count, which lives on the device), so
+// a backend's entry point is one line. Queues: rays of depth d live in half (d & 1) of `rays`; their hits in
+// `hits`; shadow rays of depth d in `shadow_rays`; counts in `counters` (kernels/types.h).
+#ifndef RT_STAGES_H
+#define RT_STAGES_H
+
+#include "accumulate.h"
+#include "environment.h"
+#include "shade.h"
+#include "traverse.h"
+
+RT_FUNC uint rt_queue_base(FrameParams frame, uint depth) { return (depth & 1u) * frame.env.z; }
+
+RT_FUNC uint rt_ray_count(KernelGlobals kg, uint depth) {
+    return rt_min_u(RT_FETCH(kg, counters, RT_COUNTER_RAYS + depth), RT_FETCH(kg, frame, 0u).env.z);
+}
+
+RT_FUNC uint rt_shadow_count(KernelGlobals kg, uint depth) {
+    return rt_min_u(RT_FETCH(kg, counters, RT_COUNTER_SHADOWS + depth), RT_FETCH(kg, frame, 0u).env.w);
+}
+
+RT_FUNC uint rt_pixel_count(KernelGlobals kg) {
+    FrameParams frame = RT_FETCH(kg, frame, 0u);
+    return frame.size.x * frame.size.y;
+}
+
+// Primary rays through pixel centres of a pinhole camera (thesis 6.3: "rays share the camera position").
+RT_FUNC Ray rt_primary_ray(FrameParams frame, uint index) {
+    uint x = index % frame.size.x;
+    uint y = index / frame.size.x;
+    float tan_half = frame.camera_position.w;
+    float aspect = frame.camera_forward.w;
+    float px = (2.0f * (rt_float(x) + 0.5f) / rt_float(frame.size.x) - 1.0f) * tan_half * aspect;
+    float py = (1.0f - 2.0f * (rt_float(y) + 0.5f) / rt_float(frame.size.y)) * tan_half;
+    float3 dir = normalize(rt_xyz(frame.camera_forward) + rt_xyz(frame.camera_right) * px + rt_xyz(frame.camera_up) * py);
+    return rt_make_ray(rt_xyz(frame.camera_position), dir, rt_splat3(1.0f), index, RT_CHANNEL_ALL, 0u);
+}
+
+RT_FUNC void rt_stage_generate(KernelGlobals kg, uint index) {
+    RT_STORE(kg, rays, index, rt_primary_ray(RT_FETCH(kg, frame, 0u), index));
+}
+
+// Closest hit (or any hit for occlusion queries) of every queued ray.
+RT_FUNC void rt_stage_intersect(KernelGlobals kg, uint index, uint depth) {
+    FrameParams frame = RT_FETCH(kg, frame, 0u);
+    Ray ray = RT_FETCH(kg, rays, rt_queue_base(frame, depth) + index);
+    bool any_hit = (frame.scene.z & RT_FLAG_ANY_HIT) != 0u;
+    Hit hit = rt_trace(kg, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w, ray.direction.w, any_hit);
+    RT_STORE(kg, hits, index, hit);
+}
+
+// Rays that left the scene see the environment (the seed's "Cube Map" kernel).
+RT_FUNC void rt_stage_miss(KernelGlobals kg, uint index, uint depth) {
+    Hit hit = RT_FETCH(kg, hits, index);
+    if (hit.tuv.x < RT_INFINITY) return;
+    FrameParams frame = RT_FETCH(kg, frame, 0u);
+    Ray ray = RT_FETCH(kg, rays, rt_queue_base(frame, depth) + index);
+    rt_accumulate(kg, ray.info.x, rt_xyz(ray.weight) * rt_environment(kg, rt_xyz(ray.direction)));
+}
+
+// Appends to a queue; a full queue drops the item and counts it (reported, and asserted zero in the tests).
+RT_FUNC uint rt_queue_slot(KernelGlobals kg, uint counter, uint capacity) {
+    uint slot = RT_ATOMIC_ADD(kg, counters, counter, 1u);
+    if (slot >= capacity) {
+        RT_ATOMIC_ADD(kg, counters, RT_COUNTER_DROPPED, 1u);
+        return RT_NONE;
+    }
+    return slot;
+}
+
+// The seed's "Renderer" kernel: the local colour goes to the pixel, shadow rays and secondary rays to queues.
+RT_FUNC void rt_stage_shade(KernelGlobals kg, uint index, uint depth) {
+    Hit hit = RT_FETCH(kg, hits, index);
+    if (!(hit.tuv.x < RT_INFINITY)) return;
+    FrameParams frame = RT_FETCH(kg, frame, 0u);
+    Ray ray = RT_FETCH(kg, rays, rt_queue_base(frame, depth) + index);
+    ShadeResult shade = rt_shade(kg, ray, hit);
+    rt_accumulate(kg, ray.info.x, rt_xyz(shade.emitted));
+    for (uint l = 0u; l < frame.size.w; ++l) {
+        ShadowRay sr = rt_shadow_ray(kg, shade, l, ray.info.x);
+        if (sr.contribution.w == 0.0f) continue;
+        uint slot = rt_queue_slot(kg, RT_COUNTER_SHADOWS + depth, frame.env.w);
+        if (slot != RT_NONE) RT_STORE(kg, shadow_rays, slot, sr);
+    }
+    uint next_base = rt_queue_base(frame, depth + 1u);
+    for (uint c = 0u; c < shade.counts.x; ++c) {
+        uint slot = rt_queue_slot(kg, RT_COUNTER_RAYS + depth + 1u, frame.env.z);
+        if (slot != RT_NONE) RT_STORE(kg, rays, next_base + slot, shade.children[c]);
+    }
+}
+
+// A light reaches the point unless something lies between (any hit).
+RT_FUNC void rt_stage_shadow(KernelGlobals kg, uint index, uint depth) {
+    ShadowRay sr = RT_FETCH(kg, shadow_rays, index);
+    Hit hit = rt_trace(kg, rt_xyz(sr.origin), rt_xyz(sr.direction), 0.0f, sr.direction.w, true);
+    if (hit.tuv.x < RT_INFINITY) return;
+    rt_accumulate(kg, sr.info.x, rt_xyz(sr.contribution));
+}
+
+// Fixed point to linear radiance (for .hdr output) and to 8-bit sRGB (PNG, display). No tone curve: values
+// above 1 clip, as in the seed.
+RT_FUNC void rt_stage_resolve(KernelGlobals kg, uint index) {
+    float3 c = rt_accumulated(kg, index);
+    RT_STORE(kg, radiance, index, rt_float4(c, 1.0f));
+    uint r = rt_uint(rt_linear_to_srgb(c.x) * 255.0f + 0.5f);
+    uint g = rt_uint(rt_linear_to_srgb(c.y) * 255.0f + 0.5f);
+    uint b = rt_uint(rt_linear_to_srgb(c.z) * 255.0f + 0.5f);
+    RT_STORE(kg, image, index, r | (g << 8u) | (b << 16u) | (255u << 24u));
+}
+
+// Whole launches: what a backend's one-line entry point calls.
+RT_FUNC void rt_kernel_generate(KernelGlobals kg, uint depth) {
+    RT_GRID_LOOP(i, rt_pixel_count(kg)) { rt_stage_generate(kg, i); }
+}
+RT_FUNC void rt_kernel_intersect(KernelGlobals kg, uint depth) {
+    RT_GRID_LOOP(i, rt_ray_count(kg, depth)) { rt_stage_intersect(kg, i, depth); }
+}
+RT_FUNC void rt_kernel_miss(KernelGlobals kg, uint depth) {
+    RT_GRID_LOOP(i, rt_ray_count(kg, depth)) { rt_stage_miss(kg, i, depth); }
+}
+RT_FUNC void rt_kernel_shade(KernelGlobals kg, uint depth) {
+    RT_GRID_LOOP(i, rt_ray_count(kg, depth)) { rt_stage_shade(kg, i, depth); }
+}
+RT_FUNC void rt_kernel_shadow(KernelGlobals kg, uint depth) {
+    RT_GRID_LOOP(i, rt_shadow_count(kg, depth)) { rt_stage_shadow(kg, i, depth); }
+}
+RT_FUNC void rt_kernel_resolve(KernelGlobals kg, uint depth) {
+    RT_GRID_LOOP(i, rt_pixel_count(kg)) { rt_stage_resolve(kg, i); }
+}
+
+#endif

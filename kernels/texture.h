@@ -1,0 +1,72 @@
+// Texture reads from the shared texel array: the same bilinear filter and decoding on every API (no hardware
+// samplers, whose filtering precision differs between vendors and would break cross-API agreement).
+#ifndef RT_TEXTURE_H
+#define RT_TEXTURE_H
+
+#include "globals.h"
+#include "math.h"
+
+RT_FUNC float rt_srgb_to_linear(float c) {
+    return c <= 0.04045f ? c * (1.0f / 12.92f) : rt_pow((c + 0.055f) * (1.0f / 1.055f), 2.4f);
+}
+
+RT_FUNC float rt_linear_to_srgb(float c) {
+    c = rt_clamp01(c);
+    return c <= 0.0031308f ? c * 12.92f : 1.055f * rt_pow(c, 1.0f / 2.4f) - 0.055f;
+}
+
+RT_FUNC float4 rt_decode_texel(uint texel, uint encoding) {
+    float r = rt_float(texel & 255u);
+    float g = rt_float((texel >> 8u) & 255u);
+    float b = rt_float((texel >> 16u) & 255u);
+    uint e = texel >> 24u;
+    if (encoding == RT_TEXENC_RGBE) {
+        // Radiance RGBE: mantissas share the exponent; (m + 0.5) * 2^(e - 136) as in Ward's reference reader.
+        if (e == 0u) return make_float4(0.0f, 0.0f, 0.0f, 1.0f);
+        float scale = rt_ldexp(1.0f, rt_int(e) - 136);
+        return make_float4((r + 0.5f) * scale, (g + 0.5f) * scale, (b + 0.5f) * scale, 1.0f);
+    }
+    float inv = 1.0f / 255.0f;
+    float4 c = make_float4(r * inv, g * inv, b * inv, rt_float(e) * inv);
+    if (encoding == RT_TEXENC_SRGB8) {
+        c.x = rt_srgb_to_linear(c.x);
+        c.y = rt_srgb_to_linear(c.y);
+        c.z = rt_srgb_to_linear(c.z);
+    }
+    return c;
+}
+
+RT_FUNC int rt_wrap_repeat(int i, int size) {
+    int m = i % size;
+    return m < 0 ? m + size : m;
+}
+
+RT_FUNC float4 rt_texel(KernelGlobals kg, TextureInfo info, int x, int y) {
+    int width = rt_int(info.info.y);
+    int height = rt_int(info.info.z);
+    uint offset = info.info.x + rt_uint(rt_wrap_repeat(y, height) * width + rt_wrap_repeat(x, width));
+    return rt_decode_texel(RT_FETCH(kg, texels, offset), info.info.w);
+}
+
+// Bilinear, repeat wrap; uv (0, 0) is the top-left corner of the image (glTF convention; loaders convert).
+RT_FUNC float4 rt_sample_texture(KernelGlobals kg, uint texture, float2 uv) {
+    TextureInfo info = RT_FETCH(kg, texture_infos, texture);
+    float x = uv.x * rt_float(info.info.y) - 0.5f;
+    float y = uv.y * rt_float(info.info.z) - 0.5f;
+    if (!(rt_abs(x) < 1e8f && rt_abs(y) < 1e8f)) return make_float4(0.0f, 0.0f, 0.0f, 1.0f);   // NaN or huge uv
+    float fx = rt_floor(x);
+    float fy = rt_floor(y);
+    float ax = x - fx;
+    float ay = y - fy;
+    int x0 = rt_int(fx);
+    int y0 = rt_int(fy);
+    float4 c00 = rt_texel(kg, info, x0, y0);
+    float4 c10 = rt_texel(kg, info, x0 + 1, y0);
+    float4 c01 = rt_texel(kg, info, x0, y0 + 1);
+    float4 c11 = rt_texel(kg, info, x0 + 1, y0 + 1);
+    float4 top = c00 * (1.0f - ax) + c10 * ax;
+    float4 bottom = c01 * (1.0f - ax) + c11 * ax;
+    return top * (1.0f - ay) + bottom * ay;
+}
+
+#endif

@@ -1,0 +1,191 @@
+// Two-level BVH traversal (thesis 6.2: a top-level BVH over instances, each leaf an instance whose mesh BVH is
+// entered with the ray moved into object space, Algorithm 6-3). One loop walks both levels, because GLSL forbids
+// recursion and a nested loop would double the stack. Two node layouts (kernels/types.h): a stack traversal that
+// visits the nearer child first, and the seed's stackless escape-index walk (thesis 6.4.1).
+#ifndef RT_TRAVERSE_H
+#define RT_TRAVERSE_H
+
+#include "globals.h"
+#include "intersect.h"
+
+// A pushed marker that means "leave the instance: restore the world-space ray".
+#define RT_STACK_LEAVE_INSTANCE 0xfffffffeu
+
+// The ray as the traversal sees it in the current space (world at the top level, object inside an instance).
+RT_STRUCT_BEGIN(TraversalRay)
+    float4 origin;    // w = tmin
+    float4 direction;
+    float4 inv_direction;
+RT_STRUCT_END(TraversalRay)
+
+RT_FUNC TraversalRay rt_traversal_ray(float3 origin, float3 direction, float tmin) {
+    TraversalRay r;
+    r.origin = rt_float4(origin, tmin);
+    r.direction = rt_float4(direction, 0.0f);
+    r.inv_direction = rt_float4(rt_safe_inverse(direction), 0.0f);
+    return r;
+}
+
+// The same ray in the instance's object space. t is preserved because the direction is not renormalised.
+RT_FUNC TraversalRay rt_ray_to_object(Instance inst, TraversalRay world) {
+    float3 o = rt_transform_point(inst.world_to_object0, inst.world_to_object1, inst.world_to_object2,
+                                  rt_xyz(world.origin));
+    float3 d = rt_transform_vector(inst.world_to_object0, inst.world_to_object1, inst.world_to_object2,
+                                   rt_xyz(world.direction));
+    return rt_traversal_ray(o, d, world.origin.w);
+}
+
+RT_FUNC Hit rt_no_hit() {
+    Hit h;
+    h.tuv = make_float4(RT_INFINITY, 0.0f, 0.0f, 0.0f);
+    h.ids = make_uint4(RT_NONE, RT_NONE, RT_NONE, 0u);
+    return h;
+}
+
+// Tests the triangles [first, first + count) and returns the closer hit (or `best` unchanged).
+// ids.z keeps the triangle's slot in `triangles` so shading can rebuild its geometric normal.
+RT_FUNC Hit rt_intersect_leaf(KernelGlobals kg, Hit best, TraversalRay ray, uint instance, uint first, uint count) {
+    for (uint k = 0u; k < count; ++k) {
+        TriangleGeometry tri = RT_FETCH(kg, triangles, first + k);
+        float4 h = rt_intersect_triangle(tri, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w, best.tuv.x);
+        if (h.x < best.tuv.x) {
+            best.tuv = make_float4(h.x, h.y, h.z, 0.0f);
+            best.ids = make_uint4(instance, rt_as_uint(tri.v0.w), first + k, 0u);
+        }
+    }
+    return best;
+}
+
+// Stack layout: interior nodes hold their first child (the second is next to it); both child boxes are tested
+// and the nearer is visited first, the farther pushed with its entry distance so it can be skipped later.
+RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit) {
+    Hit best = rt_no_hit();
+    best.tuv.x = tmax;
+    TraversalRay world = rt_traversal_ray(origin, direction, tmin);
+    TraversalRay ray = world;
+    uint instance = RT_NONE;
+    uint stack_node[RT_BVH_STACK_SIZE];
+    float stack_t[RT_BVH_STACK_SIZE];
+    uint sp = 0u;
+
+    uint index = 0u;
+    bool visit = rt_intersect_node(RT_FETCH(kg, nodes, 0u), rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin,
+                                   tmax) < RT_INFINITY;
+    while (visit) {
+        BvhNode node = RT_FETCH(kg, nodes, index);
+        uint first = rt_as_uint(node.lower.w);
+        uint count = rt_as_uint(node.upper.w);
+        bool descended = false;
+        if (count == 0u) {
+            float t_a = rt_intersect_node(RT_FETCH(kg, nodes, first), rt_xyz(ray.origin), rt_xyz(ray.inv_direction),
+                                          tmin, best.tuv.x);
+            float t_b = rt_intersect_node(RT_FETCH(kg, nodes, first + 1u), rt_xyz(ray.origin),
+                                          rt_xyz(ray.inv_direction), tmin, best.tuv.x);
+            uint near_child = t_a <= t_b ? first : first + 1u;
+            uint far_child = t_a <= t_b ? first + 1u : first;
+            float t_near = rt_min(t_a, t_b);
+            float t_far = rt_max(t_a, t_b);
+            if (t_far < RT_INFINITY && sp < rt_uint(RT_BVH_STACK_SIZE)) {
+                stack_node[sp] = far_child;
+                stack_t[sp] = t_far;
+                sp += 1u;
+            }
+            if (t_near < RT_INFINITY) {
+                index = near_child;
+                descended = true;
+            }
+        } else if (instance == RT_NONE) {
+            // A top-level leaf holds one instance: enter its mesh BVH in object space.
+            Instance inst = RT_FETCH(kg, instances, first);
+            TraversalRay object_ray = rt_ray_to_object(inst, world);
+            uint root = inst.info.x;
+            if (sp < rt_uint(RT_BVH_STACK_SIZE) &&
+                rt_intersect_node(RT_FETCH(kg, nodes, root), rt_xyz(object_ray.origin),
+                                  rt_xyz(object_ray.inv_direction), tmin, best.tuv.x) < RT_INFINITY) {
+                stack_node[sp] = RT_STACK_LEAVE_INSTANCE;
+                stack_t[sp] = 0.0f;
+                sp += 1u;
+                ray = object_ray;
+                instance = first;
+                index = root;
+                descended = true;
+            }
+        } else {
+            best = rt_intersect_leaf(kg, best, ray, instance, first, count);
+            if (any_hit && best.ids.x != RT_NONE) return best;
+        }
+        if (descended) continue;
+        // Pop the next node that can still hold a closer hit.
+        visit = false;
+        while (sp > 0u && !visit) {
+            sp -= 1u;
+            uint popped = stack_node[sp];
+            if (popped == RT_STACK_LEAVE_INSTANCE) {
+                ray = world;
+                instance = RT_NONE;
+            } else if (stack_t[sp] < best.tuv.x) {
+                index = popped;
+                visit = true;
+            }
+        }
+    }
+    if (best.ids.x == RT_NONE) best.tuv.x = RT_INFINITY;
+    return best;
+}
+
+// Escape layout (the seed's stackless order): nodes in depth-first order, the left child right after its parent;
+// a missed box or a finished leaf jumps to the node's escape index. Entering an instance remembers where the top
+// level resumes; reaching the end of the mesh BVH goes back there.
+RT_FUNC Hit rt_trace_escape(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit) {
+    Hit best = rt_no_hit();
+    best.tuv.x = tmax;
+    TraversalRay world = rt_traversal_ray(origin, direction, tmin);
+    TraversalRay ray = world;
+    uint instance = RT_NONE;
+    uint index = 0u;
+    uint end = rt_as_uint(RT_FETCH(kg, nodes, 0u).lower.w);
+    uint top_resume = 0u;
+    uint top_end = end;
+    while (true) {
+        if (index >= end) {
+            if (instance == RT_NONE) break;
+            ray = world;
+            instance = RT_NONE;
+            index = top_resume;
+            end = top_end;
+            continue;
+        }
+        BvhNode node = RT_FETCH(kg, nodes, index);
+        uint escape = rt_as_uint(node.lower.w);
+        uint info = rt_as_uint(node.upper.w);
+        float t = rt_intersect_node(node, rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin, best.tuv.x);
+        if (!(t < RT_INFINITY)) {
+            index = escape;
+        } else if (info == RT_ESCAPE_INTERIOR) {
+            index += 1u;
+        } else if (instance == RT_NONE) {
+            uint leaf_first = info & RT_ESCAPE_FIRST_MASK;
+            Instance inst = RT_FETCH(kg, instances, leaf_first);
+            ray = rt_ray_to_object(inst, world);
+            instance = leaf_first;
+            top_resume = escape;
+            index = inst.info.x;
+            end = rt_as_uint(RT_FETCH(kg, nodes, index).lower.w);
+        } else {
+            best = rt_intersect_leaf(kg, best, ray, instance, info & RT_ESCAPE_FIRST_MASK,
+                                     info >> RT_ESCAPE_COUNT_SHIFT);
+            if (any_hit && best.ids.x != RT_NONE) return best;
+            index = escape;
+        }
+    }
+    if (best.ids.x == RT_NONE) best.tuv.x = RT_INFINITY;
+    return best;
+}
+
+RT_FUNC Hit rt_trace(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit) {
+    uint layout = RT_FETCH(kg, frame, 0u).scene.y;
+    if (layout == RT_BVH_LAYOUT_ESCAPE) return rt_trace_escape(kg, origin, direction, tmin, tmax, any_hit);
+    return rt_trace_stack(kg, origin, direction, tmin, tmax, any_hit);
+}
+
+#endif
