@@ -8,7 +8,7 @@
 
 #include "core/error.h"
 #include "core/image_io.h"
-#include "core/seed_fresnel.h"
+#include "core/seed_material.h"
 
 namespace prism::gltf {
 namespace {
@@ -124,10 +124,7 @@ Material MaterialConverter::convert(int index) {
     if (index < 0) {
         // Primitives without a material get Prism's light-grey default rather than glTF's white rough metal,
         // which a Whitted tracer would render as a mirror.
-        material.name = "default";
-        material.diffuse = glm::vec3(0.8f);
-        set_opaque_fresnel(material);
-        return material;
+        return default_material();
     }
     const tinygltf::Material& source = model_.materials[index];
     const auto& pbr = source.pbrMetallicRoughness;

@@ -1,5 +1,6 @@
-// The seed's Fresnel term (thesis eq. 6.3: R_f = clamp(bias + scale * (1 + I.N)^power, 0, 1)) set up for the two
-// kinds of surface every loader produces. See docs/materials.md.
+// Shared pieces of the seed's material model (core/scene.h Material): the Fresnel term (thesis eq. 6.3:
+// R_f = clamp(bias + scale * (1 + I.N)^power, 0, 1)) for the two kinds of surface every loader produces, and the
+// default material. See docs/materials.md.
 #pragma once
 
 #include "core/scene.h"
@@ -25,6 +26,15 @@ inline void set_opaque_fresnel(Material& material) {
     material.fresnel_bias = 1.0f;
     material.fresnel_scale = 0.0f;
     material.fresnel_power = 5.0f;
+}
+
+// What a model without materials is drawn with: light grey, matte, opaque.
+inline Material default_material() {
+    Material material;
+    material.name = "default";
+    material.diffuse = glm::vec3(0.8f);
+    set_opaque_fresnel(material);
+    return material;
 }
 
 }  // namespace prism
