@@ -17,6 +17,11 @@ bool finite(const glm::vec<N, float>& v) {
     return true;
 }
 
+// "material 3 'glass'" (the name only when there is one).
+std::string labelled(const char* kind, size_t index, const std::string& name) {
+    return std::string(kind) + " " + std::to_string(index) + (name.empty() ? "" : " '" + name + "'");
+}
+
 template <int N>
 std::string describe(const glm::vec<N, float>& v) {
     std::ostringstream out;
@@ -43,8 +48,7 @@ private:
     [[noreturn]] void fail(const std::string& cause) const { throw file_error(source_, cause); }
 
     std::string mesh_name(size_t m) const {
-        const std::string& name = scene_.meshes[m].name;
-        return "mesh " + std::to_string(m) + (name.empty() ? "" : " '" + name + "'");
+        return labelled("mesh", m, scene_.meshes[m].name);
     }
 
     template <typename Attribute>
@@ -87,7 +91,7 @@ private:
 
     void check_material(size_t i) const {
         const Material& material = scene_.materials[i];
-        const std::string name = "material " + std::to_string(i) + (material.name.empty() ? "" : " '" + material.name + "'");
+        const std::string name = labelled("material", i, material.name);
         for (size_t l = 0; l < material.textures.size(); ++l) {
             const TextureLayer& layer = material.textures[l];
             if (layer.texture >= scene_.textures.size())
@@ -101,7 +105,7 @@ private:
 
     void check_texture(size_t i) const {
         const Texture& texture = scene_.textures[i];
-        const std::string name = "texture " + std::to_string(i) + (texture.name.empty() ? "" : " '" + texture.name + "'");
+        const std::string name = labelled("texture", i, texture.name);
         if (texture.width <= 0 || texture.height <= 0)
             fail(name + ": size " + std::to_string(texture.width) + "x" + std::to_string(texture.height));
         const size_t expected = static_cast<size_t>(texture.width) * static_cast<size_t>(texture.height);
@@ -127,7 +131,7 @@ private:
 
     void check_instance(size_t i) const {
         const Instance& instance = scene_.instances[i];
-        const std::string name = "instance " + std::to_string(i) + (instance.name.empty() ? "" : " '" + instance.name + "'");
+        const std::string name = labelled("instance", i, instance.name);
         if (instance.mesh >= scene_.meshes.size())
             fail(name + " uses mesh " + std::to_string(instance.mesh) + " but there are " +
                  std::to_string(scene_.meshes.size()) + " meshes");

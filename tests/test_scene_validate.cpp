@@ -62,7 +62,8 @@ TEST(SceneValidate, DegenerateTrianglesAreAllowed) {
 TEST(SceneValidate, IndexOutOfRange) {
     Scene scene = quad_scene();
     scene.meshes[0].triangles[1].z = 4;
-    EXPECT_EQ(validation_error(scene), "quad.json: mesh 0 'quad': triangle 1 references vertex 4 but there are 4 vertices");
+    EXPECT_EQ(validation_error(scene),
+              "quad.json: mesh 0 'quad': triangle 1 references vertex 4 but there are 4 vertices");
 }
 
 TEST(SceneValidate, NonFiniteVertexData) {
@@ -93,7 +94,8 @@ TEST(SceneValidate, MaterialReferences) {
     EXPECT_EQ(validation_error(scene), "quad.json: mesh 0 'quad': 1 triangle materials for 2 triangles");
     scene = quad_scene();
     scene.meshes[0].triangle_materials[1] = 2;
-    EXPECT_EQ(validation_error(scene), "quad.json: mesh 0 'quad': triangle 1 uses material 2 but there are 2 materials");
+    EXPECT_EQ(validation_error(scene),
+              "quad.json: mesh 0 'quad': triangle 1 uses material 2 but there are 2 materials");
     scene = quad_scene();
     scene.materials[1].name = "brick";
     scene.materials[1].textures[0].texture = 1;
@@ -153,9 +155,8 @@ TEST(SceneValidate, NanVertexFromAPlyFile) {
     scene.meshes.push_back(load_ply(path));
     scene.materials.emplace_back();
     scene.instances.push_back(Instance{});
-    EXPECT_EQ(validation_error(scene).rfind(path.string() + ": mesh 0 'nan_vertex': vertex 1 has a non-finite position", 0),
-              0u)
-        << validation_error(scene);
+    const std::string expected = path.string() + ": mesh 0 'nan_vertex': vertex 1 has a non-finite position";
+    EXPECT_EQ(validation_error(scene).rfind(expected, 0), 0u) << validation_error(scene);
 }
 
 }  // namespace
