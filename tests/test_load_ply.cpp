@@ -198,7 +198,8 @@ TEST(LoadPly, FloatColoursKeptAndAlphaRead) {
     EXPECT_EQ(mesh.colors[0], glm::vec4(0.25f, 0.5f, 2.0f, 0.0f));
     EXPECT_EQ(mesh.colors[1].w, 1.0f);
     EXPECT_NEAR(mesh.colors[2].w, 0.2f, 1e-6f);
-    EXPECT_TRUE(mesh.normals.empty());
+    ASSERT_EQ(mesh.normals.size(), 3u);   // computed: the file has none
+    EXPECT_NEAR(glm::length(mesh.normals[0]), 1.0f, 1e-6f);
     EXPECT_TRUE(mesh.uv0.empty());
 }
 
@@ -254,8 +255,9 @@ TEST(LoadPly, BunnyAttributes) {
     EXPECT_NEAR(high.y, 0.1873, 1e-3);
     EXPECT_NEAR(low.z, -0.0619, 1e-3);
     EXPECT_NEAR(high.z, 0.0588, 1e-3);
-    // confidence/intensity are not colours or normals.
-    EXPECT_TRUE(bunny.normals.empty());
+    // confidence/intensity are not colours or normals; the normals are computed smooth from the faces.
+    ASSERT_EQ(bunny.normals.size(), bunny.positions.size());
+    for (size_t i = 0; i < bunny.normals.size(); i += 997) EXPECT_NEAR(glm::length(bunny.normals[i]), 1.0f, 1e-5f);
     EXPECT_TRUE(bunny.colors.empty());
     EXPECT_TRUE(bunny.uv0.empty());
 }
