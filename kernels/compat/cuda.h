@@ -1,0 +1,73 @@
+// kernels/ compiled by nvcc. CUDA has float3 etc. but no operators on them: they are defined here, like the
+// C++ ones in cpu.h. Math maps to the single-precision intrinsics-free functions (same accuracy as OpenCL's
+// default build; see docs/fairness.md for the flags both APIs get).
+#ifndef RT_COMPAT_CUDA_H
+#define RT_COMPAT_CUDA_H
+
+#define RT_FUNC static __device__ __forceinline__
+#define RT_CONST static __device__ constexpr
+
+typedef unsigned int uint;
+
+#define RT_STRUCT_BEGIN(name) struct name {
+#define RT_STRUCT_END(name) };
+
+RT_FUNC float3 operator+(float3 a, float3 b) { return make_float3(a.x + b.x, a.y + b.y, a.z + b.z); }
+RT_FUNC float3 operator-(float3 a, float3 b) { return make_float3(a.x - b.x, a.y - b.y, a.z - b.z); }
+RT_FUNC float3 operator*(float3 a, float3 b) { return make_float3(a.x * b.x, a.y * b.y, a.z * b.z); }
+RT_FUNC float3 operator/(float3 a, float3 b) { return make_float3(a.x / b.x, a.y / b.y, a.z / b.z); }
+RT_FUNC float3 operator*(float3 a, float s) { return make_float3(a.x * s, a.y * s, a.z * s); }
+RT_FUNC float3 operator*(float s, float3 a) { return make_float3(a.x * s, a.y * s, a.z * s); }
+RT_FUNC float3 operator/(float3 a, float s) { return make_float3(a.x / s, a.y / s, a.z / s); }
+RT_FUNC float3 operator-(float3 a) { return make_float3(-a.x, -a.y, -a.z); }
+RT_FUNC float2 operator+(float2 a, float2 b) { return make_float2(a.x + b.x, a.y + b.y); }
+RT_FUNC float2 operator-(float2 a, float2 b) { return make_float2(a.x - b.x, a.y - b.y); }
+RT_FUNC float2 operator*(float2 a, float s) { return make_float2(a.x * s, a.y * s); }
+RT_FUNC float2 operator*(float s, float2 a) { return make_float2(a.x * s, a.y * s); }
+RT_FUNC float4 operator+(float4 a, float4 b) { return make_float4(a.x + b.x, a.y + b.y, a.z + b.z, a.w + b.w); }
+RT_FUNC float4 operator*(float4 a, float s) { return make_float4(a.x * s, a.y * s, a.z * s, a.w * s); }
+RT_FUNC float4 operator*(float s, float4 a) { return make_float4(a.x * s, a.y * s, a.z * s, a.w * s); }
+
+RT_FUNC float dot(float3 a, float3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+RT_FUNC float3 cross(float3 a, float3 b) {
+    return make_float3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+}
+RT_FUNC float length(float3 a) { return sqrtf(dot(a, a)); }
+RT_FUNC float3 normalize(float3 a) { return a * rsqrtf(dot(a, a)); }
+
+#define rt_min(a, b) fminf((a), (b))
+#define rt_max(a, b) fmaxf((a), (b))
+#define rt_abs(a) fabsf(a)
+#define rt_sqrt(a) sqrtf(a)
+#define rt_floor(a) floorf(a)
+#define rt_pow(a, b) powf((a), (b))
+#define rt_exp2(a) exp2f(a)
+#define rt_ldexp(a, e) ldexpf((a), (e))
+#define rt_atan2(y, x) atan2f((y), (x))
+#define rt_acos(a) acosf(a)
+#define rt_isfinite(a) isfinite(a)
+RT_FUNC uint rt_min_u(uint a, uint b) { return umin(a, b); }
+RT_FUNC uint rt_max_u(uint a, uint b) { return umax(a, b); }
+RT_FUNC int rt_min_i(int a, int b) { return min(a, b); }
+RT_FUNC int rt_max_i(int a, int b) { return max(a, b); }
+
+#define rt_float(x) ((float)(x))
+#define rt_uint(x) ((uint)(x))
+#define rt_int(x) ((int)(x))
+#define rt_as_uint(f) __float_as_uint(f)
+#define rt_as_float(u) __uint_as_float(u)
+#define rt_as_int(f) __float_as_int(f)
+#define rt_int_as_float(i) __int_as_float(i)
+
+#define RT_INFINITY __int_as_float(0x7f800000)
+#define RT_GLOBAL_PTR(type) type* __restrict__
+
+#define RT_FETCH(kg, array, i) ((kg).array[(i)])
+#define RT_STORE(kg, array, i, value) ((kg).array[(i)] = (value))
+#define RT_ATOMIC_ADD(kg, array, i, value) atomicAdd(&(kg).array[(i)], (value))
+
+// Grid-stride loop: the backend launches a fixed grid sized to fill the GPU; the item count lives on the device.
+#define RT_GRID_LOOP(i, n) \
+    for (uint i = blockIdx.x * blockDim.x + threadIdx.x, rt_n_ = (n); i < rt_n_; i += gridDim.x * blockDim.x)
+
+#endif

@@ -1,0 +1,55 @@
+// kernels/ compiled as GLSL 4.60 compute (glslang → SPIR-V for Vulkan). GLSL has vectors and operators but other
+// names, no pointers (buffers are global blocks: `kg` is a dummy), no casts (constructors) and no typedef.
+#ifndef RT_COMPAT_GLSL_H
+#define RT_COMPAT_GLSL_H
+
+#define RT_FUNC
+#define RT_CONST const
+
+#define RT_STRUCT_BEGIN(name) struct name {
+#define RT_STRUCT_END(name) };
+
+#define float2 vec2
+#define float3 vec3
+#define float4 vec4
+#define uint2 uvec2
+#define uint4 uvec4
+#define make_float2 vec2
+#define make_float3 vec3
+#define make_float4 vec4
+#define make_uint4 uvec4
+
+#define rt_min(a, b) min((a), (b))
+#define rt_max(a, b) max((a), (b))
+#define rt_abs(a) abs(a)
+#define rt_sqrt(a) sqrt(a)
+#define rt_floor(a) floor(a)
+#define rt_pow(a, b) pow((a), (b))
+#define rt_exp2(a) exp2(a)
+#define rt_ldexp(a, e) ldexp((a), (e))
+#define rt_atan2(y, x) atan((y), (x))
+#define rt_acos(a) acos(a)
+#define rt_isfinite(a) (!isinf(a) && !isnan(a))
+#define rt_min_u(a, b) min(uint(a), uint(b))
+#define rt_max_u(a, b) max(uint(a), uint(b))
+#define rt_min_i(a, b) min(int(a), int(b))
+#define rt_max_i(a, b) max(int(a), int(b))
+
+#define rt_float(x) float(x)
+#define rt_uint(x) uint(x)
+#define rt_int(x) int(x)
+#define rt_as_uint(f) floatBitsToUint(f)
+#define rt_as_float(u) uintBitsToFloat(u)
+#define rt_as_int(f) floatBitsToInt(f)
+#define rt_int_as_float(i) intBitsToFloat(i)
+
+#define RT_INFINITY uintBitsToFloat(0x7f800000u)
+
+#define RT_FETCH(kg, array, i) (array[(i)])
+#define RT_STORE(kg, array, i, value) (array[(i)] = (value))
+#define RT_ATOMIC_ADD(kg, array, i, value) atomicAdd(array[(i)], (value))
+
+#define RT_GRID_LOOP(i, n) \
+    for (uint i = gl_GlobalInvocationID.x, rt_n_ = (n); i < rt_n_; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x)
+
+#endif
