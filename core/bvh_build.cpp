@@ -296,15 +296,22 @@ private:
         for (int axis = 0; axis < 3; ++axis) {
             if (binnings[axis].scale == 0.0f) continue;
             const Bin* axis_bins = &bins[axis * bin_count];
+            // Empty bins are skipped: a split after one equals the split after the last non-empty bin before it,
+            // which comes first and so wins the strict comparison anyway. Small nodes have mostly empty bins.
             Bin sum;
+            float right_cost = 0.0f;
             for (uint32_t i = bin_count; i-- > 1;) {
-                sum.grow(axis_bins[i]);
-                right_costs[i] = sum.count ? sum.box.half_area() * float(sum.count) : -1.0f;
+                if (axis_bins[i].count != 0) {
+                    sum.grow(axis_bins[i]);
+                    right_cost = sum.box.half_area() * float(sum.count);
+                }
+                right_costs[i] = sum.count ? right_cost : -1.0f;
             }
             Bin left;
             for (uint32_t i = 0; i + 1 < bin_count; ++i) {
+                if (axis_bins[i].count == 0) continue;
                 left.grow(axis_bins[i]);
-                if (left.count == 0 || right_costs[i + 1] < 0.0f) continue;
+                if (right_costs[i + 1] < 0.0f) continue;
                 float cost = left.box.half_area() * float(left.count) + right_costs[i + 1];
                 if (cost < best.cost) best = {axis, i, cost};
             }
