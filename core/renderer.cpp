@@ -105,7 +105,7 @@ FrameResult Renderer::render(const Camera& camera, const RenderSettings& setting
                     std::to_string(RT_MAX_DEPTH) + ")");
     const uint32_t pixels = settings.width * settings.height;
     const uint32_t lights = std::max(scene_.light_count, 1u);
-    float factor = std::max(settings.queue_factor, 1.0f);
+    float factor = std::max({settings.queue_factor, learned_queue_factor_, 1.0f});
     FrameResult result;
     result.width = settings.width;
     result.height = settings.height;
@@ -163,6 +163,7 @@ FrameResult Renderer::render(const Camera& camera, const RenderSettings& setting
         for (uint32_t d = 0; d <= params.size.z && d < RT_MAX_DEPTH + 1; ++d)
             needed = std::max(needed, counters[RT_COUNTER_RAYS + d]);
         factor = std::max(factor * 2.0f, float(needed) / float(pixels) * 1.25f);
+        learned_queue_factor_ = factor;
     }
 }
 

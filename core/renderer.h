@@ -78,6 +78,7 @@ private:
     uint32_t shadow_capacity_ = 0;
     uint32_t pixel_capacity_ = 0;
     double last_trace_ms_ = 0.0;
+    float learned_queue_factor_ = 0.0f;   // what an overflowing frame needed: later frames start there
 };
 
 }  // namespace prism
