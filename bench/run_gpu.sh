@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# The GPU session in one command, run from the repository root on the GPU machine (docs/results.md says how the
+# build, runtime libraries and scenes get there). Writes results and logs under $OUT (default bench/results/gpu).
+#   PRISM_BUILD: build folder with apps/prism and tests/prism_tests (default build-gpu)
+#   PRISM_DATA:  scenes folder laid out like ../shared/scenes (default .device-data/scenes)
+#   PRISM_TAG:   suffix of the result files (default: the GPU's name)
+set -uo pipefail
+build=${PRISM_BUILD:-build-gpu}
+data=${PRISM_DATA:-.device-data/scenes}
+out=${OUT:-bench/results/gpu}
+mkdir -p "$out"
+export PRISM_SCENES_DIR=$PWD/$data PRISM_BINARY=$PWD/$build/apps/prism
+export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-$(mktemp -d)} XDG_CACHE_HOME=${XDG_CACHE_HOME:-$(mktemp -d)}
+chmod 700 "$XDG_RUNTIME_DIR"
+tag=${PRISM_TAG:-$(nvidia-smi --query-gpu=name --format=csv,noheader 2>/dev/null | head -1 | tr ' ' '-' | tr -cd 'A-Za-z0-9-')}
+tag=${tag:-gpu}
+prism=$build/apps/prism
+step() { echo; echo "== $* ($(date -u +%H:%M:%S))"; }
+
+step info
+nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv 2>&1 | tee "$out/nvidia-smi.txt"
+$prism info | tee "$out/info-$tag.txt"
+
+if [ "${PRISM_SKIP_TESTS:-0}" != 1 ]; then
+  step "GPU tests (CUDA, OpenCL and Vulkan on the device, Embree oracle)"
+  $build/tests/prism_tests --gtest_filter="${PRISM_TEST_FILTER:-*Cuda*:*cuda*:*OpenCL*:*Opencl*:*opencl*:*Vulkan*:*vulkan*:EmbreeOracle.Cuda*}" \
+    2>&1 | tee "$out/tests-$tag.log" | grep -E '^\[  (PASSED|FAILED|SKIPPED) |^\[  FAILED|tests ran'
+fi
+
+backends=${PRISM_BACKENDS:-cuda,opencl:nvidia,vulkan:nvidia}
+step "seed table at the seed's setting (about 100,000 primary rays)"
+$prism bench --data-dir "$data" --backends "$backends" --seed-setting --depth 8 --runs 10 --warmup 2 \
+  --json "$out/seed-table-$tag-seed-setting.json"
+step "seed table at 1920x1080, depth 8"
+$prism bench --data-dir "$data" --backends "$backends" --width 1920 --height 1080 --depth 8 --runs 10 --warmup 2 \
+  --json "$out/seed-table-$tag-1080p.json"
+if [ "${PRISM_CPU_BENCH:-1}" = 1 ]; then
+  step "the same on the host CPU (cpu backend)"
+  $prism bench --data-dir "$data" --backends cpu --width 1920 --height 1080 --depth 8 --runs 3 --warmup 1 \
+    --json "$out/seed-table-$tag-host-cpu-1080p.json"
+fi
+step "bandwidth"
+$prism bandwidth --json "$out/bandwidth-$tag.json" --plot "$out/bandwidth-$tag.png" 2>&1 | tee "$out/bandwidth-$tag.txt"
+step done
