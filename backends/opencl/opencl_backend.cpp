@@ -374,6 +374,26 @@ cl_program build_program(const ClDevice& dev, const std::string& source, opencl_
 
 // ---- The backend ---------------------------------------------------------------------------------------------
 
+// PRISM_DEVICE_MEMORY_LIMIT (as in the CUDA backend): the most bytes all arrays may take together, to exercise
+// the out-of-memory path without filling a device. Unset or empty: the device's global memory.
+uint64_t device_memory_budget(const DeviceEntry& device, std::string& note) {
+    const char* text = std::getenv("PRISM_DEVICE_MEMORY_LIMIT");
+    note = " of global memory of " + device.device_name;
+    if (!text || !*text) return device.global_memory;
+    std::string value(text);
+    if (!std::all_of(value.begin(), value.end(), [](unsigned char c) { return std::isdigit(c); }))
+        throw Error("PRISM_DEVICE_MEMORY_LIMIT='" + value + "' is not a byte count");
+    uint64_t limit = 0;
+    try {
+        limit = std::stoull(value);
+    } catch (const std::exception&) {
+        throw Error("PRISM_DEVICE_MEMORY_LIMIT='" + value + "' is out of range");
+    }
+    if (limit >= device.global_memory) return device.global_memory;
+    note = " allowed on " + device.device_name + " (PRISM_DEVICE_MEMORY_LIMIT=" + value + ")";
+    return limit;
+}
+
 // The __kernel names of stages.cl: prism_<stage> (rt_<stage> names are taken by kernels/ functions).
 constexpr std::array<const char*, stage_count> kKernelNames = {"prism_generate", "prism_intersect", "prism_miss",
                                                                "prism_shade",    "prism_shadow",    "prism_resolve"};
@@ -382,6 +402,7 @@ class OpenClBackend final : public Backend {
 public:
     explicit OpenClBackend(const std::string& filter) : dev_(filter) {
         const DeviceEntry& d = dev_.entry();
+        memory_budget_ = device_memory_budget(d, memory_note_);
         try {
             program_ = build_program(dev_, prism_opencl_stages_source, nullptr);
             for (size_t s = 0; s < stage_count; ++s) {
@@ -434,10 +455,10 @@ public:
         uint64_t total = bytes_on_device;
         for (size_t i = 0; i < device_array_count; ++i)
             if (i != a) total += allocated_[i];
-        if (total > d.global_memory)
+        if (total > memory_budget_)
             throw Error(std::string("opencl: buffer '") + device_array_name(array) + "' needs " + mib(bytes) +
-                        ", bringing the total to " + mib(total) + ", above the " + mib(d.global_memory) +
-                        " of global memory of " + d.device_name);
+                        ", bringing the total to " + mib(total) + ", above the " + mib(memory_budget_) +
+                        memory_note_);
         if (buffers_[a]) {
             clReleaseMemObject(buffers_[a]);
             buffers_[a] = nullptr;
@@ -541,6 +562,8 @@ private:
     std::array<size_t, device_array_count> sizes_{};       // as requested
     std::array<size_t, device_array_count> allocated_{};   // on the device (>= 16, multiple of 16)
     cl_mem placeholder_ = nullptr;                         // bound to arrays never allocated
+    uint64_t memory_budget_ = 0;                           // global memory, or PRISM_DEVICE_MEMORY_LIMIT
+    std::string memory_note_;
     size_t local_size_ = kThreadsPerBlock;
     size_t global_size_ = 0;
     std::vector<Pending> pending_;
