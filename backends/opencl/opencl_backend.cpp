@@ -30,6 +30,8 @@ namespace {
 // ---- Launch configuration (docs/fairness.md: the same rule on every GPU API) -----------------------------------
 constexpr size_t kBlocksPerComputeUnit = 8;
 constexpr size_t kThreadsPerBlock = 128;
+constexpr size_t kPlaceholderBytes = 256;
+static_assert(kPlaceholderBytes >= sizeof(FrameParams) && kPlaceholderBytes >= RT_COUNTER_SLOTS * 4);
 
 const char* cl_error_name(cl_int code) {
     switch (code) {
@@ -419,9 +421,19 @@ public:
                 while (max_group && local_size_ > max_group) local_size_ /= 2;
             }
             global_size_ = kBlocksPerComputeUnit * std::max<cl_uint>(d.compute_units, 1) * local_size_;
+            // Bound to arrays never allocated. Zeroed and large enough for one FrameParams, so the warm-up launches
+            // below read a frame with no pixels and no rays.
             cl_int err = CL_SUCCESS;
-            placeholder_ = clCreateBuffer(dev_.context(), CL_MEM_READ_WRITE, 16, nullptr, &err);
+            placeholder_ = clCreateBuffer(dev_.context(), CL_MEM_READ_WRITE, kPlaceholderBytes, nullptr, &err);
             check(err, "clCreateBuffer", d);
+            const cl_uint zero = 0;
+            check(clEnqueueFillBuffer(dev_.queue(), placeholder_, &zero, sizeof zero, 0, kPlaceholderBytes, 0, nullptr,
+                                      nullptr),
+                  "clEnqueueFillBuffer", d);
+            // Warm-up: one empty launch per stage, so drivers that finish compiling at the first launch (PoCL
+            // compiles per local size) do it now and not inside the first frame's timings (docs/fairness.md).
+            for (size_t s = 0; s < stage_count; ++s) enqueue(Stage(s), 0);
+            finish();
         } catch (...) {
             release();
             throw;
@@ -561,7 +573,7 @@ private:
     std::array<cl_mem, device_array_count> buffers_{};
     std::array<size_t, device_array_count> sizes_{};       // as requested
     std::array<size_t, device_array_count> allocated_{};   // on the device (>= 16, multiple of 16)
-    cl_mem placeholder_ = nullptr;                         // bound to arrays never allocated
+    cl_mem placeholder_ = nullptr;                         // zeroed; bound to arrays never allocated
     uint64_t memory_budget_ = 0;                           // global memory, or PRISM_DEVICE_MEMORY_LIMIT
     std::string memory_note_;
     size_t local_size_ = kThreadsPerBlock;
