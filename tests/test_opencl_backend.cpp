@@ -187,6 +187,22 @@ TEST(OpenclDevices, ProbeListsEveryDevice) {
     }
 }
 
+// Without a driver the backend is reported unavailable with the reason, and asking for it is a one-line error
+// (the ICD loader in a child process is pointed at an empty vendor directory).
+TEST(OpenclDevices, NoDriverIsReportedNotCrashed) {
+    std::filesystem::path empty = prism::test::temp_dir("opencl-no-vendors");
+    ScopedEnv vendors("OCL_ICD_VENDORS", empty.string());
+    prism::test::CommandResult info = prism::test::run_prism("info");
+    EXPECT_EQ(info.exit_code, 0) << info.output;
+    EXPECT_NE(info.output.find("no OpenCL platform (ICD loader found no driver)"), std::string::npos) << info.output;
+    std::filesystem::path out = empty / "never.png";
+    prism::test::CommandResult render =
+        prism::test::run_prism("render --backend opencl --width 8 --height 8 --out '" + out.string() + "'");
+    EXPECT_EQ(render.exit_code, 1) << render.output;
+    EXPECT_NE(render.output.find("prism: error: opencl: no OpenCL platform"), std::string::npos) << render.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
 // ---- Memory, launches, timers (no scene needed) -----------------------------------------------------------------
 
 TEST(OpenclBackend, MemoryRoundTripsAndZeroSizeArraysWork) {
