@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "backends/backend_list.h"
 #include "backends/cuda/cuda_backend.h"
 #include "core/error.h"
 #include "core/render_engine.h"
