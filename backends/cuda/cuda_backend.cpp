@@ -81,8 +81,7 @@ public:
         const cuda::DeviceDescription& d = context_.device();
         BackendInfo info;
         info.name = "cuda";
-        info.device = d.name + " (sm_" + std::to_string(d.compute_major) + std::to_string(d.compute_minor) + ", " +
-                      std::to_string(d.multiprocessors) + " SMs)";
+        info.device = d.name;   // the bare name, as OpenCL and Vulkan report it: result files match across APIs
         info.driver = cuda::driver_version();
         info.api_version = cuda::runtime_version();
         info.device_memory = d.total_memory;
