@@ -67,9 +67,21 @@ struct RangeBounds {
     void grow(const RangeBounds& other) { box.grow(other.box); centroids.grow(other.centroids); }
 };
 
+// One primitive in the working array. Builders move these (not indices into the caller's bounds) so every pass
+// reads memory in order.
+struct Reference {
+    glm::vec3 lower;
+    uint32_t primitive;
+    glm::vec3 upper;
+    uint32_t unused;
+    // Always computed the same way, so bins and partitions see identical values.
+    glm::vec3 centroid() const { return 0.5f * (lower + upper); }
+};
+
 struct Bin {
-    RangeBounds bounds;
+    Aabb box;
     uint32_t count = 0;
+    void grow(const Bin& other) { box.grow(other.box); count += other.count; }
 };
 
 // Maps a centroid coordinate to its bin on one axis; the same function counts and partitions, so both agree.
@@ -87,7 +99,6 @@ struct Split {
     int axis = -1;   // -1: none found
     uint32_t last_left_bin = 0;
     float cost = std::numeric_limits<float>::infinity();   // sum of area * count over both sides
-    RangeBounds left, right;
 };
 
 struct Task {
@@ -99,20 +110,16 @@ struct Task {
 class TreeBuilder {
 public:
     TreeBuilder(std::span<const Aabb> bounds, const BvhBuildOptions& options, BvhTree& tree, int threads)
-        : bounds_(bounds), options_(options), tree_(tree), budget_(threads - 1) {
+        : options_(options), tree_(tree), budget_(threads - 1) {
         max_leaf_ = options.max_leaf_size;
         if (options.layout == BvhLayout::Escape) max_leaf_ = std::min<uint32_t>(max_leaf_, 255u);
-        centroids_.resize(bounds.size());
-        for (uint32_t i = 0; i < bounds.size(); ++i) {
-            if (!bvh_usable_bounds(bounds[i])) continue;
-            centroids_[i] = bounds[i].center();
-            tree.primitive_order.push_back(i);
-        }
+        for (uint32_t i = 0; i < bounds.size(); ++i)
+            if (bvh_usable_bounds(bounds[i])) references_.push_back({bounds[i].lower, i, bounds[i].upper, 0});
     }
 
     void build() {
         auto& arena = new_arena();
-        uint32_t count = uint32_t(tree_.primitive_order.size());
+        uint32_t count = uint32_t(references_.size());
         if (count == 0) {
             arena.emplace_back();   // one leaf, count 0, empty box
             tree_.root = &arena.back();
@@ -124,6 +131,8 @@ public:
         tree_.root = build_subtree(root, arena);
         tree_.node_count = node_count_.load();
         tree_.depth = depth_.load();
+        tree_.primitive_order.resize(count);
+        for (uint32_t i = 0; i < count; ++i) tree_.primitive_order[i] = references_[i].primitive;
     }
 
 private:
@@ -143,9 +152,9 @@ private:
         run_in_parts(begin, end, helpers + 1, [&](uint32_t b, uint32_t e, int part) {
             RangeBounds bounds;
             for (uint32_t i = b; i < e; ++i) {
-                uint32_t primitive = tree_.primitive_order[i];
-                bounds.box.grow(bounds_[primitive]);
-                bounds.centroids.grow(centroids_[primitive]);
+                const Reference& reference = references_[i];
+                bounds.box.grow(Aabb{reference.lower, reference.upper});
+                bounds.centroids.grow(reference.centroid());
             }
             parts[part] = bounds;
         });
@@ -157,7 +166,7 @@ private:
 
     const BvhBuildNode* build_subtree(const Task& task, std::deque<BvhBuildNode>& arena) {
         BvhBuildNode& node = arena.emplace_back();
-        node_count_.fetch_add(1);
+        node_count_.fetch_add(1, std::memory_order_relaxed);
         node.box = task.bounds.box;
         uint32_t depth = task.depth + 1;
         for (uint32_t seen = depth_.load(); seen < depth && !depth_.compare_exchange_weak(seen, depth);) {
@@ -171,12 +180,16 @@ private:
             return &node;
         }
 
-        bool parallel = left.end - left.begin > kTaskThreshold && budget_.acquire(1) == 1;
+        bool parallel = left.end - left.begin > kTaskThreshold && right.end - right.begin > kTaskThreshold &&
+                        budget_.acquire(1) == 1;
         if (parallel) {
-            std::thread worker([&] { node.children[0] = build_subtree(left, new_arena()); });
+            // The worker gives its thread back as soon as it is done, so the other side can split it again.
+            std::thread worker([&] {
+                node.children[0] = build_subtree(left, new_arena());
+                budget_.release(1);
+            });
             node.children[1] = build_subtree(right, arena);
             worker.join();
-            budget_.release(1);
         } else {
             node.children[0] = build_subtree(left, arena);
             node.children[1] = build_subtree(right, arena);
@@ -184,7 +197,7 @@ private:
         return &node;
     }
 
-    // Decides leaf or split; on a split, partitions primitive_order and fills both child tasks.
+    // Decides leaf or split; on a split, partitions the references and fills both child tasks.
     bool split(const Task& task, Task& left, Task& right) {
         uint32_t count = task.end - task.begin;
         if (count <= 1) return false;
@@ -203,14 +216,32 @@ private:
         if (best.axis < 0) return split_at_index_median(task, left, right);   // all centroids equal
 
         AxisBinning binning = binning_for(task.bounds.centroids, best.axis);
-        uint32_t axis = uint32_t(best.axis);
-        auto* first = tree_.primitive_order.data() + task.begin;
-        auto* middle = std::partition(first, first + count, [&](uint32_t primitive) {
-            return binning.bin(centroids_[primitive][axis]) <= best.last_left_bin;
+        int axis = best.axis;
+        return partition(task, left, right, [&](const Reference& reference) {
+            return binning.bin(reference.centroid()[axis]) <= best.last_left_bin;
         });
-        uint32_t mid = task.begin + uint32_t(middle - first);
-        left = {task.begin, mid, best.left, task.depth + 1};
-        right = {mid, task.end, best.right, task.depth + 1};
+    }
+
+    // Moves the references that satisfy goes_left to the front, measuring both sides on the way.
+    template <class Predicate>
+    bool partition(const Task& task, Task& left, Task& right, const Predicate& goes_left) {
+        RangeBounds left_bounds, right_bounds;
+        uint32_t i = task.begin, j = task.end;
+        while (i < j) {
+            const Reference& reference = references_[i];
+            if (goes_left(reference)) {
+                left_bounds.box.grow(Aabb{reference.lower, reference.upper});
+                left_bounds.centroids.grow(reference.centroid());
+                ++i;
+            } else {
+                right_bounds.box.grow(Aabb{reference.lower, reference.upper});
+                right_bounds.centroids.grow(reference.centroid());
+                std::swap(references_[i], references_[--j]);
+            }
+        }
+        if (i == task.begin || i == task.end) return split_at_index_median(task, left, right);
+        left = {task.begin, i, left_bounds, task.depth + 1};
+        right = {i, task.end, right_bounds, task.depth + 1};
         return true;
     }
 
@@ -224,57 +255,65 @@ private:
         return binning;
     }
 
+    void bin_range(uint32_t begin, uint32_t end, const AxisBinning (&binnings)[3], Bin* bins) const {
+        const uint32_t bin_count = options_.bins;
+        for (uint32_t i = begin; i < end; ++i) {
+            const Reference& reference = references_[i];
+            glm::vec3 centroid = reference.centroid();
+            for (int axis = 0; axis < 3; ++axis) {
+                if (binnings[axis].scale == 0.0f) continue;
+                Bin& bin = bins[axis * bin_count + binnings[axis].bin(centroid[axis])];
+                bin.box.lower = glm::min(bin.box.lower, reference.lower);
+                bin.box.upper = glm::max(bin.box.upper, reference.upper);
+                bin.count++;
+            }
+        }
+    }
+
     Split find_sah_split(const Task& task) {
         const uint32_t bin_count = options_.bins;
         AxisBinning binnings[3];
         for (int axis = 0; axis < 3; ++axis) binnings[axis] = binning_for(task.bounds.centroids, axis);
 
+        // Reused per thread: a node's binning finishes before its children start.
+        thread_local std::vector<Bin> bins;
+        bins.assign(3 * bin_count, Bin{});
         int helpers = helpers_for(task.end - task.begin);
-        std::vector<std::vector<Bin>> parts(helpers + 1);
-        run_in_parts(task.begin, task.end, helpers + 1, [&](uint32_t b, uint32_t e, int part) {
-            std::vector<Bin> bins(3 * bin_count);
-            for (uint32_t i = b; i < e; ++i) {
-                uint32_t primitive = tree_.primitive_order[i];
-                const glm::vec3& centroid = centroids_[primitive];
-                for (int axis = 0; axis < 3; ++axis) {
-                    if (binnings[axis].scale == 0.0f) continue;
-                    Bin& bin = bins[axis * bin_count + binnings[axis].bin(centroid[axis])];
-                    bin.bounds.box.grow(bounds_[primitive]);
-                    bin.bounds.centroids.grow(centroid);
-                    bin.count++;
-                }
-            }
-            parts[part] = std::move(bins);
-        });
-        budget_.release(helpers);
-        std::vector<Bin>& bins = parts[0];
-        for (int part = 1; part <= helpers; ++part) {
-            for (uint32_t i = 0; i < 3 * bin_count; ++i) {
-                bins[i].bounds.grow(parts[part][i].bounds);
-                bins[i].count += parts[part][i].count;
-            }
+        if (helpers == 0) {
+            bin_range(task.begin, task.end, binnings, bins.data());
+        } else {
+            std::vector<std::vector<Bin>> parts(helpers + 1, std::vector<Bin>(3 * bin_count));
+            run_in_parts(task.begin, task.end, helpers + 1, [&](uint32_t b, uint32_t e, int part) {
+                bin_range(b, e, binnings, parts[part].data());
+            });
+            budget_.release(helpers);
+            for (const auto& part : parts)
+                for (uint32_t i = 0; i < 3 * bin_count; ++i) bins[i].grow(part[i]);
         }
 
         Split best;
-        std::vector<Bin> right_sums(bin_count);
+        float right_costs[kMaxBins];   // area * count of bins i.. on the right
         for (int axis = 0; axis < 3; ++axis) {
             if (binnings[axis].scale == 0.0f) continue;
             const Bin* axis_bins = &bins[axis * bin_count];
+            // Empty bins are skipped: a split after one equals the split after the last non-empty bin before it,
+            // which comes first and so wins the strict comparison anyway. Small nodes have mostly empty bins.
             Bin sum;
-            for (uint32_t i = bin_count; i-- > 0;) {
-                sum.bounds.grow(axis_bins[i].bounds);
-                sum.count += axis_bins[i].count;
-                right_sums[i] = sum;
+            float right_cost = 0.0f;
+            for (uint32_t i = bin_count; i-- > 1;) {
+                if (axis_bins[i].count != 0) {
+                    sum.grow(axis_bins[i]);
+                    right_cost = sum.box.half_area() * float(sum.count);
+                }
+                right_costs[i] = sum.count ? right_cost : -1.0f;
             }
             Bin left;
             for (uint32_t i = 0; i + 1 < bin_count; ++i) {
-                left.bounds.grow(axis_bins[i].bounds);
-                left.count += axis_bins[i].count;
-                const Bin& right = right_sums[i + 1];
-                if (left.count == 0 || right.count == 0) continue;
-                float cost = left.bounds.box.half_area() * float(left.count) +
-                             right.bounds.box.half_area() * float(right.count);
-                if (cost < best.cost) best = {axis, i, cost, left.bounds, right.bounds};
+                if (axis_bins[i].count == 0) continue;
+                left.grow(axis_bins[i]);
+                if (right_costs[i + 1] < 0.0f) continue;
+                float cost = left.box.half_area() * float(left.count) + right_costs[i + 1];
+                if (cost < best.cost) best = {axis, i, cost};
             }
         }
         return best;
@@ -283,32 +322,24 @@ private:
     // Thesis Algorithm 6-1: pivot at the middle of the node box on an axis cycling x, y, z per level; primitives
     // go left when their centroid lies below it. An empty side falls back to the index median.
     bool split_at_box_median(const Task& task, Task& left, Task& right) {
-        uint32_t axis = task.depth % 3;
+        int axis = int(task.depth % 3);
         float pivot = task.bounds.box.center()[axis];
-        auto* first = tree_.primitive_order.data() + task.begin;
-        auto* last = tree_.primitive_order.data() + task.end;
-        auto* middle =
-            std::partition(first, last, [&](uint32_t primitive) { return centroids_[primitive][axis] < pivot; });
-        if (middle == first || middle == last) return split_at_index_median(task, left, right);
-        return split_at(task, task.begin + uint32_t(middle - first), left, right);
+        return partition(task, left, right,
+                         [&](const Reference& reference) { return reference.centroid()[axis] < pivot; });
     }
 
     bool split_at_index_median(const Task& task, Task& left, Task& right) {
-        return split_at(task, task.begin + (task.end - task.begin) / 2, left, right);
-    }
-
-    bool split_at(const Task& task, uint32_t mid, Task& left, Task& right) {
+        uint32_t mid = task.begin + (task.end - task.begin) / 2;
         left = {task.begin, mid, bounds_of(task.begin, mid), task.depth + 1};
         right = {mid, task.end, bounds_of(mid, task.end), task.depth + 1};
         return true;
     }
 
-    std::span<const Aabb> bounds_;
     const BvhBuildOptions& options_;
     BvhTree& tree_;
     ThreadBudget budget_;
     uint32_t max_leaf_ = 4;
-    std::vector<glm::vec3> centroids_;
+    std::vector<Reference> references_;
     std::mutex arenas_mutex_;
     std::atomic<uint32_t> node_count_{0};
     std::atomic<uint32_t> depth_{0};

@@ -99,8 +99,10 @@ TEST(Cli, OutOfRangeIndexFailsCleanly) {
 
 TEST(Cli, NanVertexFailsCleanly) {
     fs::path file = prism::test::write_file(
-        "nan-vertex.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n");
-    expect_clean_failure(file.string(), "nan-vertex.obj");
+        "nan-vertex.ply",
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\nnan 1 0\n3 0 1 2\n");
+    expect_clean_failure(file.string(), "nan-vertex.ply");
 }
 
 TEST(Cli, MissingSceneFailsCleanly) { expect_clean_failure("/nonexistent/model.ply", "/nonexistent/model.ply"); }

@@ -13,6 +13,9 @@
 
 namespace prism::test {
 
+// Every test binary sees the same backends as the prism command.
+static const bool backends_registered = (prism::register_builtin_backends(), true);
+
 std::filesystem::path scenes_dir() {
     if (const char* dir = std::getenv("PRISM_SCENES_DIR")) return dir;
     return PRISM_SCENES_DIR;
