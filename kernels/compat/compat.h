@@ -7,14 +7,16 @@
 #error "define exactly one of RT_CPU, RT_CUDA, RT_OPENCL, RT_GLSL"
 #endif
 
+// Included relative to this file, so no language needs kernels/ itself on its include path (for nvcc it must
+// not be: CUDA's <math.h> would find kernels/math.h).
 #if defined(RT_CPU)
-#include "compat/cpu.h"
+#include "cpu.h"
 #elif defined(RT_CUDA)
-#include "compat/cuda.h"
+#include "cuda.h"
 #elif defined(RT_OPENCL)
-#include "compat/opencl.h"
+#include "opencl.h"
 #else
-#include "compat/glsl.h"
+#include "glsl.h"
 #endif
 
 #endif
