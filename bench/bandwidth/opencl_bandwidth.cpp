@@ -17,9 +17,8 @@
 #include "core/error.h"
 #include "kernels/bandwidth_copy.h"
 
-namespace prism::opencl_source {
-extern const char* const bandwidth_copy;   // bandwidth_copy.cl with its includes inlined (embed_opencl.cmake)
-}
+// bandwidth_copy.cl with its includes inlined at build time (cmake/PrismEmbedText.cmake).
+extern const char prism_bandwidth_copy_source[];
 
 namespace prism::bandwidth {
 namespace {
@@ -225,7 +224,7 @@ private:
     }
 
     void build_kernel() {
-        const char* source = prism::opencl_source::bandwidth_copy;
+        const char* source = prism_bandwidth_copy_source;
         cl_int status = CL_SUCCESS;
         program_ = clCreateProgramWithSource(context_, 1, &source, nullptr, &status);
         check(status, "clCreateProgramWithSource");
