@@ -37,10 +37,9 @@ RT_FUNC Surface rt_surface(KernelGlobals kg, float3 origin, float3 direction, Hi
     float v = hit.tuv.z;
     float w = 1.0f - u - v;
 
-    // Front faces wind counter-clockwise in world space (glTF's rule), so a mirroring transform flips the
-    // object-space geometric normal.
+    // Front faces wind counter-clockwise in object space (the glTF loader gives mirrored nodes a re-wound copy),
+    // and the inverse transpose keeps an outward normal outward under any transform, mirrors included.
     float3 ng = cross(rt_xyz(geometry.e1), rt_xyz(geometry.e2));
-    if (inst.info.w != 0u) ng = -ng;
     ng = normalize(rt_transform_normal(inst.world_to_object0, inst.world_to_object1, inst.world_to_object2, ng));
     float3 n = ng;
     if (a.normal.w > 0.5f) {

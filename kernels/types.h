@@ -48,7 +48,7 @@ RT_STRUCT_END(Vertex)
 
 // An instance of a mesh (thesis 6.2: the Node Primitive). Rows of 3x4 affine matrices.
 //  info.x = root of the mesh's BVH in nodes, info.y = first triangle of the mesh in triangles,
-//  info.z = first entry of the mesh in triangle_shading, info.w = 1 if the transform mirrors (det < 0)
+//  info.z = first entry of the mesh in triangle_shading, info.w = 1 if the transform mirrors (det < 0; informative)
 RT_STRUCT_BEGIN(Instance)
     float4 world_to_object0;
     float4 world_to_object1;

@@ -1,6 +1,11 @@
 #include "tests/test_support.h"
 
+#include "backends/backend_list.h"
+#include "core/backend.h"
+
 #include <array>
+#include <cmath>
+#include <limits>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -27,6 +32,30 @@ std::filesystem::path write_file(const std::string& name, const std::string& byt
     std::filesystem::path path = temp_dir("files") / name;
     std::ofstream(path, std::ios::binary) << bytes;
     return path;
+}
+
+bool backend_available(const std::string& name, std::string* reason) {
+    prism::register_builtin_backends();
+    for (const prism::BackendFactory& factory : prism::registered_backends()) {
+        if (factory.name != name) continue;
+        prism::BackendAvailability availability = factory.probe();
+        if (reason) *reason = availability.detail;
+        return availability.available;
+    }
+    if (reason) *reason = name + " is not compiled into this build";
+    return false;
+}
+
+double psnr_rgba8(const std::vector<uint32_t>& a, const std::vector<uint32_t>& b) {
+    if (a.size() != b.size() || a.empty()) return 0.0;
+    double squared = 0.0;
+    for (size_t i = 0; i < a.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            double d = double((a[i] >> (8 * c)) & 255u) - double((b[i] >> (8 * c)) & 255u);
+            squared += d * d;
+        }
+    double mse = squared / (3.0 * double(a.size()));
+    return mse == 0.0 ? std::numeric_limits<double>::infinity() : 10.0 * std::log10(255.0 * 255.0 / mse);
 }
 
 CommandResult run_prism(const std::string& arguments) {

@@ -2,7 +2,9 @@
 #pragma once
 
 #include <filesystem>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 namespace prism::test {
 
@@ -13,6 +15,12 @@ std::filesystem::path scene(const std::string& relative);
 std::filesystem::path temp_dir(const std::string& name);
 // Writes bytes to a file under temp_dir("files") and returns its path.
 std::filesystem::path write_file(const std::string& name, const std::string& bytes);
+
+// Whether this machine runs the named backend ("cuda", "opencl", "vulkan"); `reason` says why not.
+bool backend_available(const std::string& name, std::string* reason = nullptr);
+
+// Peak signal-to-noise ratio of two RGBA8 images over the RGB channels; +inf when identical.
+double psnr_rgba8(const std::vector<uint32_t>& a, const std::vector<uint32_t>& b);
 
 struct CommandResult {
     int exit_code = -1;   // the process exit status; 128 + signal when killed by a signal

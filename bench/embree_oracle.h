@@ -1,0 +1,49 @@
+// Embree (Intel's CPU ray tracer, Debian libembree-dev) as an independent oracle and speed reference: the tests
+// compare Prism's hits with it, the benchmark compares throughput. Also the shared ray set both use: primary rays
+// from the scene camera plus cosine-distributed diffuse rays from their hit points.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "core/renderer.h"
+#include "core/scene.h"
+
+namespace prism::oracle {
+
+class EmbreeScene {
+public:
+    explicit EmbreeScene(const Scene& scene, unsigned threads = 0);   // every instance, world space
+    ~EmbreeScene();
+    EmbreeScene(const EmbreeScene&) = delete;
+    EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+    // Closest hits with rtcIntersect1 (one ray at a time) or rtcIntersect8 (packets), on `threads` threads.
+    std::vector<RayHit> intersect1(const std::vector<RayQuery>& rays) const;
+    std::vector<RayHit> intersect8(const std::vector<RayQuery>& rays) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+// `primary` camera rays on a square-ish grid through the scene camera's view, then for every primary hit
+// (found with `embree`) cosine-distributed diffuse rays from the hit point until `total` rays exist.
+struct OracleRays {
+    std::vector<RayQuery> rays;
+    size_t primary = 0;
+    size_t diffuse = 0;
+};
+OracleRays make_oracle_rays(const Scene& scene, const EmbreeScene& embree, size_t primary, size_t total,
+                            uint32_t seed);
+
+struct Agreement {
+    size_t rays = 0;
+    size_t same = 0;             // same instance and primitive, or both miss
+    size_t t_outside_tolerance = 0;   // same primitive but t differs by more than 1e-4 relative
+    double fraction() const { return rays ? double(same) / double(rays) : 0.0; }
+};
+Agreement compare_hits(const std::vector<RayHit>& a, const std::vector<RayHit>& b);
+
+}  // namespace prism::oracle

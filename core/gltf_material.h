@@ -1,0 +1,46 @@
+// glTF PBR materials (metallic-roughness and the KHR_materials_* / KHR_texture_transform extensions) mapped onto the
+// seed's Whitted material (core/scene.h Material). Every mapping is written down in docs/materials.md.
+#pragma once
+
+#include <map>
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "core/scene.h"
+
+namespace tinygltf {
+class Model;
+}
+
+namespace prism::gltf {
+
+// Converts glTF materials into one scene, decoding each base-colour texture once.
+class MaterialConverter {
+public:
+    MaterialConverter(const tinygltf::Model& model, std::string file, Scene& scene);
+
+    // Index in scene.materials of glTF material `index` (converted on first use); -1 gives the default material.
+    uint32_t material(int index);
+
+private:
+    Material convert(int index);
+    // Index in scene.textures of glTF texture `index` decoded as sRGB colour; throws when its image is missing.
+    // Returns false (with a warning) when the texture has no image Prism can decode.
+    bool color_texture(int index, uint32_t& scene_texture);
+
+    const tinygltf::Model& model_;
+    std::string file_;
+    Scene& scene_;
+    std::map<int, uint32_t> materials_;
+    std::map<int, uint32_t> textures_;
+};
+
+// KHR_materials_dispersion: per-channel IOR (red, green, blue) from the IOR at the sodium d line and
+// `dispersion` = 20 / Abbe number, through Cauchy's n = A + B / lambda^2 (the extension's model).
+glm::vec3 dispersive_ior(float ior, float dispersion);
+
+// The thin-shell thickness (metres, glTF's unit) given to thin-walled transmissive glTF surfaces.
+inline constexpr float kThinWalledThickness = 0.001f;
+
+}  // namespace prism::gltf

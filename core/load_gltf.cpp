@@ -1,0 +1,312 @@
+#include "core/load_gltf.h"
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <sstream>
+#include <tuple>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <tiny_gltf.h>
+
+#include "core/error.h"
+#include "core/gltf_accessor.h"
+#include "core/gltf_material.h"
+
+namespace prism {
+namespace {
+
+// Prism decodes images itself (load_texture_from_memory) so that image errors carry Prism's messages and only
+// the images a material uses are decoded; tinygltf just hands over the encoded bytes.
+bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                        const unsigned char* bytes, int size, void*) {
+    image->image.assign(bytes, bytes + size);
+    return true;
+}
+
+std::string first_line(const std::string& text) {
+    std::string line = text.substr(0, text.find('\n'));
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+    return line.empty() ? "malformed glTF" : line;
+}
+
+glm::mat4 local_transform(const tinygltf::Node& node) {
+    if (node.matrix.size() == 16) {
+        glm::mat4 matrix;
+        for (int i = 0; i < 16; ++i) glm::value_ptr(matrix)[i] = static_cast<float>(node.matrix[i]);   // column-major
+        return matrix;
+    }
+    glm::mat4 matrix(1.0f);
+    if (node.translation.size() == 3)
+        matrix = glm::translate(matrix, glm::vec3(node.translation[0], node.translation[1], node.translation[2]));
+    if (node.rotation.size() == 4) {
+        glm::quat rotation(static_cast<float>(node.rotation[3]), static_cast<float>(node.rotation[0]),
+                           static_cast<float>(node.rotation[1]), static_cast<float>(node.rotation[2]));   // w, x, y, z
+        matrix *= glm::mat4_cast(glm::normalize(rotation));
+    }
+    if (node.scale.size() == 3) matrix = glm::scale(matrix, glm::vec3(node.scale[0], node.scale[1], node.scale[2]));
+    return matrix;
+}
+
+class GltfImporter {
+public:
+    GltfImporter(const tinygltf::Model& model, std::string file, Scene& scene)
+        : model_(model), file_(std::move(file)), scene_(scene), materials_(model, file_, scene) {}
+
+    void import() {
+        std::vector<int> roots;
+        int scene_index = model_.defaultScene >= 0 ? model_.defaultScene : (model_.scenes.empty() ? -1 : 0);
+        if (scene_index >= static_cast<int>(model_.scenes.size()))
+            throw file_error(file_, "scene " + std::to_string(scene_index) + " does not exist");
+        if (scene_index >= 0) {
+            roots = model_.scenes[scene_index].nodes;
+        } else {
+            // No scenes: every node that is nobody's child is a root.
+            std::vector<bool> is_child(model_.nodes.size(), false);
+            for (const tinygltf::Node& node : model_.nodes)
+                for (int child : node.children)
+                    if (child >= 0 && child < static_cast<int>(is_child.size())) is_child[child] = true;
+            for (size_t i = 0; i < model_.nodes.size(); ++i)
+                if (!is_child[i]) roots.push_back(static_cast<int>(i));
+        }
+        for (int root : roots) visit(root, glm::mat4(1.0f));
+    }
+
+private:
+    void visit(int node_index, const glm::mat4& parent) {
+        if (node_index < 0 || node_index >= static_cast<int>(model_.nodes.size()))
+            throw file_error(file_, "node " + std::to_string(node_index) + " does not exist");
+        if (!path_.insert(node_index).second)
+            throw file_error(file_, "node " + std::to_string(node_index) + " is its own ancestor");
+        const tinygltf::Node& node = model_.nodes[node_index];
+        glm::mat4 world = parent * local_transform(node);
+
+        if (node.mesh >= 0) add_mesh_instances(node, node.mesh, world);
+        if (node.camera >= 0) add_camera(node.camera, world);
+        auto light = node.extensions.find("KHR_lights_punctual");
+        if (light != node.extensions.end() && light->second.Has("light"))
+            add_light(light->second.Get("light").GetNumberAsInt(), world);
+        for (int child : node.children) visit(child, world);
+        path_.erase(node_index);
+    }
+
+    void add_mesh_instances(const tinygltf::Node& node, int mesh_index, const glm::mat4& world) {
+        if (mesh_index >= static_cast<int>(model_.meshes.size()))
+            throw file_error(file_, "mesh " + std::to_string(mesh_index) + " does not exist");
+        // A mirroring transform reverses the winding after transformation; a mirrored copy with reversed winding
+        // keeps geometric normals facing the way the file meant.
+        bool mirrored = glm::determinant(glm::mat3(world)) < 0.0f;
+        const tinygltf::Mesh& mesh = model_.meshes[mesh_index];
+        for (size_t p = 0; p < mesh.primitives.size(); ++p) {
+            auto key = std::make_tuple(mesh_index, static_cast<int>(p), mirrored);
+            auto found = meshes_.find(key);
+            uint32_t scene_mesh;
+            if (found != meshes_.end()) {
+                scene_mesh = found->second;
+            } else {
+                Mesh converted;
+                if (!convert_primitive(mesh, mesh_index, static_cast<int>(p), mirrored, converted)) {
+                    meshes_[key] = kSkipped;
+                    continue;
+                }
+                scene_.meshes.push_back(std::move(converted));
+                scene_mesh = static_cast<uint32_t>(scene_.meshes.size() - 1);
+                meshes_[key] = scene_mesh;
+            }
+            if (scene_mesh == kSkipped) continue;
+            Instance instance;
+            instance.mesh = scene_mesh;
+            instance.transform = world;
+            instance.name = node.name.empty() ? mesh.name : node.name;
+            scene_.instances.push_back(std::move(instance));
+        }
+    }
+
+    bool convert_primitive(const tinygltf::Mesh& mesh, int mesh_index, int primitive_index, bool mirrored, Mesh& out) {
+        const tinygltf::Primitive& primitive = mesh.primitives[primitive_index];
+        std::string what = "mesh " + std::to_string(mesh_index) + " primitive " + std::to_string(primitive_index);
+        if (primitive.mode != TINYGLTF_MODE_TRIANGLES && primitive.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+            primitive.mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+            if (!warned_non_triangles_)
+                scene_.warnings.push_back(file_ + ": points and lines primitives are not traced; skipped");
+            warned_non_triangles_ = true;
+            return false;
+        }
+        auto attribute = [&](const char* name) {
+            auto it = primitive.attributes.find(name);
+            return it == primitive.attributes.end() ? -1 : it->second;
+        };
+        int position_accessor = attribute("POSITION");
+        if (position_accessor < 0) {
+            scene_.warnings.push_back(file_ + ": " + what + " has no POSITION; skipped");
+            return false;
+        }
+        gltf::FloatArray positions = gltf::read_floats(model_, position_accessor, file_);
+        if (positions.components != 3) throw file_error(file_, what + ": POSITION must be VEC3");
+        size_t vertex_count = positions.count;
+        out.name = mesh.name.empty() ? what : mesh.name;
+        out.positions.resize(vertex_count);
+        for (size_t i = 0; i < vertex_count; ++i)
+            out.positions[i] = {positions.at(i, 0), positions.at(i, 1), positions.at(i, 2)};
+
+        auto read_attribute = [&](const char* name, int min_components, int max_components) {
+            gltf::FloatArray array;
+            int accessor = attribute(name);
+            if (accessor < 0) return array;
+            array = gltf::read_floats(model_, accessor, file_);
+            if (array.components < min_components || array.components > max_components)
+                throw file_error(file_, what + ": " + name + " has the wrong number of components");
+            if (array.count != vertex_count)
+                throw file_error(file_, what + ": " + name + " count differs from POSITION count");
+            return array;
+        };
+        if (gltf::FloatArray normals = read_attribute("NORMAL", 3, 3); normals.count) {
+            out.normals.resize(vertex_count);
+            for (size_t i = 0; i < vertex_count; ++i) out.normals[i] = {normals.at(i, 0), normals.at(i, 1), normals.at(i, 2)};
+        }
+        if (gltf::FloatArray uv = read_attribute("TEXCOORD_0", 2, 2); uv.count) {
+            out.uv0.resize(vertex_count);
+            for (size_t i = 0; i < vertex_count; ++i) out.uv0[i] = {uv.at(i, 0), uv.at(i, 1)};
+        }
+        if (gltf::FloatArray uv = read_attribute("TEXCOORD_1", 2, 2); uv.count) {
+            out.uv1.resize(vertex_count);
+            for (size_t i = 0; i < vertex_count; ++i) out.uv1[i] = {uv.at(i, 0), uv.at(i, 1)};
+        }
+        if (gltf::FloatArray colors = read_attribute("COLOR_0", 3, 4); colors.count) {
+            out.colors.resize(vertex_count);
+            for (size_t i = 0; i < vertex_count; ++i)
+                out.colors[i] = {colors.at(i, 0), colors.at(i, 1), colors.at(i, 2),
+                                 colors.components == 4 ? colors.at(i, 3) : 1.0f};
+        }
+
+        std::vector<uint32_t> indices;
+        if (primitive.indices >= 0) {
+            indices = gltf::read_indices(model_, primitive.indices, file_);
+            for (uint32_t index : indices)
+                if (index >= vertex_count)
+                    throw file_error(file_, what + ": index " + std::to_string(index) + " out of range (" +
+                                               std::to_string(vertex_count) + " vertices)");
+        } else {
+            indices.resize(vertex_count);
+            for (size_t i = 0; i < vertex_count; ++i) indices[i] = static_cast<uint32_t>(i);
+        }
+        triangulate(primitive.mode, indices, out.triangles);
+        if (mirrored)
+            for (glm::uvec3& triangle : out.triangles) std::swap(triangle.y, triangle.z);
+        uint32_t material = materials_.material(primitive.material);
+        out.triangle_materials.assign(out.triangles.size(), material);
+        return true;
+    }
+
+    // The glTF spec's vertex order for each mode, so front faces stay counter-clockwise.
+    static void triangulate(int mode, const std::vector<uint32_t>& indices, std::vector<glm::uvec3>& triangles) {
+        size_t n = indices.size();
+        if (mode == TINYGLTF_MODE_TRIANGLES) {
+            triangles.reserve(n / 3);
+            for (size_t i = 0; i + 2 < n; i += 3) triangles.push_back({indices[i], indices[i + 1], indices[i + 2]});
+            return;
+        }
+        for (size_t i = 0; i + 2 < n; ++i) {
+            glm::uvec3 triangle;
+            if (mode == TINYGLTF_MODE_TRIANGLE_STRIP)
+                triangle = (i % 2 == 0) ? glm::uvec3(indices[i], indices[i + 1], indices[i + 2])
+                                        : glm::uvec3(indices[i + 1], indices[i], indices[i + 2]);
+            else
+                triangle = {indices[i + 1], indices[i + 2], indices[0]};
+            // Strips stitch separate runs together with repeated indices; those zero-area joints are not geometry.
+            if (triangle.x == triangle.y || triangle.y == triangle.z || triangle.x == triangle.z) continue;
+            triangles.push_back(triangle);
+        }
+    }
+
+    void add_camera(int camera_index, const glm::mat4& world) {
+        if (camera_index >= static_cast<int>(model_.cameras.size()))
+            throw file_error(file_, "camera " + std::to_string(camera_index) + " does not exist");
+        if (scene_.has_camera) return;   // the first camera instance wins
+        const tinygltf::Camera& camera = model_.cameras[camera_index];
+        if (camera.type != "perspective") {
+            scene_.warnings.push_back(file_ + ": camera " + std::to_string(camera_index) +
+                                      " is orthographic; Prism traces perspective cameras only, ignored");
+            return;
+        }
+        glm::vec3 position = world * glm::vec4(0, 0, 0, 1);
+        glm::vec3 forward = glm::normalize(glm::vec3(world * glm::vec4(0, 0, -1, 0)));
+        glm::vec3 up = glm::normalize(glm::vec3(world * glm::vec4(0, 1, 0, 0)));
+        scene_.camera.position = position;
+        scene_.camera.target = position + forward;
+        scene_.camera.up = up;
+        scene_.camera.vertical_fov_degrees = glm::degrees(static_cast<float>(camera.perspective.yfov));
+        scene_.has_camera = true;
+    }
+
+    void add_light(int light_index, const glm::mat4& world) {
+        if (light_index < 0 || light_index >= static_cast<int>(model_.lights.size()))
+            throw file_error(file_, "light " + std::to_string(light_index) + " does not exist");
+        const tinygltf::Light& source = model_.lights[light_index];
+        Light light;
+        if (source.color.size() >= 3)
+            light.color = {static_cast<float>(source.color[0]), static_cast<float>(source.color[1]),
+                           static_cast<float>(source.color[2])};
+        light.intensity = static_cast<float>(source.intensity);
+        if (source.type == "directional") {
+            light.type = LightType::Directional;
+            light.direction = glm::normalize(glm::vec3(world * glm::vec4(0, 0, -1, 0)));
+        } else {
+            if (source.type == "spot" && !warned_spot_) {
+                scene_.warnings.push_back(file_ + ": spot lights are traced as point lights");
+                warned_spot_ = true;
+            }
+            light.type = LightType::Point;
+            light.position = glm::vec3(world * glm::vec4(0, 0, 0, 1));
+        }
+        scene_.lights.push_back(light);
+    }
+
+    static constexpr uint32_t kSkipped = ~0u;
+    const tinygltf::Model& model_;
+    std::string file_;
+    Scene& scene_;
+    gltf::MaterialConverter materials_;
+    std::map<std::tuple<int, int, bool>, uint32_t> meshes_;   // (mesh, primitive, mirrored) -> scene mesh
+    std::set<int> path_;                                      // nodes on the current root-to-node path
+    bool warned_non_triangles_ = false;
+    bool warned_spot_ = false;
+};
+
+bool has_extension(const std::filesystem::path& path, const char* extension) {
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    return ext == extension;
+}
+
+}  // namespace
+
+void load_gltf(const std::filesystem::path& path, Scene& scene) {
+    std::string file = path.string();
+    tinygltf::TinyGLTF loader;
+    loader.SetImageLoader(keep_encoded_image, nullptr);
+    tinygltf::Model model;
+    std::string error, warning;
+    bool ok = false;
+    try {
+        ok = has_extension(path, ".glb") ? loader.LoadBinaryFromFile(&model, &error, &warning, file)
+                                         : loader.LoadASCIIFromFile(&model, &error, &warning, file);
+    } catch (const std::exception& exception) {   // tinygltf reports by return value, but its JSON layer may throw
+        throw file_error(file, exception.what());
+    }
+    if (!ok || !error.empty()) throw file_error(file, first_line(error));
+    std::istringstream lines(warning);
+    for (std::string line; std::getline(lines, line);)
+        if (!line.empty()) scene.warnings.push_back(file + ": " + line);
+
+    for (const std::string& required : model.extensionsRequired)
+        if (required != "KHR_texture_transform" && required != "KHR_materials_emissive_strength" &&
+            required != "KHR_lights_punctual" && required != "KHR_mesh_quantization")
+            scene.warnings.push_back(file + ": required extension " + required + " is not supported");
+
+    GltfImporter(model, file, scene).import();
+}
+
+}  // namespace prism

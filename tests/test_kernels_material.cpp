@@ -1,0 +1,171 @@
+// The seed's material formulas (thesis 6.3) in kernels/, against values computed by hand from the equations.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "core/device_scene.h"
+#include "kernels/shade.h"
+
+namespace {
+
+void expect_near3(float3 a, float3 b, float eps = 1e-6f) {
+    EXPECT_NEAR(a.x, b.x, eps);
+    EXPECT_NEAR(a.y, b.y, eps);
+    EXPECT_NEAR(a.z, b.z, eps);
+}
+
+}  // namespace
+
+// Eq. 6.3: R_f = clamp(bias + scale * (1 + I.N)^power, 0, 1).
+TEST(SeedMaterial, FresnelReflectionEquation63) {
+    float4 schlick{0.04f, 0.96f, 5.0f, 0.0f};
+    EXPECT_NEAR(rt_fresnel_reflection(schlick, -1.0f), 0.04f, 1e-7f);     // head-on: F0
+    EXPECT_NEAR(rt_fresnel_reflection(schlick, -0.5f), 0.07f, 1e-6f);     // 0.04 + 0.96 * 0.5^5
+    EXPECT_NEAR(rt_fresnel_reflection(schlick, 0.0f), 1.0f, 1e-7f);       // grazing
+    EXPECT_EQ(rt_fresnel_reflection(float4{0.9f, 0.5f, 1.0f, 0}, 0.0f), 1.0f);    // clamped above (eq. 6.4)
+    EXPECT_EQ(rt_fresnel_reflection(float4{-0.5f, 0.1f, 1.0f, 0}, -1.0f), 0.0f);  // clamped below
+}
+
+// Table 1: the OpenGL texture environment modes.
+TEST(SeedMaterial, TextureEnvironmentModesTable1) {
+    float3 c{0.2f, 0.4f, 0.6f};
+    float4 t{0.5f, 0.5f, 1.0f, 0.25f};
+    float3 env{1.0f, 0.0f, 0.0f};
+    expect_near3(rt_texture_environment(RT_TEXMODE_REPLACE, c, t, env), {0.5f, 0.5f, 1.0f});
+    expect_near3(rt_texture_environment(RT_TEXMODE_DECAL, c, t, env), {0.275f, 0.425f, 0.7f});
+    expect_near3(rt_texture_environment(RT_TEXMODE_MODULATE, c, t, env), {0.1f, 0.2f, 0.6f});
+    expect_near3(rt_texture_environment(RT_TEXMODE_BLEND, c, t, env), {0.6f, 0.2f, 0.0f});
+}
+
+// Eq. 6.9: r = d - 2 (d.n) n with n facing the ray.
+TEST(SeedMaterial, ReflectionEquation69) {
+    float s = std::sqrt(0.5f);
+    expect_near3(rt_reflect(float3{s, -s, 0}, float3{0, 1, 0}), {s, s, 0});
+}
+
+// Eq. 6.30 obeys Snell's law (eq. 6.10) and reports total internal reflection.
+TEST(SeedMaterial, RefractionEquation630) {
+    float s = std::sqrt(0.5f);
+    float4 t = rt_refract(float3{s, -s, 0}, float3{0, 1, 0}, 1.0f / 1.5f);
+    ASSERT_EQ(t.w, 1.0f);
+    float sin2 = s / 1.5f;
+    EXPECT_NEAR(t.x, sin2, 1e-6f);
+    EXPECT_NEAR(t.y, -std::sqrt(1.0f - sin2 * sin2), 1e-6f);
+    EXPECT_NEAR(t.z, 0.0f, 1e-7f);
+    // Leaving glass at 60 degrees: 1.5 * sin 60 > 1.
+    EXPECT_EQ(rt_refract(float3{std::sin(1.0472f), -std::cos(1.0472f), 0}, float3{0, 1, 0}, 1.5f).w, 0.0f);
+    // Head-on rays pass straight.
+    float4 straight = rt_refract(float3{0, -1, 0}, float3{0, 1, 0}, 1.0f / 1.5f);
+    EXPECT_NEAR(straight.y, -1.0f, 1e-6f);
+}
+
+TEST(SeedMaterial, SrgbTransferIsExactAtKnownPoints) {
+    EXPECT_NEAR(rt_srgb_to_linear(0.5f), 0.2140411f, 1e-6f);
+    EXPECT_NEAR(rt_linear_to_srgb(0.2140411f), 0.5f, 1e-6f);
+    EXPECT_EQ(rt_linear_to_srgb(2.0f), 1.0f);
+}
+
+namespace {
+
+// One triangle in the z = 0 plane facing +z, with the material under test, hit head-on from +z.
+struct OneTriangle {
+    prism::DeviceScene device;
+    FrameParams frame{};
+    KernelGlobals kg{};
+
+    explicit OneTriangle(const prism::Material& material) {
+        prism::Scene scene;
+        scene.source = "one triangle";
+        prism::Mesh mesh;
+        mesh.positions = {{-1, -1, 0}, {1, -1, 0}, {0, 1, 0}};
+        mesh.triangles = {{0, 1, 2}};
+        mesh.triangle_materials = {0};
+        scene.meshes.push_back(mesh);
+        scene.instances.push_back(prism::Instance{0, glm::mat4(1.0f), "triangle"});
+        scene.materials.push_back(material);
+        scene.ambient_light = glm::vec3(0.1f);
+        device = prism::build_device_scene(scene);
+        frame.ambient_light = float4{0.1f, 0.1f, 0.1f, 1e-4f};
+        frame.size = uint4{1, 1, 8, 0};
+        kg.nodes = device.nodes.data();
+        kg.instances = device.instances.data();
+        kg.triangles = device.triangles.data();
+        kg.triangle_shading = device.triangle_shading.data();
+        kg.vertices = device.vertices.data();
+        kg.materials = device.materials.data();
+        kg.texture_layers = device.texture_layers.data();
+        kg.texture_infos = device.texture_infos.data();
+        kg.texels = device.texels.data();
+        kg.lights = device.lights.data();
+        kg.frame = &frame;
+    }
+
+    ShadeResult shade_head_on(float3 weight, uint mask) {
+        Ray ray = rt_make_ray(float3{0, 0, 2}, float3{0, 0, -1}, weight, 0, mask, 0);
+        Hit hit = rt_trace(kg, rt_xyz(ray.origin), rt_xyz(ray.direction), 0.0f, RT_INFINITY, false);
+        EXPECT_NEAR(hit.tuv.x, 2.0f, 1e-6f);
+        return rt_shade(kg, ray, hit);
+    }
+};
+
+prism::Material glass() {
+    prism::Material m;
+    m.diffuse = glm::vec3(0.5f);
+    m.reflectivity = 0.3f;
+    m.transmittance = 0.6f;
+    m.specular = {1.0f, 0.5f, 0.25f};
+    m.ambient = {0.2f, 0.4f, 0.8f};
+    m.fresnel_bias = 0.1f;
+    m.fresnel_scale = 0.9f;
+    m.fresnel_power = 5.0f;
+    m.ior = {1.4f, 1.5f, 1.6f};
+    return m;
+}
+
+}  // namespace
+
+// Eq. 6.7 with eqs. 6.31/6.32: head-on, R_f = bias = 0.1, T_f = 0.9.
+TEST(SeedMaterial, ShadeWeightsFollowEquation67) {
+    OneTriangle scene(glass());
+    ShadeResult s = scene.shade_head_on(float3{1, 1, 1}, RT_CHANNEL_ALL);
+    float base = 0.5f * (0.1f * (1 - 0.3f) + 0.9f * (1 - 0.6f));   // C (R_f (1-r) + T_f (1-t)) = 0.215
+    expect_near3(rt_xyz(s.light_weight), {base, base, base});
+    expect_near3(rt_xyz(s.emitted), {base * 0.1f, base * 0.1f, base * 0.1f});
+    ASSERT_EQ(s.counts.x, 4u);   // reflection + three dispersed refractions (thesis 6.3.5)
+    expect_near3(rt_xyz(s.children[0].weight), {0.1f * 0.3f * 1.0f, 0.1f * 0.3f * 0.5f, 0.1f * 0.3f * 0.25f});
+    expect_near3(rt_xyz(s.children[0].direction), {0, 0, 1});
+    expect_near3(rt_xyz(s.children[1].weight), {0.9f * 0.6f * 0.2f, 0, 0});
+    expect_near3(rt_xyz(s.children[2].weight), {0, 0.9f * 0.6f * 0.4f, 0});
+    expect_near3(rt_xyz(s.children[3].weight), {0, 0, 0.9f * 0.6f * 0.8f});
+    EXPECT_EQ(s.children[1].info.y, 1u);
+    EXPECT_EQ(s.children[2].info.y, 2u);
+    EXPECT_EQ(s.children[3].info.y, 4u);
+    EXPECT_EQ(s.children[1].info.z, 1u);   // depth + 1
+    EXPECT_LT(s.children[1].origin.z, 0.0f);   // refracted rays start below the surface
+    EXPECT_GT(s.children[0].origin.z, 0.0f);   // reflected rays above it
+}
+
+TEST(SeedMaterial, SingleChannelRaySpawnsOneRefraction) {
+    OneTriangle scene(glass());
+    ShadeResult s = scene.shade_head_on(float3{0, 1, 0}, 2u);
+    ASSERT_EQ(s.counts.x, 2u);
+    expect_near3(rt_xyz(s.children[1].weight), {0, 0.9f * 0.6f * 0.4f, 0});
+    EXPECT_EQ(s.children[1].info.y, 2u);
+}
+
+TEST(SeedMaterial, ThinShellOffsetsAndKeepsDirection) {
+    prism::Material m = glass();
+    m.ior = glm::vec3(1.5f);
+    m.thickness = 0.5f;
+    OneTriangle scene(m);
+    ShadeResult s = scene.shade_head_on(float3{1, 1, 1}, RT_CHANNEL_ALL);
+    ASSERT_EQ(s.counts.x, 2u);
+    expect_near3(rt_xyz(s.children[1].direction), {0, 0, -1});
+    EXPECT_NEAR(s.children[1].origin.z, -0.5f, 1e-5f);
+}
+
+TEST(SeedMaterial, NoChildrenAtMaximumDepth) {
+    OneTriangle scene(glass());
+    scene.frame.size.z = 1;
+    EXPECT_EQ(scene.shade_head_on(float3{1, 1, 1}, RT_CHANNEL_ALL).counts.x, 0u);
+}

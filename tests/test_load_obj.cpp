@@ -1,0 +1,266 @@
+// OBJ/MTL loading: the McGuire archive scenes, the MTL-to-seed material mapping, and malformed input.
+#include "core/load_obj.h"
+
+#include <fstream>
+#include <functional>
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "tests/test_support.h"
+
+namespace prism {
+namespace {
+
+std::string error_message(const std::function<void()>& action) {
+    try {
+        action();
+    } catch (const Error& error) {
+        return error.what();
+    }
+    return "(no prism::Error thrown)";
+}
+
+Scene load(const std::filesystem::path& path) {
+    Scene scene;
+    load_obj(path, scene);
+    return scene;
+}
+
+void expect_consistent(const Scene& scene) {
+    ASSERT_EQ(scene.meshes.size(), 1u);
+    ASSERT_EQ(scene.instances.size(), 1u);
+    EXPECT_EQ(scene.instances[0].mesh, 0u);
+    EXPECT_EQ(scene.instances[0].transform, glm::mat4(1.0f));
+    const Mesh& mesh = scene.meshes[0];
+    ASSERT_EQ(mesh.triangle_materials.size(), mesh.triangles.size());
+    for (uint32_t material : mesh.triangle_materials) ASSERT_LT(material, scene.materials.size());
+    for (const glm::uvec3& t : mesh.triangles)
+        ASSERT_TRUE(t.x < mesh.positions.size() && t.y < mesh.positions.size() && t.z < mesh.positions.size());
+    EXPECT_TRUE(mesh.normals.empty() || mesh.normals.size() == mesh.positions.size());
+    EXPECT_TRUE(mesh.uv0.empty() || mesh.uv0.size() == mesh.positions.size());
+    for (const Material& material : scene.materials)
+        for (const TextureLayer& layer : material.textures) ASSERT_LT(layer.texture, scene.textures.size());
+}
+
+TEST(LoadObj, ConferenceRoom) {
+    Scene scene = load(test::scene("mcguire/conference/conference.obj"));
+    expect_consistent(scene);
+    EXPECT_EQ(scene.meshes[0].triangles.size(), 331179u);
+    EXPECT_TRUE(scene.textures.empty());
+    EXPECT_GT(scene.materials.size(), 10u);
+}
+
+TEST(LoadObj, SibenikWithTextures) {
+    Scene scene = load(test::scene("mcguire/sibenik/sibenik.obj"));
+    expect_consistent(scene);
+    EXPECT_EQ(scene.meshes[0].triangles.size(), 75284u);
+    EXPECT_FALSE(scene.textures.empty());
+    EXPECT_FALSE(scene.meshes[0].uv0.empty());
+}
+
+TEST(LoadObj, SponzaTexturesResolveCaseInsensitively) {
+    const std::filesystem::path obj = test::scene("mcguire/dabrovic-sponza/sponza.obj");
+    Scene scene = load(obj);
+    expect_consistent(scene);
+    EXPECT_EQ(scene.meshes[0].triangles.size(), 66450u);
+    // Every map_Kd in the MTL became a texture layer on its material, and the files loaded.
+    std::ifstream mtl(obj.parent_path() / "sponza.mtl");
+    size_t map_kd_lines = 0;
+    for (std::string line; std::getline(mtl, line);)
+        if (line.find("map_Kd") != std::string::npos) ++map_kd_lines;
+    size_t layers = 0;
+    for (const Material& material : scene.materials) layers += material.textures.size();
+    EXPECT_EQ(layers, map_kd_lines);
+    EXPECT_GT(map_kd_lines, 10u);
+    for (const Texture& texture : scene.textures) {
+        EXPECT_GT(texture.width, 0) << texture.name;
+        EXPECT_EQ(texture.encoding, TextureEncoding::Srgb8);
+    }
+    // sponza.mtl names "SP_LUK.JPG"; the file on disk is "sp_luk.JPG".
+    bool found_sp_luk = false;
+    for (const Texture& texture : scene.textures)
+        found_sp_luk |= std::filesystem::path(texture.name).filename() == "sp_luk.JPG";
+    EXPECT_TRUE(found_sp_luk);
+}
+
+std::filesystem::path write_in(const std::filesystem::path& directory, const std::string& name,
+                               const std::string& text) {
+    std::filesystem::create_directories((directory / name).parent_path());
+    std::ofstream(directory / name, std::ios::binary) << text;
+    return directory / name;
+}
+
+const char* kMaterials = R"(
+newmtl glass
+Kd 0.1 0.2 0.3
+Ks 1 1 1
+Ni 1.5
+d 0.25
+Tf 0.9 0.8 0.7
+illum 7
+
+newmtl mirror
+Kd 0 0 0
+Ks 0.5 0.9 0.7
+illum 3
+
+newmtl diamond_mirror
+Ks 0.4 0.4 0.4
+Ni 2.5
+illum 5
+
+newmtl lamp
+Kd 1 1 1
+Ke 10 9 8
+Tr 0.5
+
+newmtl textured
+Kd 1 1 1
+map_Kd -s 2 2 1 maps\Wood.PNG
+)";
+
+TEST(LoadObj, MaterialMappingAndCorners) {
+    const std::filesystem::path directory = test::temp_dir("obj_mapping");
+    write_in(directory, "scene.mtl", kMaterials);
+    write_in(directory, "Maps/wood.png", "");
+    write_png(directory / "Maps" / "wood.png", 2, 1, std::vector<uint32_t>{0xff0000ffu, 0xff00ff00u});
+    const std::filesystem::path obj = write_in(directory, "scene.obj", R"(mtllib scene.mtl
+v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+vt 0 0
+vt 1 0
+vt 1 1
+vt 0 1
+vn 0 0 1
+f 1/1/1 2/2/1 3/3/1
+usemtl glass
+f 1/1/1 2/2/1 3/3/1 4/4/1
+usemtl mirror
+f 1/2/1 2/2/1 3/2/1
+usemtl diamond_mirror
+f -4/1/1 -3/1/1 -2/1/1
+usemtl lamp
+f 1/1/1 3/3/1 4/4/1
+usemtl textured
+f 1/1/1 2/2/1 3/3/1 4/4/1
+)");
+    Scene scene = load(obj);
+    expect_consistent(scene);
+    const Mesh& mesh = scene.meshes[0];
+    ASSERT_EQ(mesh.triangles.size(), 1u + 2u + 1u + 1u + 1u + 2u);
+    // Unique (v, vt, vn) corners: 1/1 2/2 3/3 4/4, then 1/2 3/2 (mirror), then 2/1 3/1 (relative indices).
+    EXPECT_EQ(mesh.positions.size(), 8u);
+    ASSERT_EQ(mesh.normals.size(), 8u);
+    EXPECT_EQ(mesh.normals[0], glm::vec3(0, 0, 1));
+    ASSERT_EQ(mesh.uv0.size(), 8u);
+    EXPECT_EQ(mesh.uv0[mesh.triangles[0].z], glm::vec2(1.0f, 0.0f)) << "v is flipped: row 0 is the image top";
+
+    ASSERT_EQ(scene.materials.size(), 6u) << "five MTL materials and the default for the first face";
+    const Material& fallback = scene.materials[mesh.triangle_materials[0]];
+    EXPECT_EQ(fallback.name, "default");
+    const Material& glass = scene.materials[mesh.triangle_materials[1]];
+    EXPECT_EQ(mesh.triangle_materials[2], mesh.triangle_materials[1]);
+    EXPECT_EQ(glass.name, "glass");
+    EXPECT_EQ(glass.diffuse, glm::vec3(0.1f, 0.2f, 0.3f));
+    EXPECT_FLOAT_EQ(glass.transmittance, 0.75f);
+    EXPECT_FLOAT_EQ(glass.reflectivity, 1.0f);
+    EXPECT_EQ(glass.ambient, glm::vec3(0.9f, 0.8f, 0.7f));
+    EXPECT_EQ(glass.ior, glm::vec3(1.5f));
+    EXPECT_FLOAT_EQ(glass.fresnel_bias, 0.04f);
+    EXPECT_FLOAT_EQ(glass.fresnel_scale, 0.96f);
+    EXPECT_FLOAT_EQ(glass.fresnel_power, 5.0f);
+
+    const Material& mirror = scene.materials[mesh.triangle_materials[3]];
+    EXPECT_EQ(mirror.name, "mirror");
+    EXPECT_FLOAT_EQ(mirror.reflectivity, 0.9f);
+    EXPECT_EQ(mirror.specular, glm::vec3(0.5f, 0.9f, 0.7f));
+    EXPECT_EQ(mirror.transmittance, 0.0f);
+    EXPECT_EQ(mirror.fresnel_bias, 1.0f) << "no Ni: a plain mirror without Fresnel falloff";
+    EXPECT_EQ(mirror.fresnel_scale, 0.0f);
+
+    const Material& diamond = scene.materials[mesh.triangle_materials[4]];
+    EXPECT_EQ(diamond.name, "diamond_mirror");
+    EXPECT_FLOAT_EQ(diamond.reflectivity, 0.4f);
+    EXPECT_NEAR(diamond.fresnel_bias, (1.5f / 3.5f) * (1.5f / 3.5f), 1e-6f);
+    EXPECT_EQ(diamond.ior, glm::vec3(2.5f));
+
+    const Material& lamp = scene.materials[mesh.triangle_materials[5]];
+    EXPECT_EQ(lamp.emissive, glm::vec3(10, 9, 8));
+    EXPECT_FLOAT_EQ(lamp.transmittance, 0.5f) << "Tr 0.5";
+    EXPECT_EQ(lamp.ambient, glm::vec3(1.0f)) << "no Tf: white";
+    EXPECT_EQ(lamp.reflectivity, 0.0f);
+
+    const Material& textured = scene.materials[mesh.triangle_materials[6]];
+    ASSERT_EQ(textured.textures.size(), 1u);
+    EXPECT_EQ(textured.textures[0].mode, TextureMode::Modulate);
+    EXPECT_EQ(textured.textures[0].uv_row0, glm::vec3(2.0f, 0.0f, 0.0f));
+    EXPECT_EQ(textured.textures[0].uv_row1, glm::vec3(0.0f, 2.0f, -1.0f));
+    ASSERT_EQ(scene.textures.size(), 1u);
+    EXPECT_EQ(scene.textures[0].width, 2);
+    EXPECT_EQ(scene.textures[0].texels[1], 0xff00ff00u);
+}
+
+TEST(LoadObj, AppendsToAnExistingScene) {
+    Scene scene;
+    load_obj(test::scene("mcguire/cornell-box/CornellBox-Original.obj"), scene);
+    const size_t first_materials = scene.materials.size();
+    load_obj(test::scene("mcguire/cornell-box/CornellBox-Mirror.obj"), scene);
+    ASSERT_EQ(scene.meshes.size(), 2u);
+    ASSERT_EQ(scene.instances.size(), 2u);
+    EXPECT_EQ(scene.instances[1].mesh, 1u);
+    for (uint32_t material : scene.meshes[1].triangle_materials) {
+        EXPECT_GE(material, first_materials);
+        EXPECT_LT(material, scene.materials.size());
+    }
+}
+
+// ---- malformed input -----------------------------------------------------------------------------------------
+
+TEST(LoadObjErrors, MissingTextureNamesMtlMaterialAndFile) {
+    const std::filesystem::path directory = test::temp_dir("obj_missing_texture");
+    const std::filesystem::path mtl = write_in(directory, "broken.mtl", "newmtl brick\nKd 1 1 1\nmap_Kd brick.png\n");
+    const std::filesystem::path obj = write_in(directory, "broken.obj",
+                                               "mtllib broken.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl brick\nf 1 2 3\n");
+    EXPECT_EQ(error_message([&] { load(obj); }),
+              mtl.string() + ": material 'brick': texture 'brick.png' not found");
+}
+
+TEST(LoadObjErrors, BadIndicesAndRandomBytes) {
+    const std::filesystem::path out_of_range =
+        test::write_file("out_of_range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 99\n");
+    EXPECT_EQ(error_message([&] { load(out_of_range); }),
+              out_of_range.string() + ": face 1 references vertex 99 but there are 3");
+    const std::filesystem::path zero = test::write_file("zero_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n");
+    std::string message = error_message([&] { load(zero); });
+    EXPECT_EQ(message.rfind(zero.string() + ": ", 0), 0u) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+
+    std::string noise;
+    uint32_t state = 99;
+    for (int i = 0; i < 4096; ++i) noise.push_back(static_cast<char>((state = state * 1664525u + 1013904223u) >> 24));
+    const std::filesystem::path random = test::write_file("noise.obj", noise);
+    message = error_message([&] { load(random); });
+    EXPECT_EQ(message.rfind(random.string() + ": ", 0), 0u) << message;
+
+    const std::filesystem::path missing = test::temp_dir("obj") / "missing.obj";
+    message = error_message([&] { load(missing); });
+    EXPECT_EQ(message.rfind(missing.string() + ": cannot open", 0), 0u) << message;
+}
+
+TEST(LoadObjErrors, MissingMtlIsAWarning) {
+    const std::filesystem::path obj =
+        test::write_file("no_mtl.obj", "mtllib nowhere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl x\nf 1 2 3\n");
+    Scene scene = load(obj);
+    ASSERT_EQ(scene.meshes[0].triangles.size(), 1u);
+    ASSERT_EQ(scene.materials.size(), 1u);
+    EXPECT_EQ(scene.materials[0].name, "default");
+    ASSERT_FALSE(scene.warnings.empty());
+    EXPECT_NE(scene.warnings[0].find("nowhere.mtl"), std::string::npos) << scene.warnings[0];
+}
+
+}  // namespace
+}  // namespace prism
