@@ -1,11 +1,266 @@
+// `prism bench`: the seed's results table (thesis Tables 2/3) redone per backend and scene — frame time, fps,
+// per-stage device times and Mrays/s per ray type (primary, secondary by depth, shadow), median of N runs after
+// warm-up — and, with --embree, ray-query throughput of each backend against Embree on the same rays.
+// Every backend traces the same rays: frames are deterministic, and the ray counts per depth are checked equal.
+#include <algorithm>
+#include <cstdio>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
 #include "apps/commands.h"
+#include "apps/frame_report.h"
+#include "apps/scene_options.h"
+#include "bench/bench_json.h"
 #include "core/error.h"
+#include "core/render_engine.h"
+#ifdef PRISM_HAVE_EMBREE
+#include <embree3/rtcore_config.h>
+
+#include "bench/embree_oracle.h"
+#endif
 
 namespace prism::app {
+namespace {
+
+struct BenchOptions {
+    SceneOptions scene;
+    std::string scenes = "builtin:sphere,builtin:bunny,builtin:dragon";
+    std::string backends = "cpu";
+    RenderSettings settings;
+    bool seed_setting = false;
+    uint32_t runs = 10;
+    uint32_t warmup = 2;
+    bool embree = false;
+    uint32_t query_rays = 1000000;
+    std::string json;
+};
+
+std::vector<std::string> split(const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream stream(text);
+    std::string item;
+    while (std::getline(stream, item, ','))
+        if (!item.empty()) out.push_back(item);
+    return out;
+}
+
+double median(std::vector<double> values) {
+    if (values.empty()) return 0.0;
+    std::sort(values.begin(), values.end());
+    size_t n = values.size();
+    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+// Median over runs of each stage's time at each depth.
+struct StageMedians {
+    std::vector<std::vector<std::vector<double>>> samples;   // [stage][depth][run]
+    StageMedians() : samples(stage_count, std::vector<std::vector<double>>(RT_MAX_DEPTH + 1)) {}
+    void add(const FrameStats& stats) {
+        std::vector<std::vector<double>> frame(stage_count, std::vector<double>(RT_MAX_DEPTH + 1, 0.0));
+        for (const StageTiming& t : stats.stages) frame[size_t(t.stage)][t.depth] += t.milliseconds;
+        for (size_t s = 0; s < stage_count; ++s)
+            for (size_t d = 0; d <= RT_MAX_DEPTH; ++d) samples[s][d].push_back(frame[s][d]);
+    }
+    double at(Stage stage, uint32_t depth) const { return median(samples[size_t(stage)][depth]); }
+    double total(Stage stage) const {
+        double sum = 0.0;
+        for (uint32_t d = 0; d <= RT_MAX_DEPTH; ++d) sum += at(stage, d);
+        return sum;
+    }
+};
+
+double mrays(uint64_t rays, double ms) { return ms > 0.0 ? double(rays) / (ms * 1e3) : 0.0; }
+
+nlohmann::json bench_frames(RenderEngine& engine, const Scene& scene, const BenchOptions& options,
+                            std::vector<uint32_t>& reference_counts) {
+    for (uint32_t i = 0; i < options.warmup; ++i) engine.render(scene.camera, options.settings);
+    std::vector<double> frame_ms;
+    StageMedians stages;
+    FrameResult last;
+    for (uint32_t i = 0; i < options.runs; ++i) {
+        last = engine.render(scene.camera, options.settings);
+        frame_ms.push_back(last.stats.frame_ms);
+        stages.add(last.stats);
+    }
+    const FrameStats& s = last.stats;
+    if (reference_counts.empty()) reference_counts = s.rays_per_depth;
+    else if (reference_counts != s.rays_per_depth)
+        throw Error("bench: backend " + engine.info().name + " traced different rays than the first backend");
+
+    nlohmann::json per_depth = nlohmann::json::array();
+    uint64_t secondary = 0, shadows = 0;
+    double secondary_ms = 0.0, shadow_ms = 0.0;
+    for (uint32_t d = 0; d < s.rays_per_depth.size(); ++d) {
+        double intersect_ms = stages.at(Stage::Intersect, d);
+        double shadow_stage_ms = stages.at(Stage::Shadow, d);
+        per_depth.push_back({{"depth", d},
+                             {"rays", s.rays_per_depth[d]},
+                             {"shadow_rays", s.shadow_rays_per_depth[d]},
+                             {"intersect_ms", intersect_ms},
+                             {"shade_ms", stages.at(Stage::Shade, d)},
+                             {"miss_ms", stages.at(Stage::Miss, d)},
+                             {"shadow_ms", shadow_stage_ms},
+                             {"intersect_mrays_per_s", mrays(s.rays_per_depth[d], intersect_ms)},
+                             {"shadow_mrays_per_s", mrays(s.shadow_rays_per_depth[d], shadow_stage_ms)}});
+        if (d > 0) {
+            secondary += s.rays_per_depth[d];
+            secondary_ms += intersect_ms;
+        }
+        shadows += s.shadow_rays_per_depth[d];
+        shadow_ms += shadow_stage_ms;
+    }
+    nlohmann::json stage_ms;
+    for (size_t i = 0; i < stage_count; ++i) stage_ms[stage_name(Stage(i))] = stages.total(Stage(i));
+    double frame = median(frame_ms);
+    uint64_t primary = s.rays_per_depth.empty() ? 0 : s.rays_per_depth[0];
+    return {{"frame_ms", frame},
+            {"frame_ms_min", *std::min_element(frame_ms.begin(), frame_ms.end())},
+            {"frame_ms_max", *std::max_element(frame_ms.begin(), frame_ms.end())},
+            {"fps", 1000.0 / frame},
+            {"stage_ms", stage_ms},
+            {"total_rays", s.total_rays()},
+            {"mrays_per_s_end_to_end", mrays(s.total_rays(), frame)},
+            {"primary_mrays_per_s", mrays(primary, stages.at(Stage::Intersect, 0))},
+            {"secondary_mrays_per_s", mrays(secondary, secondary_ms)},
+            {"shadow_mrays_per_s", mrays(shadows, shadow_ms)},
+            {"per_depth", per_depth},
+            {"image_hash", std::hash<std::string_view>{}(std::string_view(
+                               reinterpret_cast<const char*>(last.image.data()), last.image.size() * 4))}};
+}
+
+#ifdef PRISM_HAVE_EMBREE
+// Ray-query throughput (closest hit) on the oracle rays: primary and diffuse measured separately.
+nlohmann::json bench_queries(RenderEngine* engine, const oracle::EmbreeScene* embree, bool packets,
+                             const oracle::OracleRays& rays, uint32_t runs) {
+    std::vector<RayQuery> primary(rays.rays.begin(), rays.rays.begin() + long(rays.primary));
+    std::vector<RayQuery> diffuse(rays.rays.begin() + long(rays.primary), rays.rays.end());
+    auto measure = [&](const std::vector<RayQuery>& set) {
+        std::vector<double> ms;
+        for (uint32_t i = 0; i < runs + 1; ++i) {
+            double t = 0.0;
+            if (engine) {
+                engine->trace(set, false);
+                t = engine->last_trace_ms();
+            } else {
+                auto start = std::chrono::steady_clock::now();
+                if (packets) embree->intersect8(set);
+                else embree->intersect1(set);
+                t = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+            }
+            if (i > 0) ms.push_back(t);   // the first run is the warm-up
+        }
+        return median(ms);
+    };
+    double primary_ms = measure(primary), diffuse_ms = measure(diffuse);
+    return {{"primary_rays", primary.size()},
+            {"diffuse_rays", diffuse.size()},
+            {"primary_ms", primary_ms},
+            {"diffuse_ms", diffuse_ms},
+            {"primary_mrays_per_s", mrays(primary.size(), primary_ms)},
+            {"diffuse_mrays_per_s", mrays(diffuse.size(), diffuse_ms)}};
+}
+#endif
+
+void run_bench(BenchOptions options) {
+    if (options.seed_setting) {
+        // The seed framed each scene for about 100,000 intersections (thesis ch. 7): 400x250 primary rays.
+        options.settings.width = 400;
+        options.settings.height = 250;
+    }
+    if (options.runs == 0) throw Error("bench: --runs must be at least 1");
+#ifndef PRISM_HAVE_EMBREE
+    if (options.embree) throw Error("bench: --embree needs a build with Embree (apt-get install libembree-dev)");
+#endif
+    nlohmann::json result = bench::result_header();
+    result["kind"] = "frames";
+    result["settings"] = {{"width", options.settings.width}, {"height", options.settings.height},
+                          {"max_depth", options.settings.max_depth}, {"runs", options.runs},
+                          {"warmup", options.warmup}, {"seed_setting", options.seed_setting},
+                          {"bvh", options.scene.bvh}, {"bvh_layout", options.scene.layout}};
+    result["scenes"] = nlohmann::json::array();
+    for (const std::string& scene_name : split(options.scenes)) {
+        SceneOptions scene_options = options.scene;
+        scene_options.scene = scene_name;
+        LoadedScene loaded = load_and_build(scene_options);
+        nlohmann::json scene_json = {{"scene", scene_name},
+                                     {"triangles", loaded.device.traced_triangles},
+                                     {"bvh_build_ms", loaded.device.bvh_build_ms},
+                                     {"sah_cost", loaded.device.sah_cost},
+                                     {"backends", nlohmann::json::array()}};
+        std::vector<uint32_t> reference_counts;
+#ifdef PRISM_HAVE_EMBREE
+        std::unique_ptr<oracle::EmbreeScene> embree;
+        oracle::OracleRays rays;
+        if (options.embree) {
+            embree = std::make_unique<oracle::EmbreeScene>(loaded.scene);
+            rays = oracle::make_oracle_rays(loaded.scene, *embree, options.query_rays / 2, options.query_rays, 7);
+        }
+#endif
+        for (const std::string& backend : split(options.backends)) {
+            RenderEngine engine(backend, loaded.device);
+            BackendInfo info = engine.info();
+            std::printf("%s on %s [%s]...\n", scene_name.c_str(), backend.c_str(), info.device.c_str());
+            std::fflush(stdout);
+            nlohmann::json entry = {{"backend", backend},        {"api", info.name},
+                                    {"device", info.device},     {"driver", info.driver},
+                                    {"api_version", info.api_version}};
+            entry["frames"] = bench_frames(engine, loaded.scene, options, reference_counts);
+#ifdef PRISM_HAVE_EMBREE
+            if (embree) entry["queries"] = bench_queries(&engine, nullptr, false, rays, options.runs);
+#endif
+            const auto& f = entry["frames"];
+            std::printf("  frame %.2f ms (%.1f fps), primary %.1f, secondary %.1f, shadow %.1f Mrays/s\n",
+                        f["frame_ms"].get<double>(), f["fps"].get<double>(), f["primary_mrays_per_s"].get<double>(),
+                        f["secondary_mrays_per_s"].get<double>(), f["shadow_mrays_per_s"].get<double>());
+            scene_json["backends"].push_back(entry);
+        }
+#ifdef PRISM_HAVE_EMBREE
+        if (embree) {
+            scene_json["embree"] = {{"version", RTC_VERSION_STRING},
+                                    {"intersect1", bench_queries(nullptr, embree.get(), false, rays, options.runs)},
+                                    {"intersect8", bench_queries(nullptr, embree.get(), true, rays, options.runs)}};
+            for (const auto& b : scene_json["backends"]) {
+                std::printf("  %s vs Embree rtcIntersect1: primary %.2fx, diffuse %.2fx\n",
+                            b["backend"].get<std::string>().c_str(),
+                            b["queries"]["primary_mrays_per_s"].get<double>() /
+                                scene_json["embree"]["intersect1"]["primary_mrays_per_s"].get<double>(),
+                            b["queries"]["diffuse_mrays_per_s"].get<double>() /
+                                scene_json["embree"]["intersect1"]["diffuse_mrays_per_s"].get<double>());
+            }
+        }
+#endif
+        result["scenes"].push_back(scene_json);
+    }
+    if (!options.json.empty()) bench::write_result(options.json, result);
+}
+
+}  // namespace
 
 void add_bench_command(CLI::App& app) {
-    auto* command = app.add_subcommand("bench", "(not built yet)");
-    command->callback([] { throw Error("prism bench: not implemented yet"); });
+    auto options = std::make_shared<BenchOptions>();
+    options->settings.width = 1920;
+    options->settings.height = 1080;
+    auto* command = app.add_subcommand("bench", "Frame times and Mrays/s per ray type, per backend and scene");
+    command->add_option("--scenes", options->scenes, "comma-separated scenes")->capture_default_str();
+    command->add_option("--backends", options->backends, "comma-separated backends")->capture_default_str();
+    command->add_option("--data-dir", options->scene.data_dir, "where builtin scenes find their assets")
+        ->capture_default_str();
+    command->add_option("--bvh", options->scene.bvh, "sah or median")->check(CLI::IsMember({"sah", "median"}));
+    command->add_option("--bvh-layout", options->scene.layout, "stack or escape")
+        ->check(CLI::IsMember({"stack", "escape"}));
+    command->add_option("--width", options->settings.width)->capture_default_str();
+    command->add_option("--height", options->settings.height)->capture_default_str();
+    command->add_option("--depth", options->settings.max_depth)->capture_default_str();
+    command->add_flag("--seed-setting", options->seed_setting,
+                      "the seed's setting: about 100,000 primary rays (400x250)");
+    command->add_option("--runs", options->runs, "timed runs (median reported)")->capture_default_str();
+    command->add_option("--warmup", options->warmup, "untimed runs first")->capture_default_str();
+    command->add_flag("--embree", options->embree, "also ray queries against Embree (rtcIntersect1/8)");
+    command->add_option("--query-rays", options->query_rays, "rays for --embree (half primary, half diffuse)")
+        ->capture_default_str();
+    command->add_option("--json", options->json, "write results (bench/results/...)");
+    command->callback([options] { run_bench(*options); });
 }
 
 }  // namespace prism::app

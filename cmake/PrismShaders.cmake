@@ -9,7 +9,7 @@
 #     namespace prism::spirv { std::span<const uint32_t> <t>(std::string_view name); }   // empty when unknown
 # glslang writes a depfile, so editing an #included kernels/ header rebuilds the shader.
 #
-# (The interface matches the one on branch `bandwidth`, written in parallel; TABLE is the addition.)
+# (Branch `bandwidth` wrote this function; the vulkan branch added TABLE.)
 
 # Script mode (the build step that embeds one module):
 #   cmake -DSPV=in.spv -DCPP=out.cpp -DHEADER=out.h -DNAME=identifier -P PrismShaders.cmake

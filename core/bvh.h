@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -44,14 +45,33 @@ struct Bvh {
     BvhLayout layout = BvhLayout::Stack;
     float sah_cost = 0.0f;                   // expected cost of a random ray that hits the root box
     double build_ms = 0.0;
+    BvhBuildOptions options;                 // as built (threads resolved); refit keeps sah_cost in its terms
+    uint32_t primitive_count = 0;            // input primitives, left-out ones included (refit checks it)
+    uint32_t depth = 0;                      // levels, root alone = 1; a stack traversal needs depth - 1 entries
 };
 
-// Builds over primitives given by their bounds. Primitives with empty bounds (degenerate triangles) are left out.
-// An input with no non-empty primitive gives a single empty leaf.
+// One flat node decoded, whatever the layout: what a traversal reads from the .w bits.
+struct BvhNodeView {
+    bool leaf = false;
+    uint32_t first = 0;    // leaf: first position in primitive_order
+    uint32_t count = 0;    // leaf: primitives
+    uint32_t left = 0;     // interior: child indices
+    uint32_t right = 0;
+};
+BvhNodeView decode_bvh_node(const Bvh& bvh, uint32_t index);
+
+// Builds over primitives given by their bounds. Primitives with empty bounds (degenerate triangles) or non-finite
+// ones are left out. An input with no usable primitive gives a single leaf with count 0 and the box
+// lower = +FLT_MAX, upper = -FLT_MAX. In the stack layout that node reads as interior (count 0): a traversal must
+// test the root box before descending. Throws prism::Error on invalid options (max_leaf_size 0, bins < 2) and on
+// inputs the escape layout cannot index (2^24 primitives or more).
+// Deterministic: the same input and options give the same nodes for any thread count.
 Bvh build_bvh(std::span<const Aabb> primitive_bounds, const BvhBuildOptions& options);
 
 // Recomputes every node box from new primitive bounds keeping the topology (dynamic rigid scenes: the top level
-// is refit when instances move; rebuild when the quality drops).
+// is refit when instances move; rebuild when the quality drops). Primitives left out at build time stay out
+// (rebuild if one becomes non-empty); one that becomes empty or non-finite contributes nothing. Updates sah_cost.
+// Throws prism::Error when primitive_bounds is not as long as the input the BVH was built from.
 void refit_bvh(Bvh& bvh, std::span<const Aabb> primitive_bounds);
 
 // SAH cost of a flattened BVH (for `prism info` and the build benchmark).

@@ -3,6 +3,8 @@
 // 871k-triangle dragon loads in well under a second. Elements the tracer does not need are skipped in every format.
 #include "core/load_ply.h"
 
+#include "core/mesh_normals.h"
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -563,6 +565,7 @@ Mesh load_ply(const std::filesystem::path& path) {
     if (name.size() > 3 && name.ends_with(".gz")) name.resize(name.size() - 3);
     mesh.name = std::filesystem::path(name).stem().string();
     mesh.triangle_materials.assign(mesh.triangles.size(), 0u);
+    if (mesh.normals.empty()) compute_smooth_normals(mesh);
     return mesh;
 }
 

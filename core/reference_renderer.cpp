@@ -129,6 +129,7 @@ std::vector<RayHit> ReferenceRenderer::trace(std::span<const RayQuery> rays, boo
     std::vector<RayHit> out(rays.size());
     std::atomic<size_t> next{0};
     ThreadPool pool(threads_);
+    auto start = std::chrono::steady_clock::now();
     pool.run([&](unsigned) {
         const size_t chunk = 4096;
         for (size_t first = next.fetch_add(chunk); first < rays.size(); first = next.fetch_add(chunk)) {
@@ -140,6 +141,7 @@ std::vector<RayHit> ReferenceRenderer::trace(std::span<const RayQuery> rays, boo
             }
         }
     });
+    last_trace_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return out;
 }
 

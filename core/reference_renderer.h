@@ -17,8 +17,10 @@ public:
     FrameResult render(const Camera& camera, const RenderSettings& settings,
                        const std::function<void(double fraction)>& progress = {});
     std::vector<RayHit> trace(std::span<const RayQuery> rays, bool any_hit);
+    double last_trace_ms() const { return last_trace_ms_; }
 
 private:
+    double last_trace_ms_ = 0.0;
     const DeviceScene& scene_;
     unsigned threads_;
 };

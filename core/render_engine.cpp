@@ -51,6 +51,10 @@ std::vector<RayHit> RenderEngine::trace(std::span<const RayQuery> rays, bool any
     return renderer_->trace(rays, any_hit);
 }
 
+double RenderEngine::last_trace_ms() const {
+    return reference_ ? reference_->last_trace_ms() : renderer_->last_trace_ms();
+}
+
 void RenderEngine::update_instances(DeviceScene& scene, const std::vector<glm::mat4>& transforms, bool rebuild) {
     update_instance_transforms(scene, transforms, rebuild);
     if (renderer_) renderer_->update_instances(scene);

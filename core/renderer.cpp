@@ -173,6 +173,7 @@ std::vector<RayHit> Renderer::trace(std::span<const RayQuery> rays, bool any_hit
     settings.width = 1;
     settings.height = 1;
     settings.max_depth = 1;
+    last_trace_ms_ = 0.0;
     for (size_t first = 0; first < rays.size(); first += batch) {
         uint32_t n = static_cast<uint32_t>(std::min<size_t>(batch, rays.size() - first));
         uint32_t capacity = std::max(n, ray_capacity_);
@@ -194,7 +195,7 @@ std::vector<RayHit> Renderer::trace(std::span<const RayQuery> rays, bool any_hit
         backend_.enqueue(Stage::Intersect, 0);
         std::vector<Hit> hits(n);
         backend_.read(DeviceArray::hits, hits.data(), hits.size() * sizeof(Hit));
-        backend_.finish();
+        for (const StageTiming& timing : backend_.finish()) last_trace_ms_ += timing.milliseconds;
         for (uint32_t i = 0; i < n; ++i) {
             const Hit& h = hits[i];
             out[first + i] = RayHit{h.tuv.x, h.ids.x, h.ids.y, h.tuv.y, h.tuv.z};

@@ -63,6 +63,8 @@ public:
                        const std::function<void(uint32_t depth, uint32_t max_depth)>& progress = {});
     // Closest (or any) hit of each ray: the intersect stage alone, in batches that fit the device.
     std::vector<RayHit> trace(std::span<const RayQuery> rays, bool any_hit);
+    // Device time of the intersect stage in the last trace() (all batches), for throughput measurements.
+    double last_trace_ms() const { return last_trace_ms_; }
     // After update_instance_transforms: re-uploads the instances and the top-level nodes only.
     void update_instances(const DeviceScene& scene);
 
@@ -75,6 +77,7 @@ private:
     uint32_t ray_capacity_ = 0;
     uint32_t shadow_capacity_ = 0;
     uint32_t pixel_capacity_ = 0;
+    double last_trace_ms_ = 0.0;
 };
 
 }  // namespace prism

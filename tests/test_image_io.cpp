@@ -49,15 +49,19 @@ TEST(ImageIo, RgbePackUnpackWithinOnePercent) {
         color *= scale;
         glm::vec3 back = unpack_rgbe(pack_rgbe(color));
         float largest = std::max(color.x, std::max(color.y, color.z));
-        for (int c = 0; c < 3; ++c)   // shared exponent: the error is relative to the brightest channel
+        for (int c = 0; c < 3; ++c) {   // shared exponent: the error is relative to the brightest channel
             ASSERT_LE(std::abs(back[c] - color[c]), 0.01f * largest) << "channel " << c << " of " << i;
+            ASSERT_LE(std::abs(back[c] - color[c]), largest / 256.0f) << "half a step of the largest mantissa";
+        }
     }
     EXPECT_EQ(pack_rgbe(glm::vec3(0.0f)), 0u);
     EXPECT_EQ(unpack_rgbe(0u), glm::vec3(0.0f));
-    EXPECT_EQ(unpack_rgbe(pack_rgbe(glm::vec3(1.0f, 0.5f, 0.25f))), glm::vec3(1.0f, 0.5f, 0.25f));
-    // A value just below a power of two rounds up into the next exponent instead of overflowing the mantissa.
-    EXPECT_NEAR(unpack_rgbe(pack_rgbe(glm::vec3(0.9999f))).x, 1.0f, 1e-6f);
+    // Ward's layout: 1.0 is mantissa 128 with exponent byte 129.
+    EXPECT_EQ(pack_rgbe(glm::vec3(1.0f, 0.5f, 0.0f)), 128u | (64u << 8) | (0u << 16) | (129u << 24));
+    // Decoding takes the middle of the truncated step (as kernels/texture.h does): within half a step.
+    EXPECT_NEAR(unpack_rgbe(pack_rgbe(glm::vec3(0.9999f))).x, 0.9999f, 0.5f / 256.0f);
     EXPECT_EQ(pack_rgbe(glm::vec3(-1.0f, NAN, 0.0f)), 0u);
+    EXPECT_EQ(pack_rgbe(glm::vec3(INFINITY, 1.0f, 0.0f)) >> 24, 255u) << "saturates";
 }
 
 TEST(ImageIo, HdrRoundTripKeepsValues) {

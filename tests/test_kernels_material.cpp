@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "core/device_scene.h"
-#include "kernels/shade.h"
+#include "kernels/stages.h"
 
 namespace {
 

@@ -60,7 +60,9 @@ double psnr_rgba8(const std::vector<uint32_t>& a, const std::vector<uint32_t>& b
 
 CommandResult run_prism(const std::string& arguments) {
     CommandResult result;
-    std::string command = std::string("'") + PRISM_BINARY + "' " + arguments + " 2>&1";
+    // $PRISM_BINARY overrides the build-time path (the tests run from a copied build on the GPU machine).
+    const char* binary = std::getenv("PRISM_BINARY") ? std::getenv("PRISM_BINARY") : PRISM_BINARY;
+    std::string command = std::string("'") + binary + "' " + arguments + " 2>&1";
     FILE* pipe = popen(command.c_str(), "r");
     if (!pipe) return result;
     std::array<char, 4096> buffer;

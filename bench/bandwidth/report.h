@@ -1,0 +1,32 @@
+// The outputs of `prism bandwidth`: text tables on stdout, the JSON result file, the PNG plot.
+#pragma once
+
+#include <cstdio>
+#include <filesystem>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bench/bandwidth/measurement.h"
+#include "bench/bandwidth/plan.h"
+
+namespace prism::bandwidth {
+
+struct Report {
+    Plan plan;
+    std::vector<ApiResult> apis;
+};
+
+// Devices, the peak table (Figure 8-1 layout), the per-size sweep, notes and skipped APIs.
+void print_report(const Report& report, std::FILE* out);
+
+// The result file; its schema is documented in docs/bandwidth.md ("prism-bandwidth/1").
+inline constexpr const char* json_schema_name = "prism-bandwidth/1";
+nlohmann::json report_json(const Report& report);
+
+// Bandwidth against size, log-log, one line per API/device, direction and memory kind, with a legend.
+inline constexpr int plot_width = 1280;
+inline constexpr int plot_height = 800;
+void write_plot(const Report& report, const std::filesystem::path& path);
+
+}  // namespace prism::bandwidth

@@ -1,0 +1,595 @@
+// Vulkan: every physical device. There is no pageable transfer in Vulkan: "pinned" copies go between a mapped
+// host-visible staging buffer and a device-local buffer with one vkCmdCopyBuffer on the dedicated transfer queue
+// where the device has one (the readback staging buffer is host-cached); "pageable" copies add the memcpy between
+// the application's malloc'd memory and that staging buffer, as a driver does internally, so only wall time is
+// meaningful for them. Device timer: vkCmdWriteTimestamp around the copy or dispatch.
+#include <vulkan/vulkan.h>
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <memory>
+
+#include "bench/bandwidth/api_runners.h"
+#include "bench/bandwidth/copy_device.h"
+#include "bench/bandwidth/pci_link.h"
+#include "bench/bandwidth/sizes.h"
+#include "bench/bandwidth/sweep.h"
+#include "core/error.h"
+#include "kernels/bandwidth_copy.h"
+#include "spirv/bandwidth_copy.h"
+
+namespace prism::bandwidth {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::string version_text(uint32_t version) {
+    return std::to_string(VK_API_VERSION_MAJOR(version)) + "." + std::to_string(VK_API_VERSION_MINOR(version)) +
+           "." + std::to_string(VK_API_VERSION_PATCH(version));
+}
+
+bool is_out_of_memory(VkResult result) {
+    return result == VK_ERROR_OUT_OF_DEVICE_MEMORY || result == VK_ERROR_OUT_OF_HOST_MEMORY;
+}
+
+class Instance {
+public:
+    Instance() {
+        uint32_t version = VK_API_VERSION_1_0;
+        if (auto enumerate = reinterpret_cast<PFN_vkEnumerateInstanceVersion>(
+                vkGetInstanceProcAddr(nullptr, "vkEnumerateInstanceVersion")))
+            enumerate(&version);
+        if (version < VK_API_VERSION_1_2)
+            throw Error("Vulkan loader " + version_text(version) + " is older than the 1.2 this test needs");
+        VkApplicationInfo application{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+        application.pApplicationName = "prism bandwidth";
+        application.apiVersion = VK_API_VERSION_1_2;
+        VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+        info.pApplicationInfo = &application;
+        VkResult result = vkCreateInstance(&info, nullptr, &instance_);
+        if (result != VK_SUCCESS) throw Error("vkCreateInstance failed (" + std::to_string(result) + ")");
+        instance_version_ = version;
+    }
+    ~Instance() { vkDestroyInstance(instance_, nullptr); }
+    Instance(const Instance&) = delete;
+    Instance& operator=(const Instance&) = delete;
+    VkInstance get() const { return instance_; }
+    uint32_t version() const { return instance_version_; }
+
+private:
+    VkInstance instance_ = VK_NULL_HANDLE;
+    uint32_t instance_version_ = 0;
+};
+
+struct Buffer {
+    VkBuffer buffer = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    std::byte* mapped = nullptr;
+    bool coherent = true;
+};
+
+// Memory type choice: `required` flags must be there; then most `preferred` and fewest `avoided` flags win.
+struct MemoryWish {
+    VkMemoryPropertyFlags required, preferred, avoided;
+};
+
+// One recorded command buffer plus the queue it runs on; re-recorded for each size.
+struct Command {
+    VkCommandBuffer buffer = VK_NULL_HANDLE;
+    VkQueue queue = VK_NULL_HANDLE;
+    bool timestamps = false;
+};
+
+class VulkanDevice final : public CopyDevice {
+public:
+    VulkanDevice(const Instance& instance, VkPhysicalDevice physical) : physical_(physical) {
+        read_properties();
+        choose_queues();
+        create_device();
+        create_kernel();
+    }
+    ~VulkanDevice() override {
+        if (!device_) return;
+        vkDeviceWaitIdle(device_);
+        release();
+        vkDestroyFence(device_, fence_, nullptr);
+        vkDestroyQueryPool(device_, queries_, nullptr);
+        vkDestroyPipeline(device_, pipeline_, nullptr);
+        vkDestroyPipelineLayout(device_, pipeline_layout_, nullptr);
+        vkDestroyDescriptorPool(device_, descriptor_pool_, nullptr);
+        vkDestroyDescriptorSetLayout(device_, set_layout_, nullptr);
+        vkDestroyShaderModule(device_, shader_, nullptr);
+        vkDestroyCommandPool(device_, compute_pool_, nullptr);
+        if (transfer_pool_ != compute_pool_) vkDestroyCommandPool(device_, transfer_pool_, nullptr);
+        vkDestroyDevice(device_, nullptr);
+    }
+
+    DeviceResult describe() const override {
+        DeviceResult result;
+        result.api = "vulkan";
+        result.device = properties_.deviceName;
+        result.platform = driver_.driverName;
+        result.driver = std::string(driver_.driverName) + " " + driver_.driverInfo;
+        result.api_version = "Vulkan " + version_text(properties_.apiVersion);
+        result.pci_address = pci_address_;
+        for (uint32_t i = 0; i < memory_.memoryHeapCount; ++i)
+            if (memory_.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+                result.device_memory = std::max<size_t>(result.device_memory, memory_.memoryHeaps[i].size);
+        result.details.push_back(dedicated_transfer_
+                                     ? "H2D/D2H: vkCmdCopyBuffer on a dedicated transfer queue (family " +
+                                           std::to_string(transfer_family_) + ")"
+                                     : "H2D/D2H: vkCmdCopyBuffer on the compute queue (no dedicated transfer queue)");
+        result.details.push_back(std::string("D2D copy: vkCmdCopyBuffer on the ") +
+                                 (d2d_on_transfer_ ? "transfer" : "compute") + " queue");
+        result.details.push_back("pageable: memcpy to/from the staging buffer plus the copy; wall time only");
+        if (!transfer_timestamps_) result.details.push_back("the transfer queue has no timestamps: wall time only");
+        if (!host_query_reset_) result.details.push_back("no hostQueryReset: wall time only");
+        return result;
+    }
+
+    std::string cannot_fit(size_t bytes) const override {
+        if (bytes > max_allocation_)
+            return "larger than maxMemoryAllocationSize (" + format_size(max_allocation_) + ")";
+        std::map<uint32_t, size_t> need;   // heap -> bytes
+        need[heap_of(device_local_)] += 2 * bytes;
+        need[heap_of(upload_)] += bytes;
+        need[heap_of(readback_)] += bytes;
+        for (auto [heap, bytes_needed] : need)
+            if (bytes_needed > memory_.memoryHeaps[heap].size)
+                return "needs " + format_size(bytes_needed) + " in memory heap " + std::to_string(heap) + " of " +
+                       format_size(memory_.memoryHeaps[heap].size);
+        return "";
+    }
+
+    std::string kernel_cannot_fit(size_t bytes) const override {
+        if (!pipeline_) return "the compute pipeline could not be created";
+        if (bytes > properties_.limits.maxStorageBufferRange)
+            return "larger than maxStorageBufferRange (" + format_size(properties_.limits.maxStorageBufferRange) + ")";
+        return "";
+    }
+
+    void allocate(size_t bytes, std::byte* pageable) override {
+        bytes_ = bytes;
+        pageable_ = pageable;
+        const VkBufferUsageFlags copy = VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+        buffer_a_ = create_buffer(copy | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, device_local_, "device buffer A");
+        buffer_b_ = create_buffer(copy | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, device_local_, "device buffer B");
+        upload_staging_ = create_buffer(copy, upload_, "upload staging buffer");
+        readback_staging_ = create_buffer(copy, readback_, "readback staging buffer");
+        record_all();
+    }
+
+    void release() override {
+        if (!device_) return;
+        vkDeviceWaitIdle(device_);
+        for (Buffer* buffer : {&buffer_a_, &buffer_b_, &upload_staging_, &readback_staging_}) {
+            if (buffer->mapped) vkUnmapMemory(device_, buffer->memory);
+            vkDestroyBuffer(device_, buffer->buffer, nullptr);
+            vkFreeMemory(device_, buffer->memory, nullptr);
+            *buffer = Buffer{};
+        }
+    }
+
+    std::byte* pinned_upload() override { return upload_staging_.mapped; }
+    std::byte* pinned_download() override { return readback_staging_.mapped; }
+
+    Timed upload(Memory host) override {
+        auto start = Clock::now();
+        if (host == Memory::Pageable) {
+            std::memcpy(upload_staging_.mapped, pageable_, bytes_);
+            flush(upload_staging_);
+        }
+        std::optional<double> device_seconds = submit(upload_command_);
+        return finish(start, host == Memory::Pinned ? device_seconds : std::nullopt);
+    }
+
+    Timed download(Memory host) override {
+        auto start = Clock::now();
+        std::optional<double> device_seconds = submit(download_command_);
+        invalidate(readback_staging_);
+        if (host == Memory::Pageable) std::memcpy(pageable_, readback_staging_.mapped, bytes_);
+        return finish(start, host == Memory::Pinned ? device_seconds : std::nullopt);
+    }
+
+    Timed copy_buffer() override {
+        auto start = Clock::now();
+        std::optional<double> device_seconds = submit(copy_command_);
+        return finish(start, device_seconds);
+    }
+
+    Timed copy_kernel() override {
+        auto start = Clock::now();
+        std::optional<double> device_seconds = submit(kernel_command_);
+        return finish(start, device_seconds);
+    }
+
+    void clear_destination() override { submit(clear_command_); }
+
+    void read_destination() override {
+        submit(read_destination_command_);
+        invalidate(readback_staging_);
+        std::memcpy(pageable_, readback_staging_.mapped, bytes_);
+    }
+
+private:
+    void check(VkResult result, const char* call) const {
+        if (result != VK_SUCCESS)
+            throw Error(std::string("vulkan ") + properties_.deviceName + ": " + call + " failed (" +
+                        std::to_string(result) + ")");
+    }
+
+    void read_properties() {
+        VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+        driver_ = {VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+        VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
+        VkPhysicalDevicePCIBusInfoPropertiesEXT pci{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PCI_BUS_INFO_PROPERTIES_EXT};
+        properties.pNext = &driver_;
+        driver_.pNext = &maintenance3;
+        bool has_pci = has_extension(VK_EXT_PCI_BUS_INFO_EXTENSION_NAME);
+        if (has_pci) maintenance3.pNext = &pci;
+        vkGetPhysicalDeviceProperties(physical_, &properties_);
+        if (properties_.apiVersion < VK_API_VERSION_1_2)
+            throw Error(std::string("vulkan ") + properties_.deviceName + ": device supports only Vulkan " +
+                        version_text(properties_.apiVersion) + ", 1.2 needed");
+        vkGetPhysicalDeviceProperties2(physical_, &properties);
+        properties_ = properties.properties;
+        driver_.pNext = nullptr;
+        max_allocation_ = maintenance3.maxMemoryAllocationSize;
+        if (has_pci) pci_address_ = pci_address(pci.pciDomain, pci.pciBus, pci.pciDevice, pci.pciFunction);
+        vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
+        device_local_ = find_memory_type({VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT});
+        // Staging in system memory (not device-local BAR memory): what crosses the link is what we time.
+        upload_ = find_memory_type({VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
+                                    VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT});
+        readback_ = find_memory_type({VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
+                                      VK_MEMORY_PROPERTY_HOST_CACHED_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                                      VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT});
+        if (device_local_ < 0 || upload_ < 0 || readback_ < 0)
+            throw Error(std::string("vulkan ") + properties_.deviceName + ": no device-local or host-visible memory type");
+    }
+
+    bool has_extension(const char* name) const {
+        uint32_t count = 0;
+        vkEnumerateDeviceExtensionProperties(physical_, nullptr, &count, nullptr);
+        std::vector<VkExtensionProperties> extensions(count);
+        vkEnumerateDeviceExtensionProperties(physical_, nullptr, &count, extensions.data());
+        return std::any_of(extensions.begin(), extensions.end(),
+                           [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
+    }
+
+    int find_memory_type(MemoryWish wish) const {
+        int best = -1, best_score = -1000;
+        for (uint32_t i = 0; i < memory_.memoryTypeCount; ++i) {
+            VkMemoryPropertyFlags flags = memory_.memoryTypes[i].propertyFlags;
+            if ((flags & wish.required) != wish.required) continue;
+            int score = 2 * std::popcount(flags & wish.preferred) - std::popcount(flags & wish.avoided);
+            if (score > best_score) best = static_cast<int>(i), best_score = score;
+        }
+        return best;
+    }
+
+    uint32_t heap_of(int type) const { return memory_.memoryTypes[type].heapIndex; }
+
+    void choose_queues() {
+        uint32_t count = 0;
+        vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, nullptr);
+        std::vector<VkQueueFamilyProperties> families(count);
+        vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, families.data());
+        compute_family_ = UINT32_MAX;
+        for (uint32_t i = 0; i < count; ++i) {
+            VkQueueFlags flags = families[i].queueFlags;
+            if ((flags & VK_QUEUE_COMPUTE_BIT) && compute_family_ == UINT32_MAX) compute_family_ = i;
+            // A transfer-only family is the copy engine path (DMA), the one that reaches link speed.
+            if ((flags & VK_QUEUE_TRANSFER_BIT) && !(flags & (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT)) &&
+                !dedicated_transfer_)
+                transfer_family_ = i, dedicated_transfer_ = true;
+        }
+        if (compute_family_ == UINT32_MAX)
+            throw Error(std::string("vulkan ") + properties_.deviceName + ": no compute queue");
+        if (!dedicated_transfer_) transfer_family_ = compute_family_;
+        compute_timestamps_ = families[compute_family_].timestampValidBits > 0;
+        transfer_timestamps_ = families[transfer_family_].timestampValidBits > 0;
+        compute_timestamp_mask_ = mask(families[compute_family_].timestampValidBits);
+        transfer_timestamp_mask_ = mask(families[transfer_family_].timestampValidBits);
+        const char* d2d = std::getenv("PRISM_VULKAN_D2D_QUEUE");
+        d2d_on_transfer_ = dedicated_transfer_ && d2d && std::string(d2d) == "transfer";
+    }
+
+    static uint64_t mask(uint32_t bits) { return bits >= 64 ? ~uint64_t(0) : (uint64_t(1) << bits) - 1; }
+
+    void create_device() {
+        VkPhysicalDeviceVulkan12Features supported12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+        VkPhysicalDeviceFeatures2 supported{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &supported12};
+        vkGetPhysicalDeviceFeatures2(physical_, &supported);
+        host_query_reset_ = supported12.hostQueryReset;
+        VkPhysicalDeviceVulkan12Features enabled12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+        enabled12.hostQueryReset = supported12.hostQueryReset;
+
+        float priority = 1.0f;
+        std::vector<VkDeviceQueueCreateInfo> queues;
+        for (uint32_t family : {compute_family_, transfer_family_}) {
+            if (!queues.empty() && queues[0].queueFamilyIndex == family) continue;
+            VkDeviceQueueCreateInfo queue{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+            queue.queueFamilyIndex = family;
+            queue.queueCount = 1;
+            queue.pQueuePriorities = &priority;
+            queues.push_back(queue);
+        }
+        VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &enabled12};
+        info.queueCreateInfoCount = static_cast<uint32_t>(queues.size());
+        info.pQueueCreateInfos = queues.data();
+        check(vkCreateDevice(physical_, &info, nullptr, &device_), "vkCreateDevice");
+        vkGetDeviceQueue(device_, compute_family_, 0, &compute_queue_);
+        vkGetDeviceQueue(device_, transfer_family_, 0, &transfer_queue_);
+
+        VkCommandPoolCreateInfo pool{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+        pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+        pool.queueFamilyIndex = compute_family_;
+        check(vkCreateCommandPool(device_, &pool, nullptr, &compute_pool_), "vkCreateCommandPool");
+        transfer_pool_ = compute_pool_;
+        if (dedicated_transfer_) {
+            pool.queueFamilyIndex = transfer_family_;
+            check(vkCreateCommandPool(device_, &pool, nullptr, &transfer_pool_), "vkCreateCommandPool");
+        }
+        upload_command_ = command(transfer_pool_, transfer_queue_, transfer_timestamps_);
+        download_command_ = command(transfer_pool_, transfer_queue_, transfer_timestamps_);
+        copy_command_ = d2d_on_transfer_ ? command(transfer_pool_, transfer_queue_, transfer_timestamps_)
+                                         : command(compute_pool_, compute_queue_, compute_timestamps_);
+        kernel_command_ = command(compute_pool_, compute_queue_, compute_timestamps_);
+        clear_command_ = command(compute_pool_, compute_queue_, false);
+        read_destination_command_ = command(compute_pool_, compute_queue_, false);
+
+        VkQueryPoolCreateInfo query{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+        query.queryType = VK_QUERY_TYPE_TIMESTAMP;
+        query.queryCount = 2;
+        check(vkCreateQueryPool(device_, &query, nullptr, &queries_), "vkCreateQueryPool");
+        VkFenceCreateInfo fence{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+        check(vkCreateFence(device_, &fence, nullptr, &fence_), "vkCreateFence");
+    }
+
+    Command command(VkCommandPool pool, VkQueue queue, bool timestamps) {
+        VkCommandBufferAllocateInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+        info.commandPool = pool;
+        info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+        info.commandBufferCount = 1;
+        Command result{VK_NULL_HANDLE, queue, timestamps && host_query_reset_};
+        check(vkAllocateCommandBuffers(device_, &info, &result.buffer), "vkAllocateCommandBuffers");
+        return result;
+    }
+
+    void create_kernel() {
+        VkShaderModuleCreateInfo module{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+        module.codeSize = prism::spirv::bandwidth_copy_words * 4;
+        module.pCode = prism::spirv::bandwidth_copy;
+        check(vkCreateShaderModule(device_, &module, nullptr, &shader_), "vkCreateShaderModule");
+        VkDescriptorSetLayoutBinding bindings[2]{};
+        for (uint32_t i = 0; i < 2; ++i) {
+            bindings[i].binding = i;
+            bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            bindings[i].descriptorCount = 1;
+            bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+        }
+        VkDescriptorSetLayoutCreateInfo layout{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+        layout.bindingCount = 2;
+        layout.pBindings = bindings;
+        check(vkCreateDescriptorSetLayout(device_, &layout, nullptr, &set_layout_), "vkCreateDescriptorSetLayout");
+        VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(uint32_t)};
+        VkPipelineLayoutCreateInfo pipeline_layout{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+        pipeline_layout.setLayoutCount = 1;
+        pipeline_layout.pSetLayouts = &set_layout_;
+        pipeline_layout.pushConstantRangeCount = 1;
+        pipeline_layout.pPushConstantRanges = &push;
+        check(vkCreatePipelineLayout(device_, &pipeline_layout, nullptr, &pipeline_layout_), "vkCreatePipelineLayout");
+        VkComputePipelineCreateInfo pipeline{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+        pipeline.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+        pipeline.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+        pipeline.stage.module = shader_;
+        pipeline.stage.pName = "main";
+        pipeline.layout = pipeline_layout_;
+        if (vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &pipeline, nullptr, &pipeline_) != VK_SUCCESS)
+            pipeline_ = VK_NULL_HANDLE;
+        VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2};
+        VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+        pool.maxSets = 1;
+        pool.poolSizeCount = 1;
+        pool.pPoolSizes = &pool_size;
+        check(vkCreateDescriptorPool(device_, &pool, nullptr, &descriptor_pool_), "vkCreateDescriptorPool");
+        VkDescriptorSetAllocateInfo set{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+        set.descriptorPool = descriptor_pool_;
+        set.descriptorSetCount = 1;
+        set.pSetLayouts = &set_layout_;
+        check(vkAllocateDescriptorSets(device_, &set, &descriptor_set_), "vkAllocateDescriptorSets");
+    }
+
+    Buffer create_buffer(VkBufferUsageFlags usage, int memory_type, const char* what) {
+        Buffer result;
+        uint32_t families[2] = {compute_family_, transfer_family_};
+        VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+        info.size = bytes_;
+        info.usage = usage;
+        // Concurrent sharing spares queue-family ownership transfers; buffers have no compressed layout to lose.
+        info.sharingMode = dedicated_transfer_ ? VK_SHARING_MODE_CONCURRENT : VK_SHARING_MODE_EXCLUSIVE;
+        info.queueFamilyIndexCount = dedicated_transfer_ ? 2 : 0;
+        info.pQueueFamilyIndices = dedicated_transfer_ ? families : nullptr;
+        VkResult status = vkCreateBuffer(device_, &info, nullptr, &result.buffer);
+        if (is_out_of_memory(status)) throw SizeSkipped(std::string("out of memory for ") + what);
+        check(status, "vkCreateBuffer");
+        VkMemoryRequirements requirements;
+        vkGetBufferMemoryRequirements(device_, result.buffer, &requirements);
+        if (!(requirements.memoryTypeBits & (1u << memory_type))) {
+            vkDestroyBuffer(device_, result.buffer, nullptr);
+            throw Error(std::string("vulkan ") + properties_.deviceName + ": " + what + " cannot use the chosen memory type");
+        }
+        VkMemoryAllocateInfo allocate{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+        allocate.allocationSize = requirements.size;
+        allocate.memoryTypeIndex = static_cast<uint32_t>(memory_type);
+        status = vkAllocateMemory(device_, &allocate, nullptr, &result.memory);
+        if (status != VK_SUCCESS) {
+            vkDestroyBuffer(device_, result.buffer, nullptr);
+            if (is_out_of_memory(status)) throw SizeSkipped(std::string("out of memory for ") + what);
+            check(status, "vkAllocateMemory");
+        }
+        check(vkBindBufferMemory(device_, result.buffer, result.memory, 0), "vkBindBufferMemory");
+        VkMemoryPropertyFlags flags = memory_.memoryTypes[memory_type].propertyFlags;
+        if (flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) {
+            void* mapped = nullptr;
+            check(vkMapMemory(device_, result.memory, 0, VK_WHOLE_SIZE, 0, &mapped), "vkMapMemory");
+            result.mapped = static_cast<std::byte*>(mapped);
+            result.coherent = flags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+        }
+        return result;
+    }
+
+    // Records the per-size command buffers. Large transfers are one vkCmdCopyBuffer region.
+    void record_all() {
+        VkBufferCopy whole{0, 0, bytes_};
+        record(upload_command_, [&](VkCommandBuffer cb) { vkCmdCopyBuffer(cb, upload_staging_.buffer, buffer_a_.buffer, 1, &whole); });
+        record(download_command_, [&](VkCommandBuffer cb) { vkCmdCopyBuffer(cb, buffer_a_.buffer, readback_staging_.buffer, 1, &whole); });
+        record(copy_command_, [&](VkCommandBuffer cb) { vkCmdCopyBuffer(cb, buffer_a_.buffer, buffer_b_.buffer, 1, &whole); });
+        record(clear_command_, [&](VkCommandBuffer cb) { vkCmdFillBuffer(cb, buffer_b_.buffer, 0, VK_WHOLE_SIZE, 0); });
+        record(read_destination_command_, [&](VkCommandBuffer cb) {
+            vkCmdCopyBuffer(cb, buffer_b_.buffer, readback_staging_.buffer, 1, &whole);
+        });
+        if (!kernel_cannot_fit(bytes_).empty()) return;
+        VkDescriptorBufferInfo buffers[2] = {{buffer_a_.buffer, 0, VK_WHOLE_SIZE}, {buffer_b_.buffer, 0, VK_WHOLE_SIZE}};
+        VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+        write.dstSet = descriptor_set_;
+        write.descriptorCount = 2;
+        write.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        write.pBufferInfo = buffers;
+        vkUpdateDescriptorSets(device_, 1, &write, 0, nullptr);
+        uint32_t count = static_cast<uint32_t>(bytes_ / 16);
+        // Same grid rule in every API: one element per thread, at most 65535 groups (then the loop strides).
+        uint32_t groups = std::min<uint32_t>({(count + RT_BANDWIDTH_GROUP_SIZE - 1) / RT_BANDWIDTH_GROUP_SIZE, 65535u,
+                                              properties_.limits.maxComputeWorkGroupCount[0]});
+        record(kernel_command_, [&](VkCommandBuffer cb) {
+            vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
+            vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_, 0, 1, &descriptor_set_, 0, nullptr);
+            vkCmdPushConstants(cb, pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof count, &count);
+            vkCmdDispatch(cb, groups, 1, 1);
+        });
+    }
+
+    template <typename Work>
+    void record(const Command& command, Work work) {
+        check(vkResetCommandBuffer(command.buffer, 0), "vkResetCommandBuffer");
+        VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+        check(vkBeginCommandBuffer(command.buffer, &begin), "vkBeginCommandBuffer");
+        if (command.timestamps) vkCmdWriteTimestamp(command.buffer, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, 0);
+        work(command.buffer);
+        if (command.timestamps) vkCmdWriteTimestamp(command.buffer, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, 1);
+        // After the timed part: make the writes visible to the host and to whatever the next submission does.
+        VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        barrier.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
+        barrier.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT | VK_ACCESS_HOST_READ_BIT;
+        vkCmdPipelineBarrier(command.buffer, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                             VK_PIPELINE_STAGE_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0,
+                             nullptr, 0, nullptr);
+        check(vkEndCommandBuffer(command.buffer), "vkEndCommandBuffer");
+    }
+
+    // Submits one recorded command buffer and waits; returns the timestamp difference where there is one.
+    std::optional<double> submit(const Command& command) {
+        if (command.timestamps) vkResetQueryPool(device_, queries_, 0, 2);
+        check(vkResetFences(device_, 1, &fence_), "vkResetFences");
+        VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+        submit.commandBufferCount = 1;
+        submit.pCommandBuffers = &command.buffer;
+        check(vkQueueSubmit(command.queue, 1, &submit, fence_), "vkQueueSubmit");
+        check(vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+        if (!command.timestamps) return std::nullopt;
+        uint64_t ticks[2] = {};
+        check(vkGetQueryPoolResults(device_, queries_, 0, 2, sizeof ticks, ticks, sizeof(uint64_t),
+                                    VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+              "vkGetQueryPoolResults");
+        uint64_t mask = command.queue == transfer_queue_ ? transfer_timestamp_mask_ : compute_timestamp_mask_;
+        uint64_t elapsed = (ticks[1] - ticks[0]) & mask;
+        return static_cast<double>(elapsed) * properties_.limits.timestampPeriod * 1e-9;
+    }
+
+    static Timed finish(Clock::time_point start, std::optional<double> device_seconds) {
+        return Timed{device_seconds, std::chrono::duration<double>(Clock::now() - start).count()};
+    }
+
+    void flush(const Buffer& buffer) {
+        if (buffer.coherent) return;
+        VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, buffer.memory, 0, VK_WHOLE_SIZE};
+        check(vkFlushMappedMemoryRanges(device_, 1, &range), "vkFlushMappedMemoryRanges");
+    }
+    void invalidate(const Buffer& buffer) {
+        if (buffer.coherent) return;
+        VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, buffer.memory, 0, VK_WHOLE_SIZE};
+        check(vkInvalidateMappedMemoryRanges(device_, 1, &range), "vkInvalidateMappedMemoryRanges");
+    }
+
+    VkPhysicalDevice physical_;
+    VkPhysicalDeviceProperties properties_{};
+    VkPhysicalDeviceDriverProperties driver_{};
+    VkPhysicalDeviceMemoryProperties memory_{};
+    VkDeviceSize max_allocation_ = 0;
+    std::string pci_address_;
+    int device_local_ = -1, upload_ = -1, readback_ = -1;
+    uint32_t compute_family_ = 0, transfer_family_ = 0;
+    bool dedicated_transfer_ = false, d2d_on_transfer_ = false;
+    bool compute_timestamps_ = false, transfer_timestamps_ = false, host_query_reset_ = false;
+    uint64_t compute_timestamp_mask_ = 0, transfer_timestamp_mask_ = 0;
+
+    VkDevice device_ = VK_NULL_HANDLE;
+    VkQueue compute_queue_ = VK_NULL_HANDLE, transfer_queue_ = VK_NULL_HANDLE;
+    VkCommandPool compute_pool_ = VK_NULL_HANDLE, transfer_pool_ = VK_NULL_HANDLE;
+    Command upload_command_, download_command_, copy_command_, kernel_command_, clear_command_, read_destination_command_;
+    VkQueryPool queries_ = VK_NULL_HANDLE;
+    VkFence fence_ = VK_NULL_HANDLE;
+    VkShaderModule shader_ = VK_NULL_HANDLE;
+    VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+    VkPipelineLayout pipeline_layout_ = VK_NULL_HANDLE;
+    VkPipeline pipeline_ = VK_NULL_HANDLE;
+    VkDescriptorPool descriptor_pool_ = VK_NULL_HANDLE;
+    VkDescriptorSet descriptor_set_ = VK_NULL_HANDLE;
+
+    size_t bytes_ = 0;
+    std::byte* pageable_ = nullptr;
+    Buffer buffer_a_, buffer_b_, upload_staging_, readback_staging_;
+};
+
+}  // namespace
+
+ApiResult measure_vulkan(const Plan& plan) {
+    ApiResult api{"vulkan", "", {}};
+    std::unique_ptr<Instance> instance;
+    try {
+        instance = std::make_unique<Instance>();
+    } catch (const Error& error) {
+        api.unavailable_reason = error.what();
+        return api;
+    }
+    uint32_t count = 0;
+    vkEnumeratePhysicalDevices(instance->get(), &count, nullptr);
+    std::vector<VkPhysicalDevice> physical(count);
+    vkEnumeratePhysicalDevices(instance->get(), &count, physical.data());
+    if (count == 0) {
+        api.unavailable_reason = "no Vulkan device";
+        return api;
+    }
+    for (VkPhysicalDevice device : physical) {
+        VkPhysicalDeviceProperties properties;
+        vkGetPhysicalDeviceProperties(device, &properties);
+        if (!plan.wants("vulkan", "", properties.deviceName)) continue;
+        try {
+            VulkanDevice copy_device(*instance, device);
+            api.devices.push_back(sweep(copy_device, plan));
+        } catch (const Error& error) {
+            DeviceResult failed{"vulkan", properties.deviceName};
+            failed.notes.push_back(std::string("device skipped: ") + error.what());
+            api.devices.push_back(failed);
+        }
+    }
+    if (api.devices.empty()) api.unavailable_reason = "no Vulkan device matches the --device filters";
+    return api;
+}
+
+}  // namespace prism::bandwidth

@@ -1,0 +1,202 @@
+// `prism bandwidth` end to end on the software devices CI has (PoCL for OpenCL, lavapipe for Vulkan): it runs,
+// its JSON follows the schema in docs/bandwidth.md, the plot is a PNG of the documented size, and bad options
+// fail with one line.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+#include <stb_image.h>
+
+#include "tests/test_support.h"
+
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+// The Vulkan loader warns on stderr without a private XDG_RUNTIME_DIR; the child process inherits this one.
+void set_runtime_dir() {
+    fs::path dir = prism::test::temp_dir("bandwidth-xdg");
+    fs::permissions(dir, fs::perms::owner_all, fs::perm_options::replace);
+    setenv("XDG_RUNTIME_DIR", dir.c_str(), 1);
+}
+
+class BandwidthRun : public ::testing::Test {
+protected:
+    // One measured run shared by the tests below: 1 MiB, 3 repeats, JSON and plot.
+    static void SetUpTestSuite() {
+        set_runtime_dir();
+        fs::path dir = prism::test::temp_dir("bandwidth");
+        json_path_ = dir / "result.json";
+        plot_path_ = dir / "result.png";
+        fs::remove(json_path_);
+        fs::remove(plot_path_);
+        run_ = prism::test::run_prism("bandwidth --sizes 1M --repeats 3 --json '" + json_path_.string() +
+                                      "' --plot '" + plot_path_.string() + "'");
+        std::ifstream in(json_path_);
+        if (in) result_ = json::parse(in, nullptr, false);
+    }
+    static inline prism::test::CommandResult run_;
+    static inline fs::path json_path_, plot_path_;
+    static inline json result_;
+};
+
+bool positive_finite(const json& value) {
+    return value.is_number() && std::isfinite(value.get<double>()) && value.get<double>() > 0;
+}
+
+void expect_rate(const json& rate, const std::string& where, bool read_write) {
+    ASSERT_TRUE(rate.is_object()) << where;
+    for (const char* key : {"median_gbps", "min_gbps", "max_gbps", "median_seconds"})
+        EXPECT_TRUE(positive_finite(rate[key])) << where << "." << key << " = " << rate.value(key, json()).dump();
+    EXPECT_LE(rate["min_gbps"].get<double>(), rate["median_gbps"].get<double>()) << where;
+    EXPECT_LE(rate["median_gbps"].get<double>(), rate["max_gbps"].get<double>()) << where;
+    if (read_write) {
+        ASSERT_TRUE(rate.contains("read_write_median_gbps")) << where;
+        EXPECT_DOUBLE_EQ(rate["read_write_median_gbps"].get<double>(), 2 * rate["median_gbps"].get<double>()) << where;
+    } else {
+        EXPECT_FALSE(rate.contains("read_write_median_gbps")) << where;
+    }
+}
+
+TEST_F(BandwidthRun, ExitsZeroAndMeasuresPoclAndLavapipe) {
+    ASSERT_EQ(run_.exit_code, 0) << run_.output;
+    ASSERT_TRUE(result_.is_object()) << "no JSON at " << json_path_;
+    // Every copy kind must be there: a copy whose data check fails is dropped, so this also checks the data.
+    const std::set<std::string> kinds = {"h2d/pageable", "h2d/pinned", "d2h/pageable", "d2h/pinned",
+                                         "d2d/device", "kernel_copy/device"};
+    for (const char* api : {"opencl", "vulkan"}) {
+        bool found = false;
+        for (const json& device : result_["devices"]) {
+            if (device["api"] != api || device["measurements"].empty()) continue;
+            found = true;
+            std::set<std::string> seen;
+            for (const json& m : device["measurements"]) {
+                seen.insert(m["direction"].get<std::string>() + "/" + m["memory"].get<std::string>());
+                EXPECT_EQ(m["bytes"], 1u << 20);
+            }
+            EXPECT_EQ(seen, kinds) << api << " " << device["device"];
+        }
+        EXPECT_TRUE(found) << "no measured " << api << " device in\n" << run_.output;
+    }
+    EXPECT_NE(run_.output.find("Peak bandwidth"), std::string::npos) << run_.output;
+    EXPECT_NE(run_.output.find("read+write"), std::string::npos) << "output must say how D2D bytes are counted";
+}
+
+TEST_F(BandwidthRun, JsonFollowsTheDocumentedSchema) {
+    ASSERT_TRUE(result_.is_object());
+    const json& r = result_;
+    EXPECT_EQ(r["schema"], "prism-bandwidth/1");
+    for (const char* key : {"commit", "date", "build_type", "gbps_definition"}) EXPECT_TRUE(r[key].is_string()) << key;
+    EXPECT_TRUE(r["host"].is_object());
+    EXPECT_EQ(r["sizes"], json::array({1u << 20}));
+    EXPECT_TRUE(r["warmup"].is_number_integer());
+    EXPECT_EQ(r["repeats"], 3);
+    ASSERT_TRUE(r["devices"].is_array());
+    ASSERT_TRUE(r["skipped_apis"].is_array());
+    ASSERT_TRUE(r["summary"].is_array());
+    for (const json& skipped : r["skipped_apis"]) {
+        EXPECT_TRUE(skipped["api"].is_string());
+        EXPECT_TRUE(skipped["reason"].is_string());
+    }
+
+    const std::set<std::string> directions = {"h2d", "d2h", "d2d", "kernel_copy"};
+    const std::set<std::string> memories = {"pageable", "pinned", "device"};
+    for (const json& device : r["devices"]) {
+        std::string where = device.value("api", "?") + " " + device.value("device", "?");
+        for (const char* key : {"api", "device", "platform", "driver", "api_version", "pci_address"})
+            EXPECT_TRUE(device[key].is_string()) << where << "." << key;
+        EXPECT_TRUE(device["device_memory_bytes"].is_number_unsigned()) << where;
+        EXPECT_TRUE(device["memory_spec_gbps"].is_null() || positive_finite(device["memory_spec_gbps"])) << where;
+        const json& link = device["link"];
+        EXPECT_TRUE(link.is_null() || (link["description"].is_string() && positive_finite(link["gbps"]))) << where;
+        for (const char* key : {"details", "notes"}) {
+            ASSERT_TRUE(device[key].is_array()) << where << "." << key;
+            for (const json& line : device[key]) EXPECT_TRUE(line.is_string()) << where << "." << key;
+        }
+        ASSERT_TRUE(device["measurements"].is_array()) << where;
+        for (const json& m : device["measurements"]) {
+            std::string direction = m.value("direction", "?");
+            EXPECT_TRUE(directions.count(direction)) << where << ": " << direction;
+            EXPECT_TRUE(memories.count(m.value("memory", "?"))) << where;
+            EXPECT_TRUE(m["bytes"].is_number_unsigned()) << where;
+            bool read_write = direction == "d2d" || direction == "kernel_copy";
+            expect_rate(m["wall"], where + " " + direction + " wall", read_write);
+            if (!m["device_timer"].is_null())
+                expect_rate(m["device_timer"], where + " " + direction + " device_timer", read_write);
+        }
+    }
+    for (const json& row : r["summary"]) {
+        for (const char* key : {"api", "device", "direction", "memory", "timer", "spec"})
+            EXPECT_TRUE(row[key].is_string()) << key;
+        EXPECT_TRUE(row["bytes"].is_number_unsigned());
+        EXPECT_TRUE(positive_finite(row["gbps"]));
+        EXPECT_TRUE(positive_finite(row["percent_of_best_api"]));
+        EXPECT_LE(row["percent_of_best_api"].get<double>(), 100.0 + 1e-9);
+        EXPECT_TRUE(row["percent_of_spec"].is_null() || positive_finite(row["percent_of_spec"]));
+    }
+}
+
+TEST_F(BandwidthRun, PlotIsAPngOfTheDocumentedSize) {
+    ASSERT_EQ(run_.exit_code, 0) << run_.output;
+    int width = 0, height = 0, channels = 0;
+    unsigned char* pixels = stbi_load(plot_path_.c_str(), &width, &height, &channels, 3);
+    ASSERT_NE(pixels, nullptr) << plot_path_ << ": " << stbi_failure_reason();
+    EXPECT_EQ(width, 1280);
+    EXPECT_EQ(height, 800);
+    // Not blank: axes, labels and the series leave plenty of non-white pixels, some of them coloured.
+    size_t dark = 0, coloured = 0;
+    for (int i = 0; i < width * height; ++i) {
+        unsigned char r = pixels[3 * i], g = pixels[3 * i + 1], b = pixels[3 * i + 2];
+        dark += r < 64 && g < 64 && b < 64;
+        coloured += std::abs(int(r) - int(g)) > 60 || std::abs(int(g) - int(b)) > 60;
+    }
+    stbi_image_free(pixels);
+    EXPECT_GT(dark, 2000u);
+    EXPECT_GT(coloured, 200u);
+}
+
+// Parses sizes without measuring anything: a filter that matches no device.
+TEST(Bandwidth, AcceptsSizeLists) {
+    set_runtime_dir();
+    fs::path file = prism::test::temp_dir("bandwidth") / "sizes.json";
+    auto run = prism::test::run_prism("bandwidth --sizes 4K,16M,256m,1G --device no-such-device --json '" +
+                                      file.string() + "'");
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    std::ifstream in(file);
+    json result = json::parse(in);
+    EXPECT_EQ(result["sizes"], json::array({4096, 16u << 20, 256u << 20, 1u << 30}));
+    EXPECT_TRUE(result["devices"].empty());
+    EXPECT_NE(run.output.find("no OpenCL device matches"), std::string::npos) << run.output;
+}
+
+int line_count(const std::string& text) {
+    std::istringstream in(text);
+    std::string line;
+    int lines = 0;
+    while (std::getline(in, line)) lines += !line.empty();
+    return lines;
+}
+
+TEST(Bandwidth, BadSizesFailWithOneLine) {
+    for (const char* sizes : {"12Q", "abc", "1000", "4K,,16K", "0", "-1M"}) {
+        auto run = prism::test::run_prism(std::string("bandwidth --sizes '") + sizes + "'");
+        EXPECT_NE(run.exit_code, 0) << sizes;
+        EXPECT_EQ(line_count(run.output), 1) << sizes << ":\n" << run.output;
+        EXPECT_NE(run.output.find("--sizes"), std::string::npos) << sizes << ": " << run.output;
+    }
+}
+
+TEST(Bandwidth, UnknownApiFailsWithOneLine) {
+    auto run = prism::test::run_prism("bandwidth --api metal --sizes 4K");
+    EXPECT_NE(run.exit_code, 0);
+    EXPECT_EQ(line_count(run.output), 1) << run.output;
+    EXPECT_NE(run.output.find("metal"), std::string::npos) << run.output;
+}
+
+}  // namespace

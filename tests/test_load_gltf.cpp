@@ -1,0 +1,528 @@
+// glTF loading: every Khronos sample in ../shared/scenes/gltf, plus small generated files for the corner cases
+// (sparse accessors, strips and fans, mirrored nodes, extensions) and malformed input.
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <random>
+
+#include <glm/gtc/quaternion.hpp>
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "core/gltf_material.h"
+#include "core/load_gltf.h"
+#include "tests/gltf_builder.h"
+#include "tests/test_support.h"
+
+namespace prism {
+namespace {
+
+using nlohmann::json;
+using test::GltfBuilder;
+
+Scene load(const std::filesystem::path& path) {
+    Scene scene;
+    load_gltf(path, scene);
+    return scene;
+}
+
+std::string read_bytes(const std::filesystem::path& path) {
+    std::ifstream file(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+}
+
+// The JSON chunk of a .glb, read independently of tinygltf to check the loader against the file's own values.
+json glb_json(const std::filesystem::path& path) {
+    std::string bytes = read_bytes(path);
+    uint32_t length;
+    std::memcpy(&length, bytes.data() + 12, 4);
+    return json::parse(bytes.substr(20, length));
+}
+
+const Instance* find_instance(const Scene& scene, const std::string& name) {
+    for (const Instance& instance : scene.instances)
+        if (instance.name == name) return &instance;
+    return nullptr;
+}
+
+glm::vec3 world_geometric_normal(const Scene& scene, const Instance& instance, size_t triangle) {
+    const Mesh& mesh = scene.meshes[instance.mesh];
+    glm::uvec3 t = mesh.triangles[triangle];
+    auto world = [&](uint32_t i) { return glm::vec3(instance.transform * glm::vec4(mesh.positions[i], 1.0f)); };
+    return glm::normalize(glm::cross(world(t.y) - world(t.x), world(t.z) - world(t.x)));
+}
+
+std::string error_message(const std::filesystem::path& path) {
+    try {
+        load(path);
+    } catch (const Error& error) {
+        return error.what();
+    }
+    return "no error";
+}
+
+// ---- The real sample models ----------------------------------------------------------------------------------
+
+TEST(LoadGltf, EverySampleModelLoads) {
+    int files = 0;
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(test::scene("gltf"))) {
+        std::string extension = entry.path().extension().string();
+        if (extension != ".glb" && extension != ".gltf") continue;
+        SCOPED_TRACE(entry.path().string());
+        Scene scene = load(entry.path());
+        EXPECT_GT(scene.triangle_count(), 0u);
+        EXPECT_FALSE(scene.materials.empty());
+        for (const Mesh& mesh : scene.meshes) {
+            ASSERT_EQ(mesh.triangle_materials.size(), mesh.triangles.size());
+            for (const glm::uvec3& t : mesh.triangles) ASSERT_LT(glm::max(t.x, glm::max(t.y, t.z)), mesh.positions.size());
+        }
+        ++files;
+    }
+    EXPECT_GE(files, 24);   // 22 folders, some with a gltf-separate/ variant too
+}
+
+TEST(LoadGltf, BoxHasTwelveTriangles) { EXPECT_EQ(load(test::scene("gltf/Box/Box.glb")).triangle_count(), 12u); }
+
+TEST(LoadGltf, DamagedHelmetCountsAndTextureMatchInBothForms) {
+    Scene binary = load(test::scene("gltf/DamagedHelmet/DamagedHelmet.glb"));
+    Scene separate = load(test::scene("gltf/DamagedHelmet/gltf-separate/DamagedHelmet.gltf"));
+    EXPECT_EQ(binary.triangle_count(), 15452u);   // its one index accessor holds 46,356 indices
+    EXPECT_EQ(separate.triangle_count(), 15452u);
+    ASSERT_EQ(binary.materials.size(), 1u);
+    ASSERT_EQ(binary.materials[0].textures.size(), 1u);   // base colour only; the emissive map has no seed slot
+    const Texture& albedo = binary.textures[binary.materials[0].textures[0].texture];
+    EXPECT_EQ(albedo.width, 2048);
+    EXPECT_EQ(albedo.encoding, TextureEncoding::Srgb8);
+    EXPECT_GT(binary.materials[0].emissive.x, 0.0f);
+    ASSERT_EQ(separate.textures.size(), 1u);
+    EXPECT_EQ(separate.textures[0].texels, albedo.texels);
+}
+
+TEST(LoadGltf, MetalRoughSpheresOneInstancePerPrimitive) {
+    std::filesystem::path path = test::scene("gltf/MetalRoughSpheresNoTextures/MetalRoughSpheresNoTextures.glb");
+    Scene scene = load(path);
+    json file = glb_json(path);
+    size_t placed_primitives = 0;   // 119 nodes, 102 of them with a mesh, 123 primitives among those meshes
+    for (const json& node : file["nodes"])
+        if (node.contains("mesh")) placed_primitives += file["meshes"][node["mesh"].get<int>()]["primitives"].size();
+    EXPECT_EQ(scene.instances.size(), placed_primitives);
+    EXPECT_EQ(scene.instances.size(), 123u);
+    EXPECT_EQ(scene.meshes.size(), 123u);
+    EXPECT_EQ(scene.triangle_count(), 1040409u);
+    // Roughness-0 metal spheres are mirrors, dielectric ones are not.
+    bool mirror = false, matte = false;
+    for (const Material& material : scene.materials) {
+        mirror |= material.reflectivity > 0.9f;
+        matte |= material.reflectivity == 0.0f;
+    }
+    EXPECT_TRUE(mirror);
+    EXPECT_TRUE(matte);
+}
+
+TEST(LoadGltf, OrientationTestWorldTransformsMatchTheFile) {
+    std::filesystem::path path = test::scene("gltf/OrientationTest/OrientationTest.glb");
+    Scene scene = load(path);
+    json file = glb_json(path);
+    int checked = 0;
+    for (const json& node : file["nodes"]) {
+        const Instance* instance = find_instance(scene, node["name"]);
+        ASSERT_NE(instance, nullptr) << node["name"];
+        glm::mat4 expected(1.0f);
+        if (node.contains("matrix")) {
+            for (int i = 0; i < 16; ++i) expected[i / 4][i % 4] = node["matrix"][i].get<float>();
+        } else {
+            glm::vec3 t(0.0f), s(1.0f);
+            glm::quat r(1.0f, 0.0f, 0.0f, 0.0f);
+            if (node.contains("translation")) t = {node["translation"][0], node["translation"][1], node["translation"][2]};
+            if (node.contains("scale")) s = {node["scale"][0], node["scale"][1], node["scale"][2]};
+            if (node.contains("rotation"))
+                r = glm::quat(node["rotation"][3].get<float>(), node["rotation"][0].get<float>(),
+                              node["rotation"][1].get<float>(), node["rotation"][2].get<float>());
+            // T * R * S written out column by column, independent of the loader's GLM calls.
+            glm::mat3 rs = glm::mat3_cast(r);
+            for (int c = 0; c < 3; ++c) expected[c] = glm::vec4(rs[c] * s[c], 0.0f);
+            expected[3] = glm::vec4(t, 1.0f);
+        }
+        for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 4; ++r) EXPECT_NEAR(instance->transform[c][r], expected[c][r], 1e-5f) << node["name"];
+        ++checked;
+    }
+    EXPECT_EQ(checked, 13);
+    // Spot values straight from the file: ArrowX1 sits at x = 5, rotated about X by -35 degrees.
+    const Instance* arrow = find_instance(scene, "ArrowX1");
+    ASSERT_NE(arrow, nullptr);
+    EXPECT_NEAR(arrow->transform[3].x, 5.0f, 1e-6f);
+    EXPECT_NEAR(arrow->transform[1].y, std::cos(glm::radians(35.0f)), 1e-4f);
+    EXPECT_NEAR(arrow->transform[1].z, -std::sin(glm::radians(35.0f)), 1e-4f);
+}
+
+TEST(LoadGltf, CamerasFileGivesThePerspectiveCamera) {
+    Scene scene = load(test::scene("gltf/Cameras/Cameras.gltf"));
+    ASSERT_TRUE(scene.has_camera);
+    EXPECT_NEAR(scene.camera.vertical_fov_degrees, glm::degrees(0.7f), 1e-4f);
+    EXPECT_NEAR(scene.camera.position.z, 3.0f, 1e-6f);
+    EXPECT_NEAR(scene.camera.position.x, 0.5f, 1e-6f);
+    EXPECT_NEAR(scene.camera.target.z, 2.0f, 1e-5f);   // looks down -Z
+    EXPECT_EQ(scene.triangle_count(), 2u);
+}
+
+TEST(LoadGltf, TextureTransformRowsFollowTheExtension) {
+    Scene scene = load(test::scene("gltf/TextureTransformTest/TextureTransformTest.gltf"));
+    auto material = [&](const std::string& name) -> const Material& {
+        for (const Material& m : scene.materials)
+            if (m.name == name) return m;
+        throw std::runtime_error("no material " + name);
+    };
+    const TextureLayer& offset = material("Offset UV").textures.at(0);
+    EXPECT_EQ(offset.uv_row0, glm::vec3(1.0f, 0.0f, 0.5f));
+    EXPECT_EQ(offset.uv_row1, glm::vec3(0.0f, 1.0f, 0.5f));
+    const TextureLayer& rotation = material("Rotation").textures.at(0);
+    float angle = 0.39269908169872414f;
+    EXPECT_NEAR(rotation.uv_row0.x, std::cos(angle), 1e-6f);
+    EXPECT_NEAR(rotation.uv_row0.y, -std::sin(angle), 1e-6f);
+    EXPECT_NEAR(rotation.uv_row1.x, std::sin(angle), 1e-6f);
+    const TextureLayer& scale = material("Scale").textures.at(0);
+    EXPECT_EQ(scale.uv_row0, glm::vec3(1.5f, 0.0f, 0.0f));
+    EXPECT_EQ(material("Correct").textures.at(0).uv_row0, glm::vec3(1.0f, 0.0f, 0.0f));
+}
+
+TEST(LoadGltf, TransmissiveSamplesGetTransmittance) {
+    for (const char* file : {"gltf/TransmissionTest/TransmissionTest.glb", "gltf/GlassVaseFlowers/GlassVaseFlowers.glb",
+                             "gltf/AttenuationTest/AttenuationTest.glb"}) {
+        SCOPED_TRACE(file);
+        Scene scene = load(test::scene(file));
+        bool transmissive = false;
+        for (const Material& material : scene.materials) {
+            if (material.transmittance <= 0.0f) continue;
+            transmissive = true;
+            EXPECT_LT(material.fresnel_bias, 0.2f);   // Schlick F0 of a dielectric, not the opaque R_f = 1
+            EXPECT_NEAR(material.fresnel_bias + material.fresnel_scale, 1.0f, 1e-6f);
+        }
+        EXPECT_TRUE(transmissive);
+    }
+}
+
+TEST(LoadGltf, AttenuationColourBecomesAmbient) {
+    Scene scene = load(test::scene("gltf/AttenuationTest/AttenuationTest.glb"));
+    bool tinted = false;
+    for (const Material& material : scene.materials)
+        if (material.transmittance > 0.0f && material.ambient != glm::vec3(1.0f)) tinted = true;
+    EXPECT_TRUE(tinted);
+}
+
+TEST(LoadGltf, VertexColoursArePresent) {
+    for (const char* file : {"gltf/VertexColorTest/VertexColorTest.glb", "gltf/BoxVertexColors/BoxVertexColors.glb"}) {
+        SCOPED_TRACE(file);
+        Scene scene = load(test::scene(file));
+        bool colored = false;
+        for (const Mesh& mesh : scene.meshes)
+            if (!mesh.colors.empty()) {
+                colored = true;
+                EXPECT_EQ(mesh.colors.size(), mesh.positions.size());
+                EXPECT_TRUE(scene.materials[mesh.triangle_materials[0]].use_vertex_colors);
+            }
+        EXPECT_TRUE(colored);
+    }
+}
+
+// ---- Generated files -------------------------------------------------------------------------------------------
+
+TEST(LoadGltf, SparseAccessorSubstitutesValues) {
+    GltfBuilder gltf;
+    int base = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    int sparse_indices = gltf.view(std::vector<uint8_t>{1, 0, 0, 0});   // one UNSIGNED_BYTE index, padded
+    int sparse_values = gltf.view(std::vector<float>{5, 6, 7});
+    json accessor = gltf.document["accessors"][base];
+    accessor["sparse"] = {{"count", 1},
+                          {"indices", {{"bufferView", sparse_indices}, {"componentType", 5121}}},
+                          {"values", {{"bufferView", sparse_values}}}};
+    int positions = gltf.accessor(accessor);
+    // A sparse accessor without a bufferView starts from zeros.
+    int zero_based = gltf.accessor({{"componentType", 5126},
+                                    {"count", 3},
+                                    {"type", "VEC3"},
+                                    {"sparse",
+                                     {{"count", 1},
+                                      {"indices", {{"bufferView", sparse_indices}, {"componentType", 5121}}},
+                                      {"values", {{"bufferView", sparse_values}}}}}});
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}}}}})}, {"name", "sparse"}});
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", zero_based}}}}})}, {"name", "zeros"}});
+    Scene scene = load(gltf.write("sparse.gltf"));
+    ASSERT_EQ(scene.meshes.size(), 2u);
+    const Mesh& sparse = scene.meshes[scene.instances[0].mesh];
+    EXPECT_EQ(sparse.positions[0], glm::vec3(0, 0, 0));
+    EXPECT_EQ(sparse.positions[1], glm::vec3(5, 6, 7));
+    EXPECT_EQ(sparse.positions[2], glm::vec3(0, 1, 0));
+    const Mesh& zeros = scene.meshes[scene.instances[1].mesh];
+    EXPECT_EQ(zeros.positions[0], glm::vec3(0));
+    EXPECT_EQ(zeros.positions[1], glm::vec3(5, 6, 7));
+}
+
+TEST(LoadGltf, StridedNormalizedAttributes) {
+    GltfBuilder gltf;
+    int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    // COLOR_0 as normalized UNSIGNED_BYTE VEC4 interleaved with 4 padding bytes per element (byteStride 8).
+    int colors_view = gltf.view(std::vector<uint8_t>{255, 0, 0, 255, 9, 9, 9, 9, 0, 255, 0, 255, 9, 9, 9, 9, 0, 0, 255, 128, 9, 9, 9, 9}, 8);
+    int colors = gltf.accessor({{"bufferView", colors_view}, {"componentType", 5121}, {"normalized", true}, {"count", 3}, {"type", "VEC4"}});
+    // TEXCOORD_0 as normalized UNSIGNED_SHORT.
+    int uv_view = gltf.view(std::vector<uint16_t>{0, 65535, 65535, 0, 32768, 32768});
+    int uv = gltf.accessor({{"bufferView", uv_view}, {"componentType", 5123}, {"normalized", true}, {"count", 3}, {"type", "VEC2"}});
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}, {"COLOR_0", colors}, {"TEXCOORD_0", uv}}}}})}});
+    Scene scene = load(gltf.write("strided.gltf"));
+    const Mesh& mesh = scene.meshes.at(0);
+    ASSERT_EQ(mesh.colors.size(), 3u);
+    EXPECT_EQ(mesh.colors[0], glm::vec4(1, 0, 0, 1));
+    EXPECT_EQ(mesh.colors[1], glm::vec4(0, 1, 0, 1));
+    EXPECT_NEAR(mesh.colors[2].w, 128.0f / 255.0f, 1e-6f);
+    EXPECT_EQ(mesh.uv0[0], glm::vec2(0, 1));
+    EXPECT_NEAR(mesh.uv0[2].x, 32768.0f / 65535.0f, 1e-6f);
+}
+
+TEST(LoadGltf, TriangleStripAndFanKeepFrontFaces) {
+    GltfBuilder gltf;
+    // A zig-zag strip in the XY plane and a fan around the origin, both counter-clockwise seen from +Z.
+    int strip_positions = gltf.positions({0, 0, 0, 0, 1, 0, 1, 0, 0, 1, 1, 0, 2, 0, 0});
+    int strip_indices = gltf.indices({1, 0, 3, 2, 4});
+    int fan_positions = gltf.positions({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, -1, 1, 0});
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", strip_positions}}}, {"indices", strip_indices}, {"mode", 5}}})},
+               {"name", "strip"}});
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", fan_positions}}}, {"mode", 6}}})}, {"name", "fan"}});
+    Scene scene = load(gltf.write("strip_fan.gltf"));
+    for (const char* name : {"strip", "fan"}) {
+        SCOPED_TRACE(name);
+        const Instance* instance = find_instance(scene, name);
+        ASSERT_NE(instance, nullptr);
+        ASSERT_EQ(scene.meshes[instance->mesh].triangles.size(), 3u);
+        for (size_t t = 0; t < 3; ++t) EXPECT_GT(world_geometric_normal(scene, *instance, t).z, 0.99f);
+    }
+    EXPECT_EQ(scene.meshes[find_instance(scene, "fan")->mesh].triangles[0], glm::uvec3(1, 2, 0));
+}
+
+TEST(LoadGltf, MirroredNodeGetsReversedWinding) {
+    GltfBuilder gltf;
+    int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});   // faces +Z
+    int mesh = gltf.mesh({{{"attributes", {{"POSITION", positions}}}}});
+    gltf.node({{"mesh", mesh}, {"name", "plain"}, {"scale", {2, 1, 1}}});
+    gltf.node({{"mesh", mesh}, {"name", "plain again"}, {"translation", {0, 0, 5}}});
+    gltf.node({{"mesh", mesh}, {"name", "mirrored"}, {"scale", {-2, 1, 1}}});
+    // The mirror may come from a parent: the world transform decides.
+    int child = gltf.node({{"mesh", mesh}, {"name", "mirrored child"}});
+    gltf.node({{"children", {child}}, {"scale", {1, -1, 1}}});
+    Scene scene = load(gltf.write("mirrored.gltf"));
+    const Instance* plain = find_instance(scene, "plain");
+    const Instance* mirrored = find_instance(scene, "mirrored");
+    const Instance* mirrored_child = find_instance(scene, "mirrored child");
+    ASSERT_TRUE(plain && mirrored && mirrored_child);
+    EXPECT_EQ(plain->mesh, find_instance(scene, "plain again")->mesh);   // one Mesh for every use of a glTF mesh
+    EXPECT_NE(plain->mesh, mirrored->mesh);            // except a mirrored copy...
+    EXPECT_EQ(mirrored->mesh, mirrored_child->mesh);   // ...made once and shared
+    EXPECT_EQ(scene.meshes.size(), 2u);
+    EXPECT_GT(world_geometric_normal(scene, *plain, 0).z, 0.99f);
+    EXPECT_GT(world_geometric_normal(scene, *mirrored, 0).z, 0.99f);
+    EXPECT_GT(world_geometric_normal(scene, *mirrored_child, 0).z, 0.99f);
+}
+
+TEST(LoadGltf, PointsAndLinesGiveOneWarning) {
+    GltfBuilder gltf;
+    int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}}}, {"mode", 0}},
+                                   {{"attributes", {{"POSITION", positions}}}, {"mode", 1}},
+                                   {{"attributes", {{"POSITION", positions}}}, {"mode", 4}}})}});
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}}}, {"mode", 3}}})}});
+    Scene scene = load(gltf.write("points.gltf"));
+    EXPECT_EQ(scene.triangle_count(), 1u);
+    int point_warnings = 0;
+    for (const std::string& warning : scene.warnings) point_warnings += warning.find("points and lines") != std::string::npos;
+    EXPECT_EQ(point_warnings, 1);
+}
+
+TEST(LoadGltf, MaterialExtensionsMapOntoTheSeedModel) {
+    GltfBuilder gltf;
+    int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    gltf.document["materials"] = json::array(
+        {{{"name", "metal"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.9, 0.6, 0.2, 1}}, {"metallicFactor", 1}, {"roughnessFactor", 0}}}},
+         {{"name", "glass"},
+          {"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}}},
+          {"extensions",
+           {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}},
+            {"KHR_materials_ior", {{"ior", 1.7}}},
+            {"KHR_materials_volume", {{"thicknessFactor", 0.5}, {"attenuationColor", {0.5, 0.8, 1.0}}}},
+            {"KHR_materials_dispersion", {{"dispersion", 1.0}}},
+            {"KHR_materials_specular", {{"specularFactor", 0.5}, {"specularColorFactor", {1.0, 0.5, 0.5}}}}}}},
+         {{"name", "thin"}, {"pbrMetallicRoughness", {{"metallicFactor", 0}}}, {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 0.5}}}}}},
+         {{"name", "blend"}, {"alphaMode", "BLEND"}, {"pbrMetallicRoughness", {{"baseColorFactor", {1, 0, 0, 0.25}}, {"metallicFactor", 0}}}},
+         {{"name", "lamp"}, {"emissiveFactor", {1, 0.5, 0}}, {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}}});
+    json primitives = json::array();
+    for (int m = 0; m < 5; ++m) primitives.push_back({{"attributes", {{"POSITION", positions}}}, {"material", m}});
+    primitives.push_back({{"attributes", {{"POSITION", positions}}}});   // no material: Prism's default
+    gltf.node({{"mesh", gltf.mesh(primitives)}});
+    Scene scene = load(gltf.write("materials.gltf"));
+    ASSERT_EQ(scene.materials.size(), 6u);
+    auto by_name = [&](const std::string& name) -> const Material& {
+        for (const Material& m : scene.materials)
+            if (m.name == name) return m;
+        throw std::runtime_error("no material " + name);
+    };
+    const Material& metal = by_name("metal");
+    EXPECT_FLOAT_EQ(metal.reflectivity, 1.0f);
+    EXPECT_NEAR(metal.specular.y, 0.6f, 1e-6f);   // metals tint reflections with their base colour
+    EXPECT_EQ(metal.transmittance, 0.0f);
+    EXPECT_EQ(metal.fresnel_bias, 1.0f);
+    EXPECT_EQ(metal.fresnel_scale, 0.0f);
+
+    const Material& glass = by_name("glass");
+    EXPECT_EQ(glass.transmittance, 1.0f);
+    float f0 = std::pow((1.7f - 1.0f) / (1.7f + 1.0f), 2.0f) * 0.5f;   // KHR_materials_specular scales F0
+    EXPECT_NEAR(glass.fresnel_bias, f0, 1e-6f);
+    EXPECT_NEAR(glass.fresnel_scale, 1.0f - f0, 1e-6f);
+    EXPECT_EQ(glass.fresnel_power, 5.0f);
+    EXPECT_NEAR(glass.specular.y, 0.5f, 1e-6f);
+    EXPECT_EQ(glass.ambient, glm::vec3(0.5f, 0.8f, 1.0f));
+    EXPECT_EQ(glass.thickness, 0.0f);   // a volume: solid glass
+    EXPECT_LT(glass.ior.x, glass.ior.y);
+    EXPECT_LT(glass.ior.y, glass.ior.z);
+    EXPECT_NEAR(glass.ior.y, 1.7f, 0.01f);
+    // Abbe number 20 between the F and C lines: n_F - n_C = (n_d - 1) / V.
+    glm::vec3 fc = gltf::dispersive_ior(1.7f, 1.0f);
+    EXPECT_GT(fc.z - fc.x, 0.0f);
+
+    const Material& thin = by_name("thin");
+    EXPECT_EQ(thin.transmittance, 0.5f);
+    EXPECT_EQ(thin.ior, glm::vec3(1.5f));
+    EXPECT_EQ(thin.thickness, gltf::kThinWalledThickness);
+
+    const Material& blend = by_name("blend");
+    EXPECT_FLOAT_EQ(blend.transmittance, 0.75f);
+    EXPECT_EQ(blend.ior, glm::vec3(1.0f));
+
+    EXPECT_EQ(by_name("lamp").emissive, glm::vec3(4.0f, 2.0f, 0.0f));
+    EXPECT_EQ(by_name("default").diffuse, glm::vec3(0.8f));
+    EXPECT_EQ(by_name("default").reflectivity, 0.0f);
+}
+
+TEST(LoadGltf, DispersionFollowsTheAbbeNumber) {
+    // dispersion = 20 / V; with Cauchy's model n(F) - n(C) = (n_d - 1) / V exactly.
+    float ior = 1.5f, dispersion = 0.5f;
+    glm::vec3 rgb = gltf::dispersive_ior(ior, dispersion);
+    double abbe = 20.0 / dispersion;
+    double b = (ior - 1.0) / (abbe * (1.0 / (0.4861 * 0.4861) - 1.0 / (0.6563 * 0.6563)));
+    double a = ior - b / (0.5876 * 0.5876);
+    EXPECT_NEAR(rgb.x, a + b / (0.65 * 0.65), 1e-6);
+    EXPECT_NEAR(rgb.z, a + b / (0.45 * 0.45), 1e-6);
+    EXPECT_EQ(gltf::dispersive_ior(1.5f, 0.0f), glm::vec3(1.5f));
+}
+
+TEST(LoadGltf, PunctualLightsAndSecondCameraIgnored) {
+    GltfBuilder gltf;
+    int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    gltf.document["extensionsUsed"] = {"KHR_lights_punctual"};
+    gltf.document["extensions"] = {{"KHR_lights_punctual",
+                                    {{"lights", {{{"type", "point"}, {"color", {1, 0.5, 0.25}}, {"intensity", 20}},
+                                                 {{"type", "directional"}, {"intensity", 3}},
+                                                 {{"type", "spot"}, {"spot", json::object()}}}}}}};
+    gltf.document["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}},
+                                {{"type", "perspective"}, {"perspective", {{"yfov", 1.0}, {"znear", 0.1}}}}};
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}}}}})}});
+    gltf.node({{"translation", {1, 2, 3}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    // Rotated 90 degrees about X: the light's -Z becomes -Y (straight down).
+    float h = std::sqrt(0.5f);
+    gltf.node({{"rotation", {-h, 0, 0, h}}, {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
+    gltf.node({{"extensions", {{"KHR_lights_punctual", {{"light", 2}}}}}});
+    gltf.node({{"camera", 0}, {"translation", {0, 0, 10}}});
+    gltf.node({{"camera", 1}});
+    Scene scene = load(gltf.write("lights.gltf"));
+    ASSERT_EQ(scene.lights.size(), 3u);
+    EXPECT_EQ(scene.lights[0].type, LightType::Point);
+    EXPECT_EQ(scene.lights[0].position, glm::vec3(1, 2, 3));
+    EXPECT_EQ(scene.lights[0].color, glm::vec3(1, 0.5, 0.25));
+    EXPECT_EQ(scene.lights[0].intensity, 20.0f);
+    EXPECT_EQ(scene.lights[1].type, LightType::Directional);
+    EXPECT_NEAR(scene.lights[1].direction.y, -1.0f, 1e-5f);
+    EXPECT_EQ(scene.lights[2].type, LightType::Point);   // spot traced as a point light, with a warning
+    EXPECT_FALSE(scene.warnings.empty());
+    ASSERT_TRUE(scene.has_camera);
+    EXPECT_NEAR(scene.camera.vertical_fov_degrees, glm::degrees(0.5f), 1e-4f);
+    EXPECT_EQ(scene.camera.position, glm::vec3(0, 0, 10));
+}
+
+// ---- Malformed input -------------------------------------------------------------------------------------------
+
+TEST(LoadGltf, OutOfRangeIndexIsAnError) {
+    GltfBuilder gltf;
+    int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    int indices = gltf.indices({0, 1, 7});
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}}}, {"indices", indices}}})}});
+    std::filesystem::path path = gltf.write("bad_index.gltf");
+    std::string message = error_message(path);
+    EXPECT_EQ(message.rfind(path.string() + ": ", 0), 0u) << message;
+    EXPECT_NE(message.find("index 7 out of range"), std::string::npos) << message;
+}
+
+TEST(LoadGltf, AccessorPastTheBufferIsAnError) {
+    GltfBuilder gltf;
+    int view = gltf.view(std::vector<float>{0, 0, 0, 1, 0, 0});
+    int positions = gltf.accessor({{"bufferView", view}, {"componentType", 5126}, {"count", 3}, {"type", "VEC3"}});
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}}}}})}});
+    std::string message = error_message(gltf.write("short_buffer.gltf"));
+    EXPECT_NE(message.find("accessor 0"), std::string::npos) << message;
+    EXPECT_NE(message.find("past the end"), std::string::npos) << message;
+}
+
+TEST(LoadGltf, MissingBufferFileIsAnError) {
+    GltfBuilder gltf;
+    int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}}}}})}});
+    gltf.document["buffers"] = {{{"byteLength", gltf.buffer.size()}, {"uri", "no_such_buffer.bin"}}};
+    std::filesystem::path path = gltf.write("missing_buffer.gltf", false);
+    std::string message = error_message(path);
+    EXPECT_EQ(message.rfind(path.string() + ": ", 0), 0u) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+}
+
+TEST(LoadGltf, MissingImageFileNamesTheUri) {
+    GltfBuilder gltf;
+    int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    gltf.document["images"] = {{{"uri", "no_such_texture.png"}}};
+    gltf.document["textures"] = {{{"source", 0}}};
+    gltf.document["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}}}, {"material", 0}}})}});
+    std::filesystem::path path = gltf.write("missing_image.gltf");
+    std::string message = error_message(path);
+    EXPECT_EQ(message.rfind(path.string() + ": ", 0), 0u) << message;
+    EXPECT_NE(message.find("no_such_texture.png"), std::string::npos) << message;
+}
+
+TEST(LoadGltf, NodeCycleIsAnError) {
+    GltfBuilder gltf;
+    gltf.node({{"children", {1}}});
+    gltf.node({{"children", {0}}});
+    gltf.document["scenes"] = {{{"nodes", {0}}}};
+    std::string message = error_message(gltf.write("cycle.gltf"));
+    EXPECT_NE(message.find("its own ancestor"), std::string::npos) << message;
+}
+
+TEST(LoadGltf, TruncatedGlbIsAnError) {
+    std::string box = read_bytes(test::scene("gltf/Box/Box.glb"));
+    ASSERT_GT(box.size(), 100u);
+    for (size_t length : {size_t(0), size_t(11), size_t(20), size_t(40), box.size() / 2, box.size() - 1}) {
+        SCOPED_TRACE(length);
+        std::filesystem::path path = test::write_file("truncated.glb", box.substr(0, length));
+        EXPECT_EQ(error_message(path).rfind(path.string() + ": ", 0), 0u) << error_message(path);
+    }
+}
+
+TEST(LoadGltf, RandomBytesAreAnError) {
+    std::mt19937 random(7);
+    std::string noise(4096, '\0');
+    for (char& c : noise) c = static_cast<char>(random());
+    for (const char* name : {"noise.glb", "noise.gltf"}) {
+        std::filesystem::path path = test::write_file(name, noise);
+        EXPECT_EQ(error_message(path).rfind(path.string() + ": ", 0), 0u) << error_message(path);
+    }
+    // Valid JSON that is not glTF.
+    std::filesystem::path path = test::write_file("not_gltf.gltf", "{\"hello\": [1, 2, 3]}");
+    EXPECT_EQ(error_message(path).rfind(path.string() + ": ", 0), 0u) << error_message(path);
+}
+
+}  // namespace
+}  // namespace prism
