@@ -183,8 +183,8 @@ RT_FUNC Hit rt_trace_escape(KernelGlobals kg, float3 origin, float3 direction, f
 }
 
 RT_FUNC Hit rt_trace(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit) {
-    uint layout = RT_FETCH(kg, frame, 0u).scene.y;
-    if (layout == RT_BVH_LAYOUT_ESCAPE) return rt_trace_escape(kg, origin, direction, tmin, tmax, any_hit);
+    uint bvh_layout = RT_FETCH(kg, frame, 0u).scene.y;
+    if (bvh_layout == RT_BVH_LAYOUT_ESCAPE) return rt_trace_escape(kg, origin, direction, tmin, tmax, any_hit);
     return rt_trace_stack(kg, origin, direction, tmin, tmax, any_hit);
 }
 

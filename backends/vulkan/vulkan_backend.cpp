@@ -1,0 +1,533 @@
+// The Vulkan backend: memory, launches and timers for the SPIR-V of shaders/ (kernels/ compiled as GLSL).
+//
+// Commands are recorded into one command buffer on one compute queue: enqueue() records a dispatch between two
+// timestamps, write() a copy from a host-visible staging buffer, zero() a vkCmdFillBuffer. A full memory barrier
+// (compute and transfer, both ways) precedes every command, which makes the queue behave in order like a CUDA
+// stream or an in-order OpenCL queue. Nothing is submitted until read() or finish() (or a full staging buffer or
+// query pool), which submit, wait on a fence and collect the timestamps.
+//
+// Memory: every device array is its own device-local storage buffer (binding = its line in kernels/data_arrays.h);
+// uploads go through a host-visible, coherent, preferably uncached staging buffer; read-backs through a
+// host-visible, preferably cached one. Both are at most 64 MiB; larger transfers go in pieces.
+#include "backends/vulkan/vulkan_backend.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <map>
+#include <utility>
+
+#include "backends/vulkan/vulkan_context.h"
+#include "core/error.h"
+#include "spirv/vulkan_shaders.h"
+
+namespace prism {
+namespace {
+
+constexpr uint32_t kWorkGroupSize = 128;                 // local_size_x of shaders/common.glsl
+constexpr VkDeviceSize kTransferChunk = 64ull << 20;     // staging and read-back buffers grow up to this
+constexpr uint32_t kQueryCapacity = 2 * 512;             // timestamps per submission (two per dispatch)
+
+std::string mib(uint64_t bytes) {
+    char text[32];
+    double value = double(bytes) / double(1 << 20);
+    if (value == std::floor(value)) std::snprintf(text, sizeof text, "%.0f MiB", value);
+    else std::snprintf(text, sizeof text, "%.1f MiB", value);
+    return text;
+}
+
+VkDeviceSize round_up(VkDeviceSize value, VkDeviceSize multiple) { return (value + multiple - 1) / multiple * multiple; }
+
+struct Buffer {
+    VkBuffer buffer = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    VkDeviceSize capacity = 0;   // bytes of the VkBuffer (>= 16, a multiple of 16)
+    size_t bytes = 0;            // bytes the user allocated
+    void* mapped = nullptr;
+    bool coherent = true;
+};
+
+struct PendingTiming {
+    Stage stage;
+    uint32_t depth;
+    uint32_t query;   // start; end is query + 1
+};
+
+class VulkanBackend final : public Backend {
+public:
+    explicit VulkanBackend(const std::string& filter) : instance_(vk::validation_requested()) {
+        try {
+            create(filter);
+        } catch (...) {
+            destroy();
+            throw;
+        }
+    }
+    ~VulkanBackend() override { destroy(); }
+
+    BackendInfo info() const override {
+        BackendInfo info;
+        info.name = "vulkan";
+        info.device = physical_.properties.deviceName;
+        info.driver = std::string(physical_.driver.driverName) + " " + physical_.driver.driverInfo + "; grid " +
+                      std::to_string(grid_.groups) + " x " + std::to_string(kWorkGroupSize) + " (8 x " +
+                      std::to_string(grid_.compute_units) + " " + grid_.source + ")";
+        info.api_version = "Vulkan " + vk::api_version_string(physical_.properties.apiVersion);
+        info.device_memory = device_heap_bytes_;
+        info.max_buffer = max_buffer_;
+        return info;
+    }
+
+    void allocate(DeviceArray array, size_t bytes) override {
+        Buffer& buffer = arrays_[size_t(array)];
+        if (buffer.buffer && buffer.bytes == bytes) return;
+        const char* name = device_array_name(array);
+        const std::string device = physical_.properties.deviceName;
+        if (bytes > physical_.properties.limits.maxStorageBufferRange)
+            throw Error(std::string("vulkan: buffer '") + name + "' needs " + mib(bytes) +
+                        " but maxStorageBufferRange of " + device + " is " +
+                        mib(physical_.properties.limits.maxStorageBufferRange));
+        if (bytes > max_allocation_)
+            throw Error(std::string("vulkan: buffer '") + name + "' needs " + mib(bytes) +
+                        " but maxMemoryAllocationSize of " + device + " is " + mib(max_allocation_));
+        if (bytes > device_heap_bytes_)
+            throw Error(std::string("vulkan: buffer '") + name + "' needs " + mib(bytes) + " but the device heap of " +
+                        device + " is " + mib(device_heap_bytes_));
+        flush();   // commands already recorded may use the old buffer
+        release(buffer);
+        buffer = create_buffer(name, round_up(std::max<size_t>(bytes, 16), 16),
+                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                                   VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                               VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT, false);
+        buffer.bytes = bytes;
+        bind(array, buffer);
+    }
+
+    void write(DeviceArray array, const void* data, size_t bytes, size_t offset) override {
+        check_range(array, bytes, offset);
+        const char* source = static_cast<const char*>(data);
+        while (bytes > 0) {
+            if (staging_.capacity < kTransferChunk && staging_used_ + bytes > staging_.capacity) {
+                flush();
+                release(staging_);
+                VkDeviceSize capacity = std::min(kTransferChunk, std::max<VkDeviceSize>(round_up(bytes, 1 << 20), 1 << 20));
+                staging_ = create_buffer("staging", capacity, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                         VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, 0,
+                                         VK_MEMORY_PROPERTY_HOST_CACHED_BIT | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, true);
+            }
+            if (staging_used_ >= staging_.capacity) {
+                flush();
+                continue;
+            }
+            VkDeviceSize piece = std::min<VkDeviceSize>(bytes, staging_.capacity - staging_used_);
+            std::memcpy(static_cast<char*>(staging_.mapped) + staging_used_, source, piece);
+            begin_command();
+            VkBufferCopy region{staging_used_, offset, piece};
+            vkCmdCopyBuffer(command_, staging_.buffer, arrays_[size_t(array)].buffer, 1, &region);
+            staging_used_ = std::min(staging_.capacity, round_up(staging_used_ + piece, 16));
+            source += piece;
+            offset += piece;
+            bytes -= piece;
+        }
+    }
+
+    void read(DeviceArray array, void* data, size_t bytes, size_t offset) override {
+        check_range(array, bytes, offset);
+        char* target = static_cast<char*>(data);
+        while (bytes > 0) {
+            if (readback_.capacity < std::min<VkDeviceSize>(bytes, kTransferChunk)) {
+                flush();
+                release(readback_);
+                VkDeviceSize capacity = std::min(kTransferChunk, std::max<VkDeviceSize>(round_up(bytes, 1 << 20), 1 << 20));
+                readback_ = create_buffer("readback", capacity, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                          VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
+                                          VK_MEMORY_PROPERTY_HOST_CACHED_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, 0,
+                                          true);
+            }
+            VkDeviceSize piece = std::min<VkDeviceSize>(bytes, readback_.capacity);
+            begin_command();
+            VkBufferCopy region{offset, 0, piece};
+            vkCmdCopyBuffer(command_, arrays_[size_t(array)].buffer, readback_.buffer, 1, &region);
+            VkMemoryBarrier to_host{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+            to_host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+            to_host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+            vkCmdPipelineBarrier(command_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &to_host, 0,
+                                 nullptr, 0, nullptr);
+            flush();
+            if (!readback_.coherent) {
+                VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE};
+                range.memory = readback_.memory;
+                range.size = VK_WHOLE_SIZE;
+                vk::check(vkInvalidateMappedMemoryRanges(device_, 1, &range), "vkInvalidateMappedMemoryRanges");
+            }
+            std::memcpy(target, readback_.mapped, piece);
+            target += piece;
+            offset += piece;
+            bytes -= piece;
+        }
+    }
+
+    void zero(DeviceArray array) override {
+        Buffer& buffer = arrays_[size_t(array)];
+        if (!buffer.buffer) return;
+        begin_command();
+        vkCmdFillBuffer(command_, buffer.buffer, 0, VK_WHOLE_SIZE, 0u);
+    }
+
+    void enqueue(Stage stage, uint32_t depth) override {
+        if (timestamps_ && queries_used_ + 2 > kQueryCapacity) flush();
+        begin_command();
+        uint32_t query = queries_used_;
+        if (timestamps_) {
+            vkCmdResetQueryPool(command_, query_pool_, query, 2);
+            vkCmdWriteTimestamp(command_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, query_pool_, query);
+        }
+        dispatch(pipelines_[size_t(stage)], grid_.groups, depth);
+        if (timestamps_) {
+            vkCmdWriteTimestamp(command_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, query_pool_, query + 1);
+            queries_used_ += 2;
+        }
+        pending_.push_back(PendingTiming{stage, depth, query});
+    }
+
+    std::vector<StageTiming> finish() override {
+        flush();
+        return std::exchange(timings_, {});
+    }
+
+    void dispatch_module(std::span<const uint32_t> spirv, uint32_t groups, uint32_t push) {
+        auto found = extra_pipelines_.find(spirv.data());
+        if (found == extra_pipelines_.end())
+            found = extra_pipelines_.emplace(spirv.data(), create_pipeline(spirv, "module")).first;
+        begin_command();
+        dispatch(found->second, groups, push);
+    }
+
+private:
+    void create(const std::string& filter) {
+        physical_ = instance_.select(filter);
+        grid_ = vk::choose_grid(physical_);
+        vkGetPhysicalDeviceMemoryProperties(physical_.handle, &memory_);
+        VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
+        VkPhysicalDeviceProperties2 properties2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+        properties2.pNext = &maintenance3;
+        vkGetPhysicalDeviceProperties2(physical_.handle, &properties2);
+        max_allocation_ = maintenance3.maxMemoryAllocationSize;
+        for (uint32_t h = 0; h < memory_.memoryHeapCount; ++h)
+            if (memory_.memoryHeaps[h].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+                device_heap_bytes_ = std::max<size_t>(device_heap_bytes_, memory_.memoryHeaps[h].size);
+        max_buffer_ = std::min<size_t>({physical_.properties.limits.maxStorageBufferRange, max_allocation_,
+                                        device_heap_bytes_});
+
+        float priority = 1.0f;
+        VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+        queue_info.queueFamilyIndex = physical_.compute_family;
+        queue_info.queueCount = 1;
+        queue_info.pQueuePriorities = &priority;
+        VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+        device_info.queueCreateInfoCount = 1;
+        device_info.pQueueCreateInfos = &queue_info;
+        vk::check(vkCreateDevice(physical_.handle, &device_info, nullptr, &device_), "vkCreateDevice");
+        vkGetDeviceQueue(device_, physical_.compute_family, 0, &queue_);
+
+        VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+        pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+        pool_info.queueFamilyIndex = physical_.compute_family;
+        vk::check(vkCreateCommandPool(device_, &pool_info, nullptr, &command_pool_), "vkCreateCommandPool");
+        VkCommandBufferAllocateInfo command_info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+        command_info.commandPool = command_pool_;
+        command_info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+        command_info.commandBufferCount = 1;
+        vk::check(vkAllocateCommandBuffers(device_, &command_info, &command_), "vkAllocateCommandBuffers");
+        VkFenceCreateInfo fence_info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+        vk::check(vkCreateFence(device_, &fence_info, nullptr, &fence_), "vkCreateFence");
+
+        uint32_t family_count = 0;
+        vkGetPhysicalDeviceQueueFamilyProperties(physical_.handle, &family_count, nullptr);
+        std::vector<VkQueueFamilyProperties> families(family_count);
+        vkGetPhysicalDeviceQueueFamilyProperties(physical_.handle, &family_count, families.data());
+        timestamp_bits_ = families[physical_.compute_family].timestampValidBits;
+        timestamps_ = timestamp_bits_ > 0;
+        if (timestamps_) {
+            VkQueryPoolCreateInfo query_info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+            query_info.queryType = VK_QUERY_TYPE_TIMESTAMP;
+            query_info.queryCount = kQueryCapacity;
+            vk::check(vkCreateQueryPool(device_, &query_info, nullptr, &query_pool_), "vkCreateQueryPool");
+        }
+
+        // The descriptor set layout is kernels/data_arrays.h: binding = first column, all storage buffers.
+        std::vector<VkDescriptorSetLayoutBinding> bindings;
+#define RT_DATA_ARRAY(slot, type, name, access) \
+    bindings.push_back({slot, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
+#include "kernels/data_arrays.h"
+#undef RT_DATA_ARRAY
+        VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+        set_info.bindingCount = uint32_t(bindings.size());
+        set_info.pBindings = bindings.data();
+        vk::check(vkCreateDescriptorSetLayout(device_, &set_info, nullptr, &set_layout_), "vkCreateDescriptorSetLayout");
+        VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, uint32_t(bindings.size())};
+        VkDescriptorPoolCreateInfo descriptor_pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+        descriptor_pool_info.maxSets = 1;
+        descriptor_pool_info.poolSizeCount = 1;
+        descriptor_pool_info.pPoolSizes = &pool_size;
+        vk::check(vkCreateDescriptorPool(device_, &descriptor_pool_info, nullptr, &descriptor_pool_), "vkCreateDescriptorPool");
+        VkDescriptorSetAllocateInfo set_alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+        set_alloc.descriptorPool = descriptor_pool_;
+        set_alloc.descriptorSetCount = 1;
+        set_alloc.pSetLayouts = &set_layout_;
+        vk::check(vkAllocateDescriptorSets(device_, &set_alloc, &descriptor_set_), "vkAllocateDescriptorSets");
+
+        VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(uint32_t)};
+        VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+        layout_info.setLayoutCount = 1;
+        layout_info.pSetLayouts = &set_layout_;
+        layout_info.pushConstantRangeCount = 1;
+        layout_info.pPushConstantRanges = &push;
+        vk::check(vkCreatePipelineLayout(device_, &layout_info, nullptr, &pipeline_layout_), "vkCreatePipelineLayout");
+        for (size_t s = 0; s < stage_count; ++s) {
+            const char* name = stage_name(Stage(s));
+            std::span<const uint32_t> spirv = spirv::vulkan_shaders(name);
+            if (spirv.empty()) throw Error(std::string("vulkan: no embedded SPIR-V for stage '") + name + "'");
+            pipelines_[s] = create_pipeline(spirv, name);
+        }
+
+        // Until an array is allocated its binding points at a small placeholder, so every set is valid.
+        placeholder_ = create_buffer("placeholder", 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                     VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, 0, false);
+        for (size_t a = 0; a < device_array_count; ++a) bind(DeviceArray(a), placeholder_);
+    }
+
+    void destroy() {
+        if (!device_) return;
+        vkDeviceWaitIdle(device_);
+        for (Buffer& b : arrays_) release(b);
+        release(placeholder_);
+        release(staging_);
+        release(readback_);
+        for (VkPipeline p : pipelines_)
+            if (p) vkDestroyPipeline(device_, p, nullptr);
+        for (auto& [key, p] : extra_pipelines_) vkDestroyPipeline(device_, p, nullptr);
+        if (pipeline_layout_) vkDestroyPipelineLayout(device_, pipeline_layout_, nullptr);
+        if (descriptor_pool_) vkDestroyDescriptorPool(device_, descriptor_pool_, nullptr);
+        if (set_layout_) vkDestroyDescriptorSetLayout(device_, set_layout_, nullptr);
+        if (query_pool_) vkDestroyQueryPool(device_, query_pool_, nullptr);
+        if (fence_) vkDestroyFence(device_, fence_, nullptr);
+        if (command_pool_) vkDestroyCommandPool(device_, command_pool_, nullptr);
+        vkDestroyDevice(device_, nullptr);
+        device_ = VK_NULL_HANDLE;
+    }
+
+    VkPipeline create_pipeline(std::span<const uint32_t> spirv, const char* name) {
+        VkShaderModuleCreateInfo module_info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+        module_info.codeSize = spirv.size_bytes();
+        module_info.pCode = spirv.data();
+        VkShaderModule module = VK_NULL_HANDLE;
+        vk::check(vkCreateShaderModule(device_, &module_info, nullptr, &module), "vkCreateShaderModule");
+        VkComputePipelineCreateInfo pipeline_info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+        pipeline_info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+        pipeline_info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+        pipeline_info.stage.module = module;
+        pipeline_info.stage.pName = "main";
+        pipeline_info.layout = pipeline_layout_;
+        VkPipeline pipeline = VK_NULL_HANDLE;
+        VkResult result = vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &pipeline_info, nullptr, &pipeline);
+        vkDestroyShaderModule(device_, module, nullptr);
+        if (result != VK_SUCCESS)
+            throw Error(std::string("vulkan: creating the pipeline of '") + name + "' on " +
+                        physical_.properties.deviceName + " failed: " + vk::result_name(result));
+        return pipeline;
+    }
+
+    Buffer create_buffer(const char* name, VkDeviceSize capacity, VkBufferUsageFlags usage,
+                         VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred, VkMemoryPropertyFlags avoided,
+                         bool map) {
+        Buffer b;
+        b.capacity = capacity;
+        VkBufferCreateInfo buffer_info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+        buffer_info.size = capacity;
+        buffer_info.usage = usage;
+        buffer_info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+        vk::check(vkCreateBuffer(device_, &buffer_info, nullptr, &b.buffer), "vkCreateBuffer");
+        VkMemoryRequirements requirements;
+        vkGetBufferMemoryRequirements(device_, b.buffer, &requirements);
+        uint32_t type = vk::find_memory_type(memory_, requirements.memoryTypeBits, required, preferred, avoided);
+        if (type == UINT32_MAX) {
+            vkDestroyBuffer(device_, b.buffer, nullptr);
+            throw Error(std::string("vulkan: no suitable memory type for buffer '") + name + "' on " +
+                        physical_.properties.deviceName);
+        }
+        VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+        alloc.allocationSize = requirements.size;
+        alloc.memoryTypeIndex = type;
+        VkResult result = vkAllocateMemory(device_, &alloc, nullptr, &b.memory);
+        if (result != VK_SUCCESS) {
+            vkDestroyBuffer(device_, b.buffer, nullptr);
+            throw Error(std::string("vulkan: buffer '") + name + "' (" + mib(capacity) + ") does not fit in the memory of " +
+                        physical_.properties.deviceName + ": " + vk::result_name(result));
+        }
+        vk::check(vkBindBufferMemory(device_, b.buffer, b.memory, 0), "vkBindBufferMemory");
+        b.coherent = memory_.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+        if (map) vk::check(vkMapMemory(device_, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped), "vkMapMemory");
+        return b;
+    }
+
+    void release(Buffer& b) {
+        if (b.buffer) vkDestroyBuffer(device_, b.buffer, nullptr);
+        if (b.memory) vkFreeMemory(device_, b.memory, nullptr);   // unmaps too
+        b = Buffer{};
+    }
+
+    void bind(DeviceArray array, const Buffer& buffer) {
+        VkDescriptorBufferInfo info{buffer.buffer, 0, buffer.capacity};
+        VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+        write.dstSet = descriptor_set_;
+        write.dstBinding = uint32_t(array);
+        write.descriptorCount = 1;
+        write.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        write.pBufferInfo = &info;
+        vkUpdateDescriptorSets(device_, 1, &write, 0, nullptr);
+    }
+
+    void check_range(DeviceArray array, size_t bytes, size_t offset) const {
+        const Buffer& b = arrays_[size_t(array)];
+        if (!b.buffer || offset + bytes > b.bytes)
+            throw Error(std::string("vulkan: access past the end of array '") + device_array_name(array) + "'");
+    }
+
+    // Starts recording if needed, then orders the next command after every earlier one (compute and transfer).
+    void begin_command() {
+        if (!recording_) {
+            VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+            begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+            vk::check(vkBeginCommandBuffer(command_, &begin), "vkBeginCommandBuffer");
+            recording_ = true;
+        }
+        VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+        barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+                                VK_ACCESS_TRANSFER_WRITE_BIT;
+        VkPipelineStageFlags stages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+        vkCmdPipelineBarrier(command_, stages, stages, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+    }
+
+    void dispatch(VkPipeline pipeline, uint32_t groups, uint32_t push) {
+        vkCmdBindPipeline(command_, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+        vkCmdBindDescriptorSets(command_, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_, 0, 1, &descriptor_set_, 0,
+                                nullptr);
+        vkCmdPushConstants(command_, pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
+        vkCmdDispatch(command_, groups, 1, 1);
+    }
+
+    // Submits what was recorded, waits, and turns the timestamps into stage timings.
+    void flush() {
+        if (!recording_) return;
+        recording_ = false;
+        vk::check(vkEndCommandBuffer(command_), "vkEndCommandBuffer");
+        VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+        submit.commandBufferCount = 1;
+        submit.pCommandBuffers = &command_;
+        vk::check(vkQueueSubmit(queue_, 1, &submit, fence_), "vkQueueSubmit");
+        VkResult waited = vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX);
+        if (waited == VK_ERROR_DEVICE_LOST)
+            throw Error(std::string("vulkan: device lost on ") + physical_.properties.deviceName +
+                        " (a stage crashed or ran past the driver's time limit)");
+        vk::check(waited, "vkWaitForFences");
+        vk::check(vkResetFences(device_, 1, &fence_), "vkResetFences");
+        vk::check(vkResetCommandBuffer(command_, 0), "vkResetCommandBuffer");
+        staging_used_ = 0;
+
+        std::vector<uint64_t> stamps(queries_used_);
+        if (queries_used_ > 0)
+            vk::check(vkGetQueryPoolResults(device_, query_pool_, 0, queries_used_, stamps.size() * sizeof(uint64_t),
+                                            stamps.data(), sizeof(uint64_t),
+                                            VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+                      "vkGetQueryPoolResults");
+        uint64_t mask = timestamp_bits_ >= 64 ? ~0ull : (1ull << timestamp_bits_) - 1;
+        for (const PendingTiming& p : pending_) {
+            double ms = 0.0;
+            if (timestamps_) {
+                uint64_t ticks = (stamps[p.query + 1] - stamps[p.query]) & mask;
+                ms = double(ticks) * double(physical_.properties.limits.timestampPeriod) * 1e-6;
+            }
+            timings_.push_back(StageTiming{p.stage, p.depth, ms});
+        }
+        pending_.clear();
+        queries_used_ = 0;
+    }
+
+    vk::Instance instance_;
+    vk::DeviceCandidate physical_;
+    vk::GridChoice grid_;
+    VkPhysicalDeviceMemoryProperties memory_{};
+    size_t max_allocation_ = 0;
+    size_t device_heap_bytes_ = 0;
+    size_t max_buffer_ = 0;
+
+    VkDevice device_ = VK_NULL_HANDLE;
+    VkQueue queue_ = VK_NULL_HANDLE;
+    VkCommandPool command_pool_ = VK_NULL_HANDLE;
+    VkCommandBuffer command_ = VK_NULL_HANDLE;
+    VkFence fence_ = VK_NULL_HANDLE;
+    bool recording_ = false;
+
+    VkQueryPool query_pool_ = VK_NULL_HANDLE;
+    bool timestamps_ = false;
+    uint32_t timestamp_bits_ = 0;
+    uint32_t queries_used_ = 0;
+    std::vector<PendingTiming> pending_;
+    std::vector<StageTiming> timings_;
+
+    VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+    VkDescriptorPool descriptor_pool_ = VK_NULL_HANDLE;
+    VkDescriptorSet descriptor_set_ = VK_NULL_HANDLE;
+    VkPipelineLayout pipeline_layout_ = VK_NULL_HANDLE;
+    std::array<VkPipeline, stage_count> pipelines_{};
+    std::map<const uint32_t*, VkPipeline> extra_pipelines_;
+
+    std::array<Buffer, device_array_count> arrays_{};
+    Buffer placeholder_;
+    Buffer staging_;
+    VkDeviceSize staging_used_ = 0;
+    Buffer readback_;
+};
+
+}  // namespace
+
+std::span<const uint32_t> vulkan_embedded_spirv(std::string_view name) { return spirv::vulkan_shaders(name); }
+
+void vulkan_dispatch_module(Backend& backend, std::span<const uint32_t> spirv, uint32_t groups, uint32_t push) {
+    auto* vulkan = dynamic_cast<VulkanBackend*>(&backend);
+    if (!vulkan) throw Error("vulkan_dispatch_module: not a Vulkan backend");
+    vulkan->dispatch_module(spirv, groups, push);
+}
+
+BackendFactory vulkan_backend_factory() {
+    BackendFactory factory;
+    factory.name = "vulkan";
+    factory.create = [](const std::string& filter) -> std::unique_ptr<Backend> {
+        return std::make_unique<VulkanBackend>(filter);
+    };
+    factory.probe = [] {
+        BackendAvailability a;
+        a.name = "vulkan";
+        try {
+            vk::Instance instance(false);
+            for (const vk::DeviceCandidate& d : instance.devices()) {
+                a.devices.push_back(d.describe());
+                if (d.unusable.empty()) a.available = true;
+            }
+            if (a.devices.empty()) a.detail = "Vulkan: no compute-capable device (no physical device found)";
+            else if (!a.available) a.detail = "Vulkan: no compute-capable device (none usable)";
+            else a.detail = "kernels/ compiled to SPIR-V (GLSL 4.60, Vulkan 1.2) as compute pipelines";
+        } catch (const Error& e) {
+            a.available = false;
+            a.detail = e.what();
+        }
+        return a;
+    };
+    return factory;
+}
+
+}  // namespace prism

@@ -1,0 +1,69 @@
+// Vulkan plumbing under the backend: instance (+ validation and a debug messenger that records every warning and
+// error), the choice of physical device by name, the logical device with one compute queue, and memory types.
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace prism::vk {
+
+// Throws prism::Error("vulkan: <what> failed: <VkResult>") unless `result` is VK_SUCCESS.
+void check(VkResult result, const char* what);
+const char* result_name(VkResult result);
+
+// Records a debug message (thread-safe); also what the tests read.
+void record_message(const std::string& message);
+
+bool validation_requested();   // PRISM_VULKAN_VALIDATION=1
+
+struct DeviceCandidate {
+    VkPhysicalDevice handle = VK_NULL_HANDLE;
+    VkPhysicalDeviceProperties properties{};
+    VkPhysicalDeviceDriverProperties driver{};
+    uint32_t compute_family = UINT32_MAX;   // UINT32_MAX: no compute queue
+    std::string unusable;                   // why this device cannot run the backend ("" when it can)
+    std::string describe() const;           // "llvmpipe (LLVM 15.0.6, 256 bits) [llvmpipe, Vulkan 1.3.230]"
+};
+
+class Instance {
+public:
+    // Throws prism::Error when there is no loader/driver or validation is requested but not installed.
+    explicit Instance(bool validation);
+    ~Instance();
+    Instance(const Instance&) = delete;
+    Instance& operator=(const Instance&) = delete;
+
+    VkInstance handle() const { return instance_; }
+    std::vector<DeviceCandidate> devices() const;
+    // "" = first usable discrete/integrated GPU, else first usable device; else case-insensitive substring of the
+    // device or driver name. Throws prism::Error listing the devices when nothing matches.
+    DeviceCandidate select(const std::string& filter) const;
+    bool validation() const { return validation_; }
+
+private:
+    VkInstance instance_ = VK_NULL_HANDLE;
+    VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+    bool validation_ = false;
+};
+
+// Memory type index with all of `required`, preferring `preferred` and avoiding `avoided` flags; UINT32_MAX if none.
+uint32_t find_memory_type(const VkPhysicalDeviceMemoryProperties& memory, uint32_t type_bits,
+                          VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred,
+                          VkMemoryPropertyFlags avoided);
+
+// Work-groups per dispatch: 8 x the device's compute units (SMs on NVIDIA through VK_NV_shader_sm_builtins, CUs on
+// AMD through VK_AMD_shader_core_properties, host threads for a CPU device, else a per-type default), bounded by
+// maxComputeWorkGroupCount[0]. The same 8 x compute units rule as the CUDA and OpenCL backends.
+struct GridChoice {
+    uint32_t groups = 0;
+    uint32_t compute_units = 0;
+    std::string source;   // where compute_units came from
+};
+GridChoice choose_grid(const DeviceCandidate& device);
+
+std::string api_version_string(uint32_t version);
+
+}  // namespace prism::vk
