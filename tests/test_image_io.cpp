@@ -15,14 +15,7 @@
 namespace prism {
 namespace {
 
-std::string error_message(const std::function<void()>& action) {
-    try {
-        action();
-    } catch (const Error& error) {
-        return error.what();
-    }
-    return "(no prism::Error thrown)";
-}
+using test::error_message;
 
 TEST(ImageIo, PngRoundTripKeepsEveryTexel) {
     const int width = 7, height = 5;

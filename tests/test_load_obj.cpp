@@ -13,14 +13,7 @@
 namespace prism {
 namespace {
 
-std::string error_message(const std::function<void()>& action) {
-    try {
-        action();
-    } catch (const Error& error) {
-        return error.what();
-    }
-    return "(no prism::Error thrown)";
-}
+using test::error_message;
 
 Scene load(const std::filesystem::path& path) {
     Scene scene;

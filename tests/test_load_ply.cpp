@@ -17,14 +17,7 @@
 namespace prism {
 namespace {
 
-std::string error_message(const std::function<void()>& action) {
-    try {
-        action();
-    } catch (const Error& error) {
-        return error.what();
-    }
-    return "(no prism::Error thrown)";
-}
+using test::error_message;
 
 std::string read_bytes(const std::filesystem::path& path) {
     std::ifstream file(path, std::ios::binary);

@@ -2,6 +2,7 @@
 
 #include "backends/backend_list.h"
 #include "core/backend.h"
+#include "core/error.h"
 
 #include <array>
 #include <cmath>
@@ -35,6 +36,15 @@ std::filesystem::path write_file(const std::string& name, const std::string& byt
     std::filesystem::path path = temp_dir("files") / name;
     std::ofstream(path, std::ios::binary) << bytes;
     return path;
+}
+
+std::string error_message(const std::function<void()>& action) {
+    try {
+        action();
+    } catch (const prism::Error& error) {
+        return error.what();
+    }
+    return "(no prism::Error thrown)";
 }
 
 bool backend_available(const std::string& name, std::string* reason) {

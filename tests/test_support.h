@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -15,6 +16,9 @@ std::filesystem::path scene(const std::string& relative);
 std::filesystem::path temp_dir(const std::string& name);
 // Writes bytes to a file under temp_dir("files") and returns its path.
 std::filesystem::path write_file(const std::string& name, const std::string& bytes);
+
+// The message of the prism::Error that `action` throws, or "(no prism::Error thrown)".
+std::string error_message(const std::function<void()>& action);
 
 // Whether this machine runs the named backend ("cuda", "opencl", "vulkan"); `reason` says why not.
 bool backend_available(const std::string& name, std::string* reason = nullptr);
