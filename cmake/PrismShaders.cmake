@@ -43,13 +43,15 @@ include_guard(GLOBAL)
 
 find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)
 find_program(SPIRV_VAL spirv-val)
-set(PRISM_SPIRV_TO_CPP ${CMAKE_CURRENT_LIST_FILE})
 
 function(prism_embed_spirv)
   cmake_parse_arguments(ARG "" "TARGET;TABLE" "SOURCES;INCLUDE_DIRS;DEFINES" ${ARGN})
   if(NOT ARG_TARGET OR NOT ARG_SOURCES)
     message(FATAL_ERROR "prism_embed_spirv: TARGET and SOURCES are required")
   endif()
+  # This file is also the embedding script. (Not a variable set at include time: include_guard skips the second
+  # include from another directory, where such a variable would then be empty.)
+  set(PRISM_SPIRV_TO_CPP ${CMAKE_CURRENT_FUNCTION_LIST_FILE})
   set(out_dir ${CMAKE_CURRENT_BINARY_DIR}/prism_spirv)
   set(flags)
   foreach(dir IN LISTS ARG_INCLUDE_DIRS)

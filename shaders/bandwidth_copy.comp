@@ -2,8 +2,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 
-// First, before any code: glslang gives gl_WorkGroupSize (used by RT_GRID_LOOP's stride) the value declared
-// so far, so a later declaration leaves functions above it with a stride of 1 (every thread redoes the work).
+// Declared before the shared code: its grid loop strides by gl_WorkGroupSize, which glslang silently takes as
+// (1, 1, 1) in functions defined before the local_size declaration (each element would be copied 256 times).
 layout(local_size_x = 256) in;
 
 layout(std430, set = 0, binding = 0) readonly buffer BandwidthSource { uvec4 bandwidth_src[]; };
@@ -13,7 +13,7 @@ layout(push_constant) uniform BandwidthParams { uint count; } params;
 #include "bandwidth_copy.h"
 
 #if RT_BANDWIDTH_GROUP_SIZE != 256
-#error "local_size_x above must equal RT_BANDWIDTH_GROUP_SIZE (the host sizes the grid from it)"
+#error "local_size_x above must equal RT_BANDWIDTH_GROUP_SIZE"
 #endif
 
 void main() { rt_bandwidth_copy(0, params.count); }

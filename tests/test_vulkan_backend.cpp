@@ -6,6 +6,7 @@
 
 #ifdef PRISM_HAVE_VULKAN
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -145,6 +146,20 @@ TEST_F(Vulkan, Std430LayoutMatchesTheLayoutTable) {
     EXPECT_EQ(members_checked, int(members.size()));
 }
 
+// The checker checks: an invalid command (more work-groups than lavapipe's maxComputeWorkGroupCount of 65535)
+// reaches the message log, so the empty log the other tests demand means something.
+TEST_F(Vulkan, ValidationMessagesAreRecorded) {
+    std::unique_ptr<prism::Backend> backend = prism::create_backend(kDevice);
+    for (size_t a = 0; a < prism::device_array_count; ++a)
+        backend->allocate(prism::DeviceArray(a), 2 * prism::device_array_element_size(prism::DeviceArray(a)));
+    prism::vulkan_dispatch_module(*backend, prism::vulkan_embedded_spirv("layout_check"), 65536);
+    backend->finish();
+    std::vector<std::string> messages = prism::vulkan_debug_messages();
+    ASSERT_FALSE(messages.empty()) << "the validation layer is not active";
+    EXPECT_NE(messages.front().find("groupCountX"), std::string::npos) << messages.front();
+    prism::vulkan_clear_debug_messages();   // expected ones
+}
+
 // ---- Agreement with the cpu-ref oracle -------------------------------------------------------------------------
 struct Case {
     std::string scene;
@@ -165,10 +180,17 @@ TEST_P(VulkanAgreement, ImageMatchesReference) {
     prism::FrameResult expected = prism::RenderEngine("cpu-ref", device).render(scene.camera, settings);
     prism::FrameResult actual = prism::RenderEngine(kDevice, device).render(scene.camera, settings);
     EXPECT_GE(prism::test::psnr_rgba8(expected.image, actual.image), 50.0);
-    // No ray dropped: the frame never overflowed a queue, and every depth traced what the oracle traced.
+    // No ray dropped: the first attempt never overflowed a queue (a drop makes the renderer regrow and re-run).
     EXPECT_EQ(actual.stats.regrows, 0u);
-    EXPECT_EQ(expected.stats.rays_per_depth, actual.stats.rays_per_depth);
-    EXPECT_EQ(expected.stats.shadow_rays_per_depth, actual.stats.shadow_rays_per_depth);
+    // Every depth traced what the oracle traced, up to rounding: GPU float math (FMA contraction, sqrt/division
+    // precision) may tip a grazing ray or light the other way (dragon: 1 shadow ray in 9331).
+    auto near = [](const std::vector<uint32_t>& e, const std::vector<uint32_t>& a, const char* what) {
+        ASSERT_EQ(e.size(), a.size()) << what;
+        for (size_t d = 0; d < e.size(); ++d)
+            EXPECT_LE(std::abs(double(e[d]) - double(a[d])), std::max(1.0, e[d] * 1e-3)) << what << " at depth " << d;
+    };
+    near(expected.stats.rays_per_depth, actual.stats.rays_per_depth, "rays");
+    near(expected.stats.shadow_rays_per_depth, actual.stats.shadow_rays_per_depth, "shadow rays");
     uint32_t distinct = 0;
     for (size_t i = 1; i < actual.image.size(); ++i) distinct += actual.image[i] != actual.image[0];
     EXPECT_GT(distinct, actual.image.size() / 10) << "the scene should be visible";
@@ -320,7 +342,7 @@ TEST_F(Vulkan, ProbeListsDevicesWithDriverNames) {
         prism::BackendAvailability a = f.probe();
         EXPECT_TRUE(a.available) << a.detail;
         bool found = false;
-        for (const std::string& d : a.devices) found |= d.find("llvmpipe [llvmpipe, Vulkan 1.") != std::string::npos;
+        for (const std::string& d : a.devices) found |= d.find("[llvmpipe, Vulkan 1.") != std::string::npos;
         EXPECT_TRUE(found) << "devices should read 'name [driver, Vulkan x.y.z]'";
     }
     std::unique_ptr<prism::Backend> backend = prism::create_backend(kDevice);

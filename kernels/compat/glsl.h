@@ -49,6 +49,8 @@
 #define RT_STORE(kg, array, i, value) (array[(i)] = (value))
 #define RT_ATOMIC_ADD(kg, array, i, value) atomicAdd(array[(i)], (value))
 
+// The shader must declare layout(local_size_x = ...) BEFORE including kernels/: glslang compiles gl_WorkGroupSize
+// as (1, 1, 1), without a diagnostic, in functions defined before that declaration.
 #define RT_GRID_LOOP(i, n) \
     for (uint i = gl_GlobalInvocationID.x, rt_n_ = (n); i < rt_n_; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x)
 
