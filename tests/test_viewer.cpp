@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -190,6 +191,8 @@ struct ViewerBackend {
     std::string api;
     std::string device;   // substring of the device name that must be present, lower case
 };
+
+void PrintTo(const ViewerBackend& backend, std::ostream* out) { *out << backend.spec; }   // readable ctest names
 
 class ViewerOnBackend : public testing::TestWithParam<ViewerBackend> {
 protected:
