@@ -1,11 +1,283 @@
+// `prism view`: the interactive preview. This file drives it — scene, RenderEngine, backend switching, the moving
+// object, the HUD text — and viewer/ does the window, input and display. Without GLFW/OpenGL at configure time
+// the command still exists and says why it cannot run.
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
 #include "apps/commands.h"
+#include "apps/frame_report.h"
+#include "apps/scene_options.h"
 #include "core/error.h"
+#include "core/image_io.h"
+#include "core/render_engine.h"
+
+#ifdef PRISM_HAVE_VIEWER
+#include <chrono>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "viewer/camera_controls.h"
+#include "viewer/frame_display.h"
+#include "viewer/key_script.h"
+#include "viewer/window.h"
+#endif
 
 namespace prism::app {
+namespace {
+
+struct ViewOptions {
+    SceneOptions scene;
+    std::string backend = "auto";
+    RenderSettings settings;
+    uint32_t frames = 0;      // 0: until Esc or the window closes
+    std::string screenshot;   // with --frames: the last frame, read back from the window
+    bool no_vsync = false;
+    std::string keys;         // scripted key presses, "FRAME:KEY,..."
+};
+
+#ifdef PRISM_HAVE_VIEWER
+
+using viewer::Action;
+
+// One instance turning about its own vertical axis and swinging left and right, advanced per frame (not per
+// second) so a scripted run is reproducible. Only the top level changes: RenderEngine refits it.
+class MovingObject {
+public:
+    explicit MovingObject(const LoadedScene& loaded) {
+        for (const Instance& instance : loaded.scene.instances) base_.push_back(instance.transform);
+        if (base_.empty()) return;
+        index_ = base_.size() - 1;   // the loaders and builtin scenes add the floor first and the model last
+        const Aabb& bounds = loaded.device.mesh_bounds.at(loaded.device.instance_meshes.at(index_));
+        Aabb world;
+        for (int corner = 0; corner < 8; ++corner) {
+            glm::vec3 p{corner & 1 ? bounds.upper.x : bounds.lower.x, corner & 2 ? bounds.upper.y : bounds.lower.y,
+                        corner & 4 ? bounds.upper.z : bounds.lower.z};
+            world.grow(glm::vec3(base_[index_] * glm::vec4(p, 1.0f)));
+        }
+        centre_ = world.center();
+        glm::vec3 extent = world.upper - world.lower;
+        amplitude_ = 0.5f * std::max(extent.x, extent.z);
+        name_ = loaded.scene.instances[index_].name;
+    }
+
+    bool empty() const { return base_.empty(); }
+    const std::string& name() const { return name_; }
+
+    std::vector<glm::mat4> advance() {
+        ++step_;
+        float angle = 0.15f * float(step_);
+        glm::vec3 offset{amplitude_ * std::sin(angle), 0.0f, 0.0f};
+        std::vector<glm::mat4> transforms = base_;
+        transforms[index_] = glm::translate(glm::mat4(1.0f), centre_ + offset) *
+                             glm::rotate(glm::mat4(1.0f), angle, glm::vec3(0.0f, 1.0f, 0.0f)) *
+                             glm::translate(glm::mat4(1.0f), -centre_) * base_[index_];
+        return transforms;
+    }
+
+private:
+    std::vector<glm::mat4> base_;
+    size_t index_ = 0;
+    glm::vec3 centre_{0.0f};
+    float amplitude_ = 0.0f;
+    uint32_t step_ = 0;
+    std::string name_;
+};
+
+class ViewSession {
+public:
+    explicit ViewSession(const ViewOptions& options)
+        : options_(options),
+          settings_(options.settings),
+          script_(viewer::parse_key_script(options.keys)),
+          window_("Prism", int(settings_.width), int(settings_.height), !options.no_vsync),
+          loaded_(load_and_build(options.scene)),
+          controls_(loaded_.scene.camera),
+          moving_(loaded_) {
+        engine_ = std::make_unique<RenderEngine>(options.backend, loaded_.device);
+        display_ = viewer::create_frame_display(engine_->info());
+        BackendInfo info = engine_->info();
+        std::printf("prism view: %s (%zu triangles, %zu instances) on %s [%s]\n", options.scene.scene.c_str(),
+                    loaded_.device.traced_triangles, loaded_.device.instances.size(), info.name.c_str(),
+                    info.device.c_str());
+        std::printf("  window %dx%d, %s\n", window_.framebuffer_width(), window_.framebuffer_height(),
+                    window_.context_description().c_str());
+        std::printf("  %s\n", display_->path().describe().c_str());
+        std::fflush(stdout);
+    }
+
+    void run() {
+        auto last_present = std::chrono::steady_clock::now();
+        size_t next_key = 0;
+        for (uint32_t frame = 0; options_.frames == 0 || frame < options_.frames; ++frame) {
+            if (window_.should_close()) break;
+            viewer::Input input = window_.poll();
+            auto now = std::chrono::steady_clock::now();
+            float seconds = std::chrono::duration<float>(now - last_present).count();
+            while (next_key < script_.size() && script_[next_key].frame <= frame)
+                input.actions.push_back(script_[next_key++].action);
+            bool screenshot = false;
+            for (Action action : input.actions) {
+                if (action == Action::Quit) return;
+                screenshot |= action == Action::Screenshot;
+                apply(action);
+            }
+            controls_.orbit(0.005f * input.drag.x, 0.005f * input.drag.y);
+            controls_.zoom(input.scroll);
+            if (input.fly != glm::vec3(0.0f)) controls_.fly(input.fly * std::min(seconds, 0.1f) * 0.5f);
+            if (moving_on_) engine_->update_instances(loaded_.device, moving_.advance(), false);
+
+            last_frame_ = engine_->render(controls_.camera(), settings_);
+            display_->update(last_frame_);
+            display_->draw(window_.framebuffer_width(), window_.framebuffer_height());
+            bool last = options_.frames != 0 && frame + 1 == options_.frames;
+            if (screenshot) save_screenshot(screenshot_path(frame));
+            if (last && !options_.screenshot.empty()) save_screenshot(options_.screenshot);
+            window_.swap();
+
+            now = std::chrono::steady_clock::now();
+            double frame_seconds = std::chrono::duration<double>(now - last_present).count();
+            last_present = now;
+            fps_ = fps_ == 0.0 ? 1.0 / frame_seconds : 0.9 * fps_ + 0.1 / frame_seconds;
+            window_.set_title(hud());
+        }
+        if (options_.frames != 0) {
+            std::printf("  last frame (%s):\n%s", hud().c_str(), frame_summary(last_frame_, settings_).c_str());
+        }
+    }
+
+private:
+    void apply(Action action) {
+        const float step = 0.05f;   // scripted fly keys: 5% of the eye-target distance per press
+        switch (action) {
+        case Action::DepthUp: settings_.max_depth = std::min(settings_.max_depth + 1, 32u); say_depth(); break;
+        case Action::DepthDown: settings_.max_depth = std::max(settings_.max_depth - 1, 1u); say_depth(); break;
+        case Action::ResetCamera: controls_.reset(); break;
+        case Action::ToggleMoving:
+            if (moving_.empty()) break;
+            moving_on_ = !moving_on_;
+            std::printf("  moving object '%s': %s\n", moving_.name().c_str(), moving_on_ ? "on" : "off");
+            break;
+        case Action::FlyForward: controls_.fly({0.0f, 0.0f, step}); break;
+        case Action::FlyBack: controls_.fly({0.0f, 0.0f, -step}); break;
+        case Action::FlyLeft: controls_.fly({-step, 0.0f, 0.0f}); break;
+        case Action::FlyRight: controls_.fly({step, 0.0f, 0.0f}); break;
+        case Action::FlyDown: controls_.fly({0.0f, -step, 0.0f}); break;
+        case Action::FlyUp: controls_.fly({0.0f, step, 0.0f}); break;
+        default:
+            if (viewer::is_backend_key(action)) switch_backend(viewer::backend_for_key(action));
+            break;
+        }
+        std::fflush(stdout);
+    }
+
+    void say_depth() { std::printf("  depth %u\n", settings_.max_depth); }
+
+    // Keeps the device the user named on the command line when the key selects the same API (4 after
+    // --backend opencl:pocl stays on PoCL).
+    void switch_backend(const std::string& api) {
+        std::string spec = api;
+        if (parse_backend_spec(options_.backend).api == api) spec = options_.backend;
+        std::string current = engine_->info().name;
+        if (current == api) return;
+        try {
+            auto next = std::make_unique<RenderEngine>(spec, loaded_.device);
+            auto next_display = viewer::create_frame_display(next->info());
+            engine_ = std::move(next);
+            display_ = std::move(next_display);
+        } catch (const Error& e) {
+            std::printf("  backend %s unavailable (%s); keeping %s\n", api.c_str(), e.what(), current.c_str());
+            return;
+        }
+        BackendInfo info = engine_->info();
+        std::printf("  switched to %s [%s], %s\n", info.name.c_str(), info.device.c_str(),
+                    display_->path().describe().c_str());
+    }
+
+    std::string screenshot_path(uint32_t frame) const {
+        if (!options_.screenshot.empty()) return options_.screenshot;
+        return "prism-view-" + std::to_string(frame) + ".png";
+    }
+
+    void save_screenshot(const std::string& path) {
+        std::vector<uint32_t> pixels = window_.read_pixels();
+        write_png(path, window_.framebuffer_width(), window_.framebuffer_height(), pixels);
+        std::printf("  wrote %s (window read-back, %dx%d)\n", path.c_str(), window_.framebuffer_width(),
+                    window_.framebuffer_height());
+        std::fflush(stdout);
+    }
+
+    // The window title is the HUD: backend and device, fps, ms per stage, Mrays/s, display path.
+    std::string hud() const {
+        BackendInfo info = engine_->info();
+        const FrameStats& stats = last_frame_.stats;
+        StageTotals totals = stage_totals(stats);
+        std::string text = "Prism - " + info.name + " [" + info.device + "]";
+        char part[256];
+        std::snprintf(part, sizeof part, " | %.1f fps | frame %.1f ms:", fps_, stats.frame_ms);
+        text += part;
+        for (size_t i = 0; i < stage_count; ++i) {
+            std::snprintf(part, sizeof part, " %s %.1f", stage_name(Stage(i)), totals.by_stage[i]);
+            text += part;
+        }
+        double mrays = stats.frame_ms > 0.0 ? double(stats.total_rays()) / (stats.frame_ms * 1e3) : 0.0;
+        std::snprintf(part, sizeof part, " | %.1f Mrays/s | depth %u | %s", mrays, settings_.max_depth,
+                      display_->path().describe().c_str());
+        return text + part;
+    }
+
+    ViewOptions options_;
+    RenderSettings settings_;
+    std::vector<viewer::ScriptedKey> script_;
+    viewer::Window window_;   // first: no display fails fast, and the GL context outlives the FrameDisplay
+    LoadedScene loaded_;
+    viewer::CameraControls controls_;
+    MovingObject moving_;
+    bool moving_on_ = false;
+    std::unique_ptr<RenderEngine> engine_;
+    std::unique_ptr<viewer::FrameDisplay> display_;
+    FrameResult last_frame_;
+    double fps_ = 0.0;
+};
+
+void run_view(const ViewOptions& options) {
+    if (options.frames == 0 && !options.screenshot.empty())
+        throw Error("view: --screenshot needs --frames (P saves screenshots in an interactive session)");
+    if (!options.screenshot.empty()) check_output_extension(options.screenshot);
+    ViewSession session(options);
+    session.run();
+}
+
+#else
+
+void run_view(const ViewOptions&) {
+    throw Error("view: not available in this build (GLFW or OpenGL not found at configure time: "
+                "apt-get install libglfw3-dev libgl-dev and reconfigure)");
+}
+
+#endif
+
+}  // namespace
 
 void add_view_command(CLI::App& app) {
-    auto* command = app.add_subcommand("view", "(not built yet)");
-    command->callback([] { throw Error("prism view: not implemented yet"); });
+    auto options = std::make_shared<ViewOptions>();
+    auto* command = app.add_subcommand("view", "Interactive preview in a window (GLFW + OpenGL)");
+    add_scene_options(command, options->scene);
+    command->add_option("--backend", options->backend,
+                        "auto, cpu-ref, cpu, cuda, opencl, vulkan; a device after a colon (opencl:pocl)")
+        ->capture_default_str();
+    command->add_option("--width", options->settings.width, "window and frame width")->capture_default_str();
+    command->add_option("--height", options->settings.height, "window and frame height")->capture_default_str();
+    command->add_option("--depth", options->settings.max_depth, "ray generations traced (+/- change it)")
+        ->capture_default_str();
+    command->add_option("--frames", options->frames, "render this many frames and exit (0: until Esc)")
+        ->capture_default_str();
+    command->add_option("--screenshot", options->screenshot,
+                        "with --frames: save the last frame as read back from the window (.png)");
+    command->add_flag("--no-vsync", options->no_vsync, "present without waiting for vertical sync");
+    command->add_option("--keys", options->keys,
+                        "scripted key presses FRAME:KEY,... (keys 1-5 + - P R M Esc W A S D Q E), e.g. 0:M,3:2");
+    command->callback([options] { run_view(*options); });
 }
 
 }  // namespace prism::app

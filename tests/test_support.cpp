@@ -71,11 +71,11 @@ double psnr_rgba8(const std::vector<uint32_t>& a, const std::vector<uint32_t>& b
     return mse == 0.0 ? std::numeric_limits<double>::infinity() : 10.0 * std::log10(255.0 * 255.0 / mse);
 }
 
-CommandResult run_prism(const std::string& arguments) {
+CommandResult run_prism(const std::string& arguments, const std::string& launcher) {
     CommandResult result;
     // $PRISM_BINARY overrides the build-time path (the tests run from a copied build on the GPU machine).
     const char* binary = std::getenv("PRISM_BINARY") ? std::getenv("PRISM_BINARY") : PRISM_BINARY;
-    std::string command = std::string("'") + binary + "' " + arguments + " 2>&1";
+    std::string command = (launcher.empty() ? "" : launcher + " ") + "'" + binary + "' " + arguments + " 2>&1";
     FILE* pipe = popen(command.c_str(), "r");
     if (!pipe) return result;
     std::array<char, 4096> buffer;

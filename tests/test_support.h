@@ -30,7 +30,8 @@ struct CommandResult {
     int exit_code = -1;   // the process exit status; 128 + signal when killed by a signal
     std::string output;   // stdout and stderr together
 };
-// Runs the prism binary with the given arguments (a shell-quoted string).
-CommandResult run_prism(const std::string& arguments);
+// Runs the prism binary with the given arguments (a shell-quoted string), after `launcher` when one is given
+// (e.g. "xvfb-run -a" for the viewer, "env -u DISPLAY").
+CommandResult run_prism(const std::string& arguments, const std::string& launcher = "");
 
 }  // namespace prism::test

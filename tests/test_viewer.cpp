@@ -1,0 +1,290 @@
+// `prism view`: the camera controls and --keys parsing as units, then the whole viewer under Xvfb — the window
+// read-back must equal `prism render` of the same scene and camera (so the display path is proven, not just the
+// renderer), backend switching, the moving object. GPU-API backends skip, with the reason, where absent.
+#ifdef PRISM_HAVE_VIEWER
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <stb_image.h>
+
+#include "backends/backend_list.h"
+#include "core/backend.h"
+#include "core/error.h"
+#include "tests/test_support.h"
+#include "viewer/camera_controls.h"
+#include "viewer/frame_display.h"
+#include "viewer/key_script.h"
+
+namespace {
+
+using prism::viewer::Action;
+
+// --- units -------------------------------------------------------------------------------------------------
+
+TEST(ViewerKeys, ParsesScriptSortedByFrame) {
+    auto script = prism::viewer::parse_key_script("3:2,0:m,3:P,1:+,2:-,4:esc");
+    ASSERT_EQ(script.size(), 6u);
+    EXPECT_EQ(script[0].frame, 0u);
+    EXPECT_EQ(script[0].action, Action::ToggleMoving);
+    EXPECT_EQ(script[1].action, Action::DepthUp);
+    EXPECT_EQ(script[2].action, Action::DepthDown);
+    EXPECT_EQ(script[3].action, Action::Backend2);   // same frame: order kept
+    EXPECT_EQ(script[4].action, Action::Screenshot);
+    EXPECT_EQ(script[5].action, Action::Quit);
+    EXPECT_TRUE(prism::viewer::parse_key_script("").empty());
+    EXPECT_STREQ(prism::viewer::backend_for_key(Action::Backend1), "cpu-ref");
+    EXPECT_STREQ(prism::viewer::backend_for_key(Action::Backend5), "vulkan");
+    EXPECT_EQ(prism::viewer::backend_for_key(Action::Quit), nullptr);
+}
+
+TEST(ViewerKeys, RejectsBadScripts) {
+    for (const char* bad : {"M", "x:M", "1:", ":M", "1:Z", "1:M,", "-1:M"}) {
+        try {
+            prism::viewer::parse_key_script(bad);
+            ADD_FAILURE() << "accepted '" << bad << "'";
+        } catch (const prism::Error& e) {
+            EXPECT_EQ(std::string(e.what()).rfind("--keys: ", 0), 0u) << e.what();
+        }
+    }
+}
+
+prism::Camera test_camera() {
+    prism::Camera camera;
+    camera.position = {0.0f, 1.0f, 5.0f};
+    camera.target = {0.0f, 1.0f, 0.0f};
+    return camera;
+}
+
+TEST(ViewerCamera, OrbitKeepsDistanceAndTarget) {
+    prism::viewer::CameraControls controls(test_camera());
+    controls.orbit(glm::radians(90.0f), 0.0f);
+    const prism::Camera& c = controls.camera();
+    EXPECT_NEAR(glm::length(c.position - c.target), 5.0f, 1e-4f);
+    EXPECT_NEAR(c.target.x, 0.0f, 1e-6f);
+    EXPECT_NEAR(c.position.y, 1.0f, 1e-4f);   // a pure yaw stays at the same height
+    EXPECT_NEAR(std::abs(c.position.x), 5.0f, 1e-4f);
+    controls.orbit(0.0f, glm::radians(30.0f));   // the eye rises: 5 * sin(30°) above the target
+    EXPECT_NEAR(glm::length(controls.camera().position - c.target), 5.0f, 1e-4f);
+    EXPECT_NEAR(controls.camera().position.y, 1.0f + 2.5f, 1e-3f);
+}
+
+TEST(ViewerCamera, DraggingRightMovesTheEyeLeft) {
+    prism::viewer::CameraControls controls(test_camera());   // eye on +z looking at -z: left is -x
+    controls.orbit(0.1f, 0.0f);
+    EXPECT_LT(controls.camera().position.x, 0.0f);
+}
+
+TEST(ViewerCamera, PitchStopsShortOfThePoles) {
+    prism::viewer::CameraControls controls(test_camera());
+    for (float pitch : {0.2f, -0.2f}) {
+        for (int i = 0; i < 100; ++i) controls.orbit(0.0f, pitch);
+        glm::vec3 direction = glm::normalize(controls.camera().position - controls.camera().target);
+        EXPECT_NEAR(std::abs(glm::dot(direction, glm::vec3(0.0f, 1.0f, 0.0f))), std::cos(glm::radians(5.0f)), 1e-4f);
+        EXPECT_GT(pitch * direction.y, 0.0f);   // stopped at the pole it was heading for
+    }
+}
+
+TEST(ViewerCamera, FlyMovesEyeAndTargetTogetherAndZoomApproaches) {
+    prism::viewer::CameraControls controls(test_camera());
+    controls.fly({0.0f, 0.0f, 0.1f});   // forward: -z here, 10% of the distance
+    EXPECT_NEAR(controls.camera().position.z, 4.5f, 1e-4f);
+    EXPECT_NEAR(controls.camera().target.z, -0.5f, 1e-4f);
+    controls.fly({0.2f, 0.0f, 0.0f});   // right: +x
+    EXPECT_NEAR(controls.camera().position.x, 1.0f, 1e-4f);
+    controls.zoom(1.0f);
+    EXPECT_NEAR(glm::length(controls.camera().position - controls.camera().target), 4.5f, 1e-4f);
+    for (int i = 0; i < 1000; ++i) controls.zoom(1.0f);   // never reaches the target
+    EXPECT_GT(glm::length(controls.camera().position - controls.camera().target), 0.0f);
+    controls.reset();
+    EXPECT_EQ(controls.camera().position, test_camera().position);
+}
+
+TEST(ViewerDisplayPath, SaysWhyItIsHostCopy) {
+    prism::BackendInfo pocl{"opencl", "pthread-Intel(R) Xeon(R) [Portable Computing Language]", "", "", 0, 0};
+    EXPECT_EQ(prism::viewer::choose_display_path(pocl).describe(), "interop: host copy (PoCL has no GL sharing)");
+    prism::BackendInfo lavapipe{"vulkan", "llvmpipe (LLVM 15.0.6, 256 bits)", "", "", 0, 0};
+    EXPECT_EQ(prism::viewer::choose_display_path(lavapipe).describe(),
+              "interop: host copy (lavapipe has no GL sharing)");
+    prism::BackendInfo cpu{"cpu", "host", "", "", 0, 0};
+    EXPECT_EQ(prism::viewer::choose_display_path(cpu).name, "host copy");
+}
+
+// --- the viewer under Xvfb -----------------------------------------------------------------------------------
+
+bool have_xvfb_run() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 0; }
+
+#define REQUIRE_XVFB()                                                                          \
+    do {                                                                                        \
+        if (!have_xvfb_run()) GTEST_SKIP() << "xvfb-run is not installed (apt-get install xvfb xauth)"; \
+    } while (0)
+
+// Whether the backend runs here on a device whose name contains `device` (empty: any device).
+bool backend_device_available(const std::string& api, const std::string& device, std::string* reason) {
+    if (!prism::test::backend_available(api, reason)) return false;
+    if (device.empty()) return true;
+    for (const prism::BackendFactory& f : prism::registered_backends()) {
+        if (f.name != api) continue;
+        for (std::string name : f.probe().devices) {
+            for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));
+            if (name.find(device) != std::string::npos) return true;
+        }
+    }
+    *reason = api + " runs here, but no device matches '" + device + "'";
+    return false;
+}
+
+std::vector<uint32_t> read_png(const std::filesystem::path& path, int* width, int* height) {
+    int channels = 0;
+    unsigned char* pixels = stbi_load(path.c_str(), width, height, &channels, 4);
+    if (!pixels) return {};
+    std::vector<uint32_t> packed(size_t(*width) * size_t(*height));
+    for (size_t i = 0; i < packed.size(); ++i)
+        packed[i] = uint32_t(pixels[4 * i]) | uint32_t(pixels[4 * i + 1]) << 8 | uint32_t(pixels[4 * i + 2]) << 16 |
+                    uint32_t(pixels[4 * i + 3]) << 24;
+    stbi_image_free(pixels);
+    return packed;
+}
+
+const std::string kScene = "--scene builtin:sphere --width 320 --height 180";
+
+prism::test::CommandResult view(const std::string& arguments) {
+    return prism::test::run_prism("view " + kScene + " " + arguments, "xvfb-run -a");
+}
+
+// PSNR of a viewer screenshot against `prism render` of the same scene, size and camera on `render_backend`.
+double psnr_against_render(const std::filesystem::path& screenshot, const std::string& render_backend) {
+    std::filesystem::path rendered = screenshot.parent_path() / ("render-" + screenshot.filename().string());
+    prism::test::CommandResult render =
+        prism::test::run_prism("render " + kScene + " --backend " + render_backend + " --out '" + rendered.string() + "'");
+    EXPECT_EQ(render.exit_code, 0) << render.output;
+    int w1 = 0, h1 = 0, w2 = 0, h2 = 0;
+    std::vector<uint32_t> shown = read_png(screenshot, &w1, &h1);
+    std::vector<uint32_t> expected = read_png(rendered, &w2, &h2);
+    EXPECT_EQ(w1, 320);
+    EXPECT_EQ(h1, 180);
+    EXPECT_EQ(w1, w2);
+    EXPECT_EQ(h1, h2);
+    return prism::test::psnr_rgba8(shown, expected);
+}
+
+TEST(Viewer, WithoutDisplayFailsInOneLine) {
+    prism::test::CommandResult result = prism::test::run_prism(
+        "view " + kScene + " --frames 1", "env -u DISPLAY -u WAYLAND_DISPLAY");
+    EXPECT_EQ(result.exit_code, 1) << result.output;
+    EXPECT_EQ(result.output, "prism: error: view: cannot open a window (no DISPLAY; run under xvfb-run -a)\n");
+}
+
+TEST(Viewer, ScreenshotNeedsFrames) {
+    prism::test::CommandResult result = view("--screenshot x.png");
+    EXPECT_EQ(result.exit_code, 1) << result.output;
+    EXPECT_NE(result.output.find("--screenshot needs --frames"), std::string::npos) << result.output;
+}
+
+struct ViewerBackend {
+    std::string spec;     // as given to --backend
+    std::string api;
+    std::string device;   // substring of the device name that must be present, lower case
+};
+
+void PrintTo(const ViewerBackend& backend, std::ostream* out) { *out << backend.spec; }   // readable ctest names
+
+class ViewerOnBackend : public testing::TestWithParam<ViewerBackend> {
+protected:
+    void SetUp() override {
+        REQUIRE_XVFB();
+        std::string reason;
+        if (!backend_device_available(GetParam().api, GetParam().device, &reason))
+            GTEST_SKIP() << GetParam().spec << " unavailable: " << reason;
+    }
+};
+
+TEST_P(ViewerOnBackend, WindowReadBackEqualsRender) {
+    auto dir = prism::test::temp_dir("viewer-" + GetParam().api);
+    std::filesystem::path shot = dir / "view.png";
+    prism::test::CommandResult result =
+        view("--backend " + GetParam().spec + " --frames 5 --screenshot '" + shot.string() + "'");
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_NE(result.output.find("interop: host copy ("), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("wrote " + shot.string() + " (window read-back, 320x180)"), std::string::npos)
+        << result.output;
+    EXPECT_GE(psnr_against_render(shot, GetParam().spec), 45.0);
+}
+
+TEST_P(ViewerOnBackend, MovingObjectChangesTheImage) {
+    auto dir = prism::test::temp_dir("viewer-moving-" + GetParam().api);
+    std::filesystem::path still = dir / "still.png", moving = dir / "moving.png";
+    prism::test::CommandResult a = view("--backend " + GetParam().spec + " --frames 4 --screenshot '" + still.string() + "'");
+    prism::test::CommandResult b =
+        view("--backend " + GetParam().spec + " --frames 4 --keys 0:M --screenshot '" + moving.string() + "'");
+    ASSERT_EQ(a.exit_code, 0) << a.output;
+    ASSERT_EQ(b.exit_code, 0) << b.output;
+    EXPECT_NE(b.output.find("moving object 'glass sphere': on"), std::string::npos) << b.output;
+    int w = 0, h = 0;
+    std::vector<uint32_t> still_pixels = read_png(still, &w, &h), moving_pixels = read_png(moving, &w, &h);
+    ASSERT_EQ(still_pixels.size(), moving_pixels.size());
+    EXPECT_LT(prism::test::psnr_rgba8(still_pixels, moving_pixels), 30.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, ViewerOnBackend,
+                         testing::Values(ViewerBackend{"cpu", "cpu", ""},
+                                         ViewerBackend{"opencl:pocl", "opencl", "portable computing language"},
+                                         ViewerBackend{"vulkan:llvmpipe", "vulkan", "llvmpipe"}),
+                         [](const testing::TestParamInfo<ViewerBackend>& info) { return info.param.api; });
+
+TEST(Viewer, SwitchesBackendLiveAndKeepsTheCamera) {
+    REQUIRE_XVFB();
+    auto dir = prism::test::temp_dir("viewer-switch");
+    std::filesystem::path shot = dir / "switched.png";
+    // cpu for frames 0-1, cpu-ref from frame 2: the last frame must be cpu-ref's image from the same camera.
+    prism::test::CommandResult result =
+        view("--backend cpu --frames 4 --keys 2:1 --screenshot '" + shot.string() + "'");
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_NE(result.output.find("switched to cpu-ref"), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("Prism - cpu-ref ["), std::string::npos) << result.output;   // the final HUD
+    EXPECT_GE(psnr_against_render(shot, "cpu-ref"), 45.0);
+}
+
+TEST(Viewer, UnavailableBackendKeepsTheCurrentOne) {
+    REQUIRE_XVFB();
+    std::string unavailable;
+    for (const char* api : {"cuda", "vulkan", "opencl"}) {
+        if (!prism::test::backend_available(api)) {
+            unavailable = api;
+            break;
+        }
+    }
+    if (unavailable.empty()) GTEST_SKIP() << "every backend runs here: none to fail switching to";
+    const char* key = unavailable == "cuda" ? "3" : unavailable == "opencl" ? "4" : "5";
+    auto dir = prism::test::temp_dir("viewer-unavailable");
+    std::filesystem::path shot = dir / "kept.png";
+    prism::test::CommandResult result =
+        view("--backend cpu --frames 3 --keys 1:" + std::string(key) + " --screenshot '" + shot.string() + "'");
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_NE(result.output.find("backend " + unavailable + " unavailable ("), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("; keeping cpu"), std::string::npos) << result.output;
+    EXPECT_GE(psnr_against_render(shot, "cpu"), 45.0);
+}
+
+TEST(Viewer, ScriptedCameraAndDepthKeysChangeTheFrame) {
+    REQUIRE_XVFB();
+    auto dir = prism::test::temp_dir("viewer-keys");
+    std::filesystem::path moved = dir / "moved.png", reset = dir / "reset.png";
+    prism::test::CommandResult a = view("--backend cpu --frames 2 --keys 0:W,0:D,0:- --screenshot '" + moved.string() + "'");
+    prism::test::CommandResult b =
+        view("--backend cpu --frames 2 --keys 0:W,0:+,1:R,1:- --screenshot '" + reset.string() + "'");
+    ASSERT_EQ(a.exit_code, 0) << a.output;
+    ASSERT_EQ(b.exit_code, 0) << b.output;
+    EXPECT_NE(a.output.find("depth 7"), std::string::npos) << a.output;
+    EXPECT_LT(psnr_against_render(moved, "cpu"), 30.0);   // the camera flew
+    EXPECT_GE(psnr_against_render(reset, "cpu"), 45.0);   // R: back home, depth back to 8
+}
+
+}  // namespace
+
+#endif  // PRISM_HAVE_VIEWER
