@@ -28,17 +28,21 @@ if [ "${PRISM_SKIP_TESTS:-0}" != 1 ]; then
 fi
 
 backends=${PRISM_BACKENDS:-cuda,opencl:nvidia,vulkan:nvidia}
+if [ "${PRISM_SKIP_SEED_TABLE:-0}" != 1 ]; then
 step "seed table at the seed's setting (about 100,000 primary rays)"
 $prism bench --data-dir "$data" --backends "$backends" --seed-setting --depth 8 --runs 10 --warmup 2 \
   --json "$out/seed-table-$tag-seed-setting.json"
 step "seed table at 1920x1080, depth 8"
 $prism bench --data-dir "$data" --backends "$backends" --width 1920 --height 1080 --depth 8 --runs 10 --warmup 2 \
   --json "$out/seed-table-$tag-1080p.json"
+fi
 if [ "${PRISM_CPU_BENCH:-1}" = 1 ]; then
   step "the same on the host CPU (cpu backend)"
-  $prism bench --data-dir "$data" --backends cpu --width 1920 --height 1080 --depth 8 --runs 3 --warmup 1 \
+  $prism bench --data-dir "$data" --backends cpu,cpu-ref --width 1920 --height 1080 --depth 8 --runs 3 --warmup 1 \
     --json "$out/seed-table-$tag-host-cpu-1080p.json"
 fi
-step "bandwidth"
-$prism bandwidth --json "$out/bandwidth-$tag.json" --plot "$out/bandwidth-$tag.png" 2>&1 | tee "$out/bandwidth-$tag.txt"
+if [ "${PRISM_SKIP_BANDWIDTH:-0}" != 1 ]; then
+  step "bandwidth"
+  $prism bandwidth --json "$out/bandwidth-$tag.json" --plot "$out/bandwidth-$tag.png" 2>&1 | tee "$out/bandwidth-$tag.txt"
+fi
 step done
