@@ -52,17 +52,17 @@ TEST(EmbreeOracle, CpuBackendAgreesOnBunny) { check_against_embree("stanford/bun
 TEST(EmbreeOracle, CpuBackendAgreesOnDragon) { check_against_embree("stanford/dragon.ply.gz", "cpu", 1000000); }
 
 #ifdef PRISM_HAVE_OPENCL
-TEST(EmbreeOracle, OpenclPoclAgreesOnBunny) {
-    std::string reason;
-    if (!prism::test::backend_available("opencl", &reason)) GTEST_SKIP() << "no OpenCL device: " << reason;
-    check_against_embree("stanford/bunny.ply", "opencl:pocl", 1000000);
+TEST(EmbreeOracle, OpenclAgreesOnBunny) {
+    std::string device = prism::test::test_device("opencl"), reason;
+    if (!prism::test::device_present("opencl", device.substr(7), &reason)) GTEST_SKIP() << reason;
+    check_against_embree("stanford/bunny.ply", device, 1000000);
 }
 #endif
 #ifdef PRISM_HAVE_VULKAN
-TEST(EmbreeOracle, VulkanLavapipeAgreesOnBunny) {
-    std::string reason;
-    if (!prism::test::backend_available("vulkan", &reason)) GTEST_SKIP() << "no Vulkan device: " << reason;
-    check_against_embree("stanford/bunny.ply", "vulkan:llvmpipe", 1000000);
+TEST(EmbreeOracle, VulkanAgreesOnBunny) {
+    std::string device = prism::test::test_device("vulkan"), reason;
+    if (!prism::test::device_present("vulkan", device.substr(7), &reason)) GTEST_SKIP() << reason;
+    check_against_embree("stanford/bunny.ply", device, 1000000);
 }
 #endif
 #ifdef PRISM_HAVE_CUDA

@@ -4,7 +4,10 @@
 #include "core/backend.h"
 #include "core/error.h"
 
+#include <gtest/gtest.h>
+
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <limits>
 #include <cstdio>
@@ -57,6 +60,39 @@ bool backend_available(const std::string& name, std::string* reason) {
     }
     if (reason) *reason = name + " is not compiled into this build";
     return false;
+}
+
+std::string test_device(const std::string& api) {
+    std::string variable = "PRISM_TEST_" + api + "_DEVICE";
+    for (char& c : variable) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    const char* value = std::getenv(variable.c_str());
+    std::string filter = value && *value ? value : (api == "vulkan" ? "llvmpipe" : "pocl");
+    return api + ":" + filter;
+}
+
+bool device_present(const std::string& api, const std::string& filter, std::string* reason) {
+    if (!backend_available(api, reason)) return false;
+    auto lower = [](std::string text) {
+        for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        return text;
+    };
+    for (const prism::BackendFactory& factory : prism::registered_backends()) {
+        if (factory.name != api) continue;
+        for (const std::string& device : factory.probe().devices)
+            if (lower(device).find(lower(filter)) != std::string::npos) return true;
+    }
+    if (reason) *reason = api + " runs here, but no device matches '" + filter + "'";
+    return false;
+}
+
+void expect_ray_counts_near(const prism::FrameStats& expected, const prism::FrameStats& actual) {
+    auto near = [](const std::vector<uint32_t>& e, const std::vector<uint32_t>& a, const char* what) {
+        ASSERT_EQ(e.size(), a.size()) << what;
+        for (size_t d = 0; d < e.size(); ++d)
+            EXPECT_LE(std::abs(double(e[d]) - double(a[d])), std::max(2.0, e[d] * 1e-3)) << what << " at depth " << d;
+    };
+    near(expected.rays_per_depth, actual.rays_per_depth, "rays");
+    near(expected.shadow_rays_per_depth, actual.shadow_rays_per_depth, "shadow rays");
 }
 
 double psnr_rgba8(const std::vector<uint32_t>& a, const std::vector<uint32_t>& b) {

