@@ -11,7 +11,7 @@ out=${OUT:-bench/results/gpu}
 mkdir -p "$out"
 export PRISM_SCENES_DIR=$PWD/$data PRISM_BINARY=$PWD/$build/apps/prism
 # The OpenCL and Vulkan tests run on the GPU here (in CI: PoCL and lavapipe).
-export PRISM_TEST_OPENCL_DEVICE=${PRISM_TEST_OPENCL_DEVICE:-nvidia} PRISM_TEST_VULKAN_DEVICE=${PRISM_TEST_VULKAN_DEVICE:-nvidia}
+export PRISM_TEST_OPENCL_DEVICE=${PRISM_TEST_OPENCL_DEVICE:-opencl:nvidia} PRISM_TEST_VULKAN_DEVICE=${PRISM_TEST_VULKAN_DEVICE:-vulkan:nvidia}
 export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-$(mktemp -d)} XDG_CACHE_HOME=${XDG_CACHE_HOME:-$(mktemp -d)}
 chmod 700 "$XDG_RUNTIME_DIR"
 tag=${PRISM_TAG:-$(nvidia-smi --query-gpu=name --format=csv,noheader 2>/dev/null | head -1 | tr ' ' '-' | tr -cd 'A-Za-z0-9-')}

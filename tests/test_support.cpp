@@ -66,8 +66,8 @@ std::string test_device(const std::string& api) {
     std::string variable = "PRISM_TEST_" + api + "_DEVICE";
     for (char& c : variable) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     const char* value = std::getenv(variable.c_str());
-    std::string filter = value && *value ? value : (api == "vulkan" ? "llvmpipe" : "pocl");
-    return api + ":" + filter;
+    std::string chosen = value && *value ? value : (api == "vulkan" ? "llvmpipe" : "pocl");
+    return chosen.find(':') != std::string::npos ? chosen : api + ":" + chosen;   // "nvidia" or "vulkan:nvidia"
 }
 
 bool device_present(const std::string& api, const std::string& filter, std::string* reason) {

@@ -26,7 +26,8 @@ std::string error_message(const std::function<void()>& action);
 bool backend_available(const std::string& name, std::string* reason = nullptr);
 
 // The device the OpenCL/Vulkan tests run on: $PRISM_TEST_OPENCL_DEVICE / $PRISM_TEST_VULKAN_DEVICE, by default the
-// software devices CI has ("pocl", "llvmpipe"); the GPU run sets them to "nvidia". Returns e.g. "opencl:pocl".
+// software devices CI has ("pocl", "llvmpipe"); the GPU run sets "opencl:nvidia", "vulkan:nvidia" (a bare filter such
+// as "nvidia" works too). Returns e.g. "opencl:pocl".
 std::string test_device(const std::string& api);
 // Whether `api`'s probe lists a device whose name contains `filter` (case-insensitive); `reason` says why not.
 bool device_present(const std::string& api, const std::string& filter, std::string* reason = nullptr);
