@@ -17,6 +17,13 @@ chmod 700 "$XDG_RUNTIME_DIR"
 tag=${PRISM_TAG:-$(nvidia-smi --query-gpu=name --format=csv,noheader 2>/dev/null | head -1 | tr ' ' '-' | tr -cd 'A-Za-z0-9-')}
 tag=${tag:-gpu}
 prism=$build/apps/prism
+# The Vulkan tests run with the Khronos validation layer; a GPU machine without it gets the Debian build carried
+# along as $build/vklayer/ (libVkLayer_khronos_validation.so.gz + its json).
+if [ -f "$build/vklayer/libVkLayer_khronos_validation.so.gz" ]; then
+  mkdir -p /tmp/prism-vklayer && gunzip -c "$build/vklayer/libVkLayer_khronos_validation.so.gz" \
+    > /tmp/prism-vklayer/libVkLayer_khronos_validation.so && cp "$build/vklayer/"*.json /tmp/prism-vklayer/
+  export VK_LAYER_PATH=/tmp/prism-vklayer
+fi
 step() { echo; echo "== $* ($(date -u +%H:%M:%S))"; }
 
 step info
