@@ -21,7 +21,9 @@ prism=$build/apps/prism
 # along as $build/vklayer/ (libVkLayer_khronos_validation.so.gz + its json).
 if [ -f "$build/vklayer/libVkLayer_khronos_validation.so.gz" ]; then
   mkdir -p /tmp/prism-vklayer && gunzip -c "$build/vklayer/libVkLayer_khronos_validation.so.gz" \
-    > /tmp/prism-vklayer/libVkLayer_khronos_validation.so && cp "$build/vklayer/"*.json /tmp/prism-vklayer/
+    > /tmp/prism-vklayer/libVkLayer_khronos_validation.so
+  sed 's|"library_path": "[^"]*"|"library_path": "/tmp/prism-vklayer/libVkLayer_khronos_validation.so"|' \
+    "$build/vklayer/VkLayer_khronos_validation.json" > /tmp/prism-vklayer/VkLayer_khronos_validation.json
   export VK_LAYER_PATH=/tmp/prism-vklayer
 fi
 step() { echo; echo "== $* ($(date -u +%H:%M:%S))"; }

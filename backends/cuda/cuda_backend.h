@@ -2,6 +2,7 @@
 // around every launch. "cuda" is device 0; "cuda:<index>" or "cuda:<name substring>" picks another.
 #pragma once
 
+#include "core/launch_config.h"
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -16,7 +17,7 @@ namespace cuda {
 // Launch configuration shared by every stage (docs/fairness.md; the OpenCL backend uses the same rule):
 // a fixed grid of kBlocksPerMultiprocessor x SM count blocks of kThreadsPerBlock, grid-stride loops.
 inline constexpr unsigned kThreadsPerBlock = 128;
-inline constexpr unsigned kBlocksPerMultiprocessor = 8;
+inline constexpr unsigned kBlocksPerMultiprocessor = prism::kWorkGroupsPerComputeUnit;
 
 // PRISM_DEVICE_MEMORY_LIMIT: the most bytes the backend may allocate in all (to exercise the out-of-memory
 // path without a full device). Unset: no limit. Throws prism::Error if it is not a plain byte count.
