@@ -51,9 +51,11 @@ RT_FUNC float3 cross(float3 a, float3 b) {
 RT_FUNC float length(float3 a) { return std::sqrt(dot(a, a)); }
 RT_FUNC float3 normalize(float3 a) { return a * (1.0f / std::sqrt(dot(a, a))); }
 
-// Scalar math under one spelling for all four languages.
-#define rt_min(a, b) std::fmin((a), (b))
-#define rt_max(a, b) std::fmax((a), (b))
+// Scalar math under one spelling for all four languages. min/max are plain comparisons (one minss/maxss), not
+// std::fmin/fmax, whose NaN rules cost a library call per use without -ffast-math: the box test calls them 12
+// times per node. The kernels never pass NaN to them (rt_safe_inverse keeps slab tests finite).
+RT_FUNC float rt_min(float a, float b) { return b < a ? b : a; }
+RT_FUNC float rt_max(float a, float b) { return a < b ? b : a; }
 #define rt_abs(a) std::fabs(a)
 #define rt_sqrt(a) std::sqrt(a)
 #define rt_floor(a) std::floor(a)
