@@ -17,7 +17,7 @@ struct LoadOptions {
 Scene load_scene(const std::string& spec, const LoadOptions& options = {});
 
 // Checks what every backend relies on: indices in range, finite positions/normals/UVs, material and texture
-// references valid, at least one non-degenerate triangle. Throws prism::Error naming the file and element.
+// references valid, at least one triangle (degenerate ones are allowed: build_device_scene leaves them out). Throws prism::Error naming the file and element.
 void validate_scene(const Scene& scene);
 
 // Places the camera so the whole scene is in view (used for bare models and scenes without a camera).
