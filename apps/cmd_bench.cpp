@@ -15,6 +15,7 @@
 #include "apps/scene_options.h"
 #include "bench/bench_json.h"
 #include "core/error.h"
+#include "core/image_compare.h"
 #include "core/render_engine.h"
 #ifdef PRISM_HAVE_EMBREE
 #include <embree3/rtcore_config.h>
@@ -73,18 +74,6 @@ struct StageMedians {
 };
 
 double mrays(uint64_t rays, double ms) { return ms > 0.0 ? double(rays) / (ms * 1e3) : 0.0; }
-
-// PSNR (dB) of two RGBA8 images over RGB; +inf (as 999) when identical.
-double psnr(const std::vector<uint32_t>& a, const std::vector<uint32_t>& b) {
-    if (a.size() != b.size() || a.empty()) return 0.0;
-    double squared = 0.0;
-    for (size_t i = 0; i < a.size(); ++i)
-        for (int c = 0; c < 3; ++c) {
-            double d = double((a[i] >> (8 * c)) & 255u) - double((b[i] >> (8 * c)) & 255u);
-            squared += d * d;
-        }
-    return squared == 0.0 ? 999.0 : 10.0 * std::log10(255.0 * 255.0 * 3.0 * double(a.size()) / squared);
-}
 
 // The first backend's frame: the others report how closely they traced the same rays and made the same image.
 struct FirstFrame {
@@ -152,7 +141,7 @@ nlohmann::json bench_frames(RenderEngine& engine, const Scene& scene, const Benc
             {"shadow_mrays_per_s", mrays(shadows, shadow_ms)},
             {"per_depth", per_depth},
             {"max_ray_count_difference_vs_first", ray_difference},
-            {"image_psnr_vs_first_db", psnr(first.image, last.image)},
+            {"image_psnr_vs_first_db", std::min(psnr_rgba8(first.image, last.image), 999.0)},   // 999: identical
             {"image_hash", std::hash<std::string_view>{}(std::string_view(
                                reinterpret_cast<const char*>(last.image.data()), last.image.size() * 4))}};
 }

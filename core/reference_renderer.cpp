@@ -66,12 +66,7 @@ ReferenceRenderer::ReferenceRenderer(const DeviceScene& scene, unsigned threads)
 
 FrameResult ReferenceRenderer::render(const Camera& camera, const RenderSettings& settings,
                                       const std::function<void(double)>& progress) {
-    if (settings.width == 0 || settings.height == 0 || uint64_t(settings.width) * settings.height > (1u << 28))
-        throw Error("image size " + std::to_string(settings.width) + "x" + std::to_string(settings.height) +
-                    " is out of range (1 to 2^28 pixels)");
-    if (settings.max_depth < 1 || settings.max_depth > RT_MAX_DEPTH)
-        throw Error("depth " + std::to_string(settings.max_depth) + " is out of range (1 to " +
-                    std::to_string(RT_MAX_DEPTH) + ")");
+    check_render_settings(settings);
     auto start = std::chrono::steady_clock::now();
     const uint32_t pixels = settings.width * settings.height;
     FrameParams frame = make_frame_params(scene_, camera, settings, 0, 0, 0);

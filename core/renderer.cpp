@@ -26,6 +26,15 @@ uint64_t FrameStats::total_rays() const {
     return total;
 }
 
+void check_render_settings(const RenderSettings& settings) {
+    if (settings.width == 0 || settings.height == 0 || uint64_t(settings.width) * settings.height > (1u << 28))
+        throw Error("image size " + std::to_string(settings.width) + "x" + std::to_string(settings.height) +
+                    " is out of range (1 to 2^28 pixels)");
+    if (settings.max_depth < 1 || settings.max_depth > RT_MAX_DEPTH)
+        throw Error("depth " + std::to_string(settings.max_depth) + " is out of range (1 to " +
+                    std::to_string(RT_MAX_DEPTH) + ")");
+}
+
 FrameParams make_frame_params(const DeviceScene& scene, const Camera& camera, const RenderSettings& settings,
                               uint32_t queue_capacity, uint32_t shadow_capacity, uint32_t flags) {
     glm::vec3 forward = camera.target - camera.position;
@@ -97,12 +106,7 @@ void Renderer::ensure_queues(uint32_t pixels, uint32_t ray_capacity, uint32_t sh
 
 FrameResult Renderer::render(const Camera& camera, const RenderSettings& settings,
                              const std::function<void(uint32_t, uint32_t)>& progress) {
-    if (settings.width == 0 || settings.height == 0 || uint64_t(settings.width) * settings.height > (1u << 28))
-        throw Error("image size " + std::to_string(settings.width) + "x" + std::to_string(settings.height) +
-                    " is out of range (1 to 2^28 pixels)");
-    if (settings.max_depth < 1 || settings.max_depth > RT_MAX_DEPTH)
-        throw Error("depth " + std::to_string(settings.max_depth) + " is out of range (1 to " +
-                    std::to_string(RT_MAX_DEPTH) + ")");
+    check_render_settings(settings);
     const uint32_t pixels = settings.width * settings.height;
     const uint32_t lights = std::max(scene_.light_count, 1u);
     float factor = std::max({settings.queue_factor, learned_queue_factor_, 1.0f});

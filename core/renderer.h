@@ -38,6 +38,9 @@ struct FrameResult {
     FrameStats stats;
 };
 
+// Throws prism::Error for an image size or depth the frame cannot have (shared by every renderer).
+void check_render_settings(const RenderSettings& settings);
+
 // The camera basis and frame constants the kernels read.
 FrameParams make_frame_params(const DeviceScene& scene, const Camera& camera, const RenderSettings& settings,
                               uint32_t queue_capacity, uint32_t shadow_capacity, uint32_t flags);

@@ -3,6 +3,7 @@
 #include "backends/backend_list.h"
 #include "core/backend.h"
 #include "core/error.h"
+#include "core/image_compare.h"
 
 #include <gtest/gtest.h>
 
@@ -95,17 +96,7 @@ void expect_ray_counts_near(const prism::FrameStats& expected, const prism::Fram
     near(expected.shadow_rays_per_depth, actual.shadow_rays_per_depth, "shadow rays");
 }
 
-double psnr_rgba8(const std::vector<uint32_t>& a, const std::vector<uint32_t>& b) {
-    if (a.size() != b.size() || a.empty()) return 0.0;
-    double squared = 0.0;
-    for (size_t i = 0; i < a.size(); ++i)
-        for (int c = 0; c < 3; ++c) {
-            double d = double((a[i] >> (8 * c)) & 255u) - double((b[i] >> (8 * c)) & 255u);
-            squared += d * d;
-        }
-    double mse = squared / (3.0 * double(a.size()));
-    return mse == 0.0 ? std::numeric_limits<double>::infinity() : 10.0 * std::log10(255.0 * 255.0 / mse);
-}
+double psnr_rgba8(const std::vector<uint32_t>& a, const std::vector<uint32_t>& b) { return prism::psnr_rgba8(a, b); }
 
 CommandResult run_prism(const std::string& arguments, const std::string& launcher) {
     CommandResult result;
