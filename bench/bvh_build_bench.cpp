@@ -21,14 +21,9 @@
 #include "bench/bench_json.h"
 #include "core/bvh.h"
 #include "core/error.h"
+#include "core/load_obj.h"
 #include "core/load_ply.h"
 #include "core/scene.h"
-
-// The OBJ loader lands on another branch; until it does, the conference scene is skipped (and named as skipped).
-#if __has_include("core/load_obj.cpp")
-#include "core/load_obj.h"
-#define PRISM_BENCH_HAVE_OBJ 1
-#endif
 
 namespace {
 
@@ -71,12 +66,10 @@ std::vector<Aabb> load_triangle_bounds(const fs::path& path) {
     if (name.ends_with(".ply") || name.ends_with(".ply.gz")) {
         append_bounds(prism::load_ply(path), glm::mat4(1.0f), bounds);
     } else if (name.ends_with(".obj")) {
-#ifdef PRISM_BENCH_HAVE_OBJ
         prism::Scene scene;
         prism::load_obj(path, scene);
         for (const auto& instance : scene.instances)
             append_bounds(scene.meshes[instance.mesh], instance.transform, bounds);
-#endif
     }
     return bounds;
 }
