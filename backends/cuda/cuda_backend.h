@@ -2,6 +2,7 @@
 // around every launch. "cuda" is device 0; "cuda:<index>" or "cuda:<name substring>" picks another.
 #pragma once
 
+#include "core/device_memory_limit.h"
 #include "core/launch_config.h"
 #include <cstddef>
 #include <optional>
@@ -21,7 +22,7 @@ inline constexpr unsigned kBlocksPerMultiprocessor = prism::kWorkGroupsPerComput
 
 // PRISM_DEVICE_MEMORY_LIMIT: the most bytes the backend may allocate in all (to exercise the out-of-memory
 // path without a full device). Unset: no limit. Throws prism::Error if it is not a plain byte count.
-std::optional<size_t> device_memory_limit();
+using prism::device_memory_limit;   // core/device_memory_limit.h, shared with the other backends
 }  // namespace cuda
 
 }  // namespace prism
