@@ -27,7 +27,9 @@ struct Aabb {
 };
 
 enum class BvhMethod { BinnedSah, Median };   // Median: the seed's split (thesis Algorithm 6-1), to reproduce it
-enum class BvhLayout : uint32_t { Stack = RT_BVH_LAYOUT_STACK, Escape = RT_BVH_LAYOUT_ESCAPE };
+// Wide: 4-ary nodes collapsed from the binary tree (kernels/types.h BvhWideNode); `nodes` keeps the binary tree in
+// the stack layout (refit, SAH cost and node decoding work on it).
+enum class BvhLayout : uint32_t { Stack = RT_BVH_LAYOUT_STACK, Escape = RT_BVH_LAYOUT_ESCAPE, Wide = RT_BVH_LAYOUT_WIDE };
 
 struct BvhBuildOptions {
     BvhMethod method = BvhMethod::BinnedSah;
@@ -40,7 +42,8 @@ struct BvhBuildOptions {
 };
 
 struct Bvh {
-    std::vector<BvhNode> nodes;              // node 0 is the root; see kernels/types.h for both layouts
+    std::vector<BvhNode> nodes;              // node 0 is the root; see kernels/types.h for the layouts
+    std::vector<BvhWideNode> wide_nodes;     // the wide layout only: node 0 is the root
     std::vector<uint32_t> primitive_order;   // leaf ranges index this; it maps to the caller's primitive indices
     BvhLayout layout = BvhLayout::Stack;
     float sah_cost = 0.0f;                   // expected cost of a random ray that hits the root box
@@ -68,7 +71,7 @@ BvhNodeView decode_bvh_node(const Bvh& bvh, uint32_t index);
 // Deterministic: the same input and options give the same nodes for any thread count.
 Bvh build_bvh(std::span<const Aabb> primitive_bounds, const BvhBuildOptions& options);
 
-// Recomputes every node box from new primitive bounds keeping the topology (dynamic rigid scenes: the top level
+// Recomputes every node box (wide nodes too) from new primitive bounds keeping the topology (dynamic rigid scenes: the top level
 // is refit when instances move; rebuild when the quality drops). Primitives left out at build time stay out
 // (rebuild if one becomes non-empty); one that becomes empty or non-finite contributes nothing. Updates sah_cost.
 // Throws prism::Error when primitive_bounds is not as long as the input the BVH was built from.
@@ -78,5 +81,31 @@ void refit_bvh(Bvh& bvh, std::span<const Aabb> primitive_bounds);
 float sah_cost(const Bvh& bvh, const BvhBuildOptions& options);
 
 Aabb node_bounds(const BvhNode& node);
+
+// ---- The wide layout (core/bvh_wide.cpp) ----
+// Collapses a binary BVH in the stack layout: each wide node takes a binary node's two children and opens the
+// interior child with the largest surface area until it has RT_BVH_WIDTH (8) children (or only leaves). A parent
+// precedes its children; unused lanes hold the empty box and child 0. A single-node tree becomes one wide node with
+// the leaf in lane 0 (or, for the empty tree, no lane used). Leaves must hold at most RT_WIDE_LEAF_MAX primitives.
+std::vector<BvhWideNode> collapse_bvh_wide(const std::vector<BvhNode>& stack_nodes);
+// Refits the boxes of collapsed nodes in place (leaf ranges index primitive_order, as in the binary tree).
+void refit_bvh_wide(std::vector<BvhWideNode>& wide, const std::vector<uint32_t>& primitive_order,
+                    std::span<const Aabb> primitive_bounds);
+// The most entries a wide traversal (kernels/traverse.h) can hold on its stack below `root`: each node on a path
+// leaves at most (its children - 1) behind.
+uint32_t wide_stack_bound(const std::vector<BvhWideNode>& wide, uint32_t root);
+
+// One lane (child) of a wide node.
+BvhWideNode empty_wide_node();
+void set_wide_lane_box(BvhWideNode& node, uint32_t lane, const Aabb& box);
+Aabb wide_lane_bounds(const BvhWideNode& node, uint32_t lane);
+uint32_t wide_lane_ref(const BvhWideNode& node, uint32_t lane);     // as stored: node index or leaf reference
+bool wide_lane_used(const BvhWideNode& node, uint32_t lane);
+bool wide_lane_leaf(const BvhWideNode& node, uint32_t lane);
+uint32_t wide_lane_first(const BvhWideNode& node, uint32_t lane);   // a leaf's first primitive
+uint32_t wide_lane_count(const BvhWideNode& node, uint32_t lane);   // a leaf's primitive count
+void set_wide_lane_node(BvhWideNode& node, uint32_t lane, uint32_t index);
+// Throws prism::Error for a count outside 1..RT_WIDE_LEAF_MAX or first at or above RT_WIDE_FIRST_LIMIT.
+void set_wide_lane_leaf(BvhWideNode& node, uint32_t lane, uint32_t first, uint32_t count);
 
 }  // namespace prism

@@ -113,6 +113,10 @@ public:
         : options_(options), tree_(tree), budget_(threads - 1) {
         max_leaf_ = options.max_leaf_size;
         if (options.layout == BvhLayout::Escape) max_leaf_ = std::min<uint32_t>(max_leaf_, 255u);
+        // The wide layout packs a leaf's count in 3 bits and tests its primitives four at a time: its SAH counts
+        // blocks of four (as Embree does).
+        if (options.layout == BvhLayout::Wide) max_leaf_ = std::min<uint32_t>(max_leaf_, RT_WIDE_LEAF_MAX);
+        leaf_block_ = options.layout == BvhLayout::Wide ? 4u : 1u;
         for (uint32_t i = 0; i < bounds.size(); ++i)
             if (bvh_usable_bounds(bounds[i])) references_.push_back({bounds[i].lower, i, bounds[i].upper, 0});
     }
@@ -197,6 +201,8 @@ private:
         return &node;
     }
 
+    float blocks(uint32_t count) const { return float((count + leaf_block_ - 1) / leaf_block_); }
+
     // Decides leaf or split; on a split, partitions the references and fills both child tasks.
     bool split(const Task& task, Task& left, Task& right) {
         uint32_t count = task.end - task.begin;
@@ -209,7 +215,7 @@ private:
             // Small enough for a leaf: split only where the SAH says it pays.
             if (best.axis < 0) return false;
             float area = task.bounds.box.half_area();
-            float leaf_cost = options_.intersection_cost * area * float(count);
+            float leaf_cost = options_.intersection_cost * area * blocks(count);
             float split_cost = options_.traversal_cost * area + options_.intersection_cost * best.cost;
             if (leaf_cost <= split_cost) return false;
         }
@@ -303,7 +309,7 @@ private:
             for (uint32_t i = bin_count; i-- > 1;) {
                 if (axis_bins[i].count != 0) {
                     sum.grow(axis_bins[i]);
-                    right_cost = sum.box.half_area() * float(sum.count);
+                    right_cost = sum.box.half_area() * blocks(sum.count);
                 }
                 right_costs[i] = sum.count ? right_cost : -1.0f;
             }
@@ -312,7 +318,7 @@ private:
                 if (axis_bins[i].count == 0) continue;
                 left.grow(axis_bins[i]);
                 if (right_costs[i + 1] < 0.0f) continue;
-                float cost = left.box.half_area() * float(left.count) + right_costs[i + 1];
+                float cost = left.box.half_area() * blocks(left.count) + right_costs[i + 1];
                 if (cost < best.cost) best = {axis, i, cost};
             }
         }
@@ -343,6 +349,7 @@ private:
     std::mutex arenas_mutex_;
     std::atomic<uint32_t> node_count_{0};
     std::atomic<uint32_t> depth_{0};
+    uint32_t leaf_block_ = 1;
 };
 
 int resolve_threads(uint32_t requested) {
@@ -387,7 +394,8 @@ Bvh build_bvh(std::span<const Aabb> primitive_bounds, const BvhBuildOptions& opt
     auto start = std::chrono::steady_clock::now();
     BvhTree tree = build_bvh_tree(primitive_bounds, options);
     Bvh bvh;
-    bvh.nodes = flatten_bvh_tree(tree, options.layout);
+    bvh.nodes = flatten_bvh_tree(tree, options.layout == BvhLayout::Wide ? BvhLayout::Stack : options.layout);
+    if (options.layout == BvhLayout::Wide) bvh.wide_nodes = collapse_bvh_wide(bvh.nodes);
     bvh.primitive_order = std::move(tree.primitive_order);
     bvh.layout = options.layout;
     bvh.options = options;

@@ -20,7 +20,7 @@ BvhNodeView decode_bvh_node(const Bvh& bvh, uint32_t index) {
     uint32_t lower_w = std::bit_cast<uint32_t>(node.lower.w);
     uint32_t upper_w = std::bit_cast<uint32_t>(node.upper.w);
     BvhNodeView view;
-    if (bvh.layout == BvhLayout::Stack) {
+    if (bvh.layout != BvhLayout::Escape) {   // the wide layout keeps its binary tree in the stack layout
         // The empty BVH's single node has count 0 yet is a leaf: it is the only node without children.
         view.leaf = upper_w != 0 || bvh.nodes.size() == 1;
         if (view.leaf) {
@@ -64,6 +64,7 @@ void refit_bvh(Bvh& bvh, std::span<const Aabb> primitive_bounds) {
         }
         set_node_box(bvh.nodes[index], box);
     }
+    if (bvh.layout == BvhLayout::Wide) refit_bvh_wide(bvh.wide_nodes, bvh.primitive_order, primitive_bounds);
     bvh.sah_cost = sah_cost(bvh, bvh.options);
 }
 

@@ -1,9 +1,11 @@
 #include "core/device_scene.h"
 
+#include <algorithm>
 #include <bit>
 #include <chrono>
 #include <cmath>
 
+#include "core/bvh_tree.h"
 #include "core/error.h"
 
 namespace prism {
@@ -26,7 +28,7 @@ void rebase_nodes(std::vector<BvhNode>& nodes, BvhLayout layout, uint32_t node_o
     for (BvhNode& node : nodes) {
         uint32_t lower_w = as_uint(node.lower.w);
         uint32_t upper_w = as_uint(node.upper.w);
-        if (layout == BvhLayout::Stack) {
+        if (layout != BvhLayout::Escape) {
             bool leaf = upper_w != 0;
             node.lower.w = as_float(lower_w + (leaf ? primitive_offset : node_offset));
         } else {
@@ -48,7 +50,7 @@ std::vector<BvhNode> top_level_device_nodes(const Bvh& bvh) {
     std::vector<BvhNode> nodes = bvh.nodes;
     for (BvhNode& node : nodes) {
         uint32_t upper_w = as_uint(node.upper.w);
-        if (bvh.layout == BvhLayout::Stack) {
+        if (bvh.layout != BvhLayout::Escape) {
             if (upper_w == 0) continue;
             if (upper_w != 1) throw Error("internal: top-level BVH leaf with more than one instance");
             node.lower.w = as_float(bvh.primitive_order[as_uint(node.lower.w)]);
@@ -62,6 +64,62 @@ std::vector<BvhNode> top_level_device_nodes(const Bvh& bvh) {
     }
     return nodes;
 }
+
+// Wide nodes of a separately built mesh BVH moved to where they land in `wide_nodes`.
+void rebase_wide_nodes(std::vector<BvhWideNode>& nodes, uint32_t node_offset, uint32_t primitive_offset) {
+    for (BvhWideNode& node : nodes)
+        for (uint32_t k = 0; k < RT_BVH_WIDTH; ++k) {
+            if (!wide_lane_used(node, k)) continue;
+            if (wide_lane_leaf(node, k))
+                set_wide_lane_leaf(node, k, wide_lane_first(node, k) + primitive_offset, wide_lane_count(node, k));
+            else
+                set_wide_lane_node(node, k, wide_lane_ref(node, k) + node_offset);
+        }
+}
+
+// A mesh's wide leaves moved from triangle ranges (slots in `triangles`) to blocks of four appended to `blocks`.
+void block_wide_leaves(std::vector<BvhWideNode>& nodes, const std::vector<TriangleGeometry>& triangles,
+                       std::vector<TriangleBlock>& blocks) {
+    auto lane = [](auto& v, uint32_t k) -> auto& { return k == 0 ? v.x : k == 1 ? v.y : k == 2 ? v.z : v.w; };
+    for (BvhWideNode& node : nodes)
+        for (uint32_t k = 0; k < RT_BVH_WIDTH; ++k) {
+            if (!wide_lane_leaf(node, k)) continue;
+            uint32_t first = wide_lane_first(node, k), count = wide_lane_count(node, k);
+            uint32_t first_block = uint32_t(blocks.size());
+            for (uint32_t i = 0; i < count; i += 4) {
+                TriangleBlock block{};   // unused lanes: zero edges, never hit
+                block.slot = block.primitive = uint4{~0u, ~0u, ~0u, ~0u};
+                for (uint32_t l = 0; l < 4 && i + l < count; ++l) {
+                    const TriangleGeometry& t = triangles[first + i + l];
+                    lane(block.v0x, l) = t.v0.x, lane(block.v0y, l) = t.v0.y, lane(block.v0z, l) = t.v0.z;
+                    lane(block.e1x, l) = t.e1.x, lane(block.e1y, l) = t.e1.y, lane(block.e1z, l) = t.e1.z;
+                    lane(block.e2x, l) = t.e2.x, lane(block.e2y, l) = t.e2.y, lane(block.e2z, l) = t.e2.z;
+                    lane(block.slot, l) = first + i + l;
+                    lane(block.primitive, l) = std::bit_cast<uint32_t>(t.v0.w);
+                }
+                blocks.push_back(block);
+            }
+            set_wide_lane_leaf(node, k, first_block, count);
+        }
+}
+
+// The top level in the wide layout: leaves name the instance itself, and the nodes are padded to `capacity` (the
+// most any top level over these instances can need), so a rebuild never moves the mesh BVHs behind it.
+std::vector<BvhWideNode> top_level_wide_device_nodes(const Bvh& bvh, size_t capacity) {
+    std::vector<BvhWideNode> nodes = bvh.wide_nodes;
+    if (nodes.size() > capacity) throw Error("internal: wide top level larger than its capacity");
+    for (BvhWideNode& node : nodes)
+        for (uint32_t k = 0; k < RT_BVH_WIDTH; ++k) {
+            if (!wide_lane_leaf(node, k)) continue;
+            if (wide_lane_count(node, k) != 1) throw Error("internal: top-level BVH leaf with more than one instance");
+            set_wide_lane_leaf(node, k, bvh.primitive_order[wide_lane_first(node, k)], 1);
+        }
+    nodes.resize(capacity, empty_wide_node());
+    return nodes;
+}
+
+// A 4-ary tree over n leaves, each node with at least two children (or one node for n = 1), has at most n - 1.
+size_t wide_top_level_capacity(size_t instances) { return instances > 1 ? instances - 1 : 1; }
 
 Aabb transformed_bounds(const Aabb& box, const glm::mat4& m) {
     Aabb out;
@@ -85,7 +143,10 @@ Aabb transformed_bounds(const Aabb& box, const glm::mat4& m) {
     out.object_to_world0 = row(transform, 0);
     out.object_to_world1 = row(transform, 1);
     out.object_to_world2 = row(transform, 2);
-    out.info = uint4{root, first_triangle, first_shading, glm::determinant(glm::mat3(transform)) < 0.0f ? 1u : 0u};
+    bool identity = inverse == glm::mat4(1.0f);
+    out.info = uint4{root, first_triangle, first_shading,
+                     (glm::determinant(glm::mat3(transform)) < 0.0f ? RT_INSTANCE_MIRRORED : 0u) |
+                         (identity ? RT_INSTANCE_IDENTITY : 0u)};
     return out;
 }
 
@@ -118,8 +179,9 @@ void build_top_level(DeviceScene& device, const std::vector<glm::mat4>& transfor
 }  // namespace
 
 size_t DeviceScene::byte_size() const {
-    return nodes.size() * sizeof(BvhNode) + instances.size() * sizeof(::Instance) +
-           triangles.size() * sizeof(TriangleGeometry) + triangle_shading.size() * sizeof(TriangleShading) +
+    return nodes.size() * sizeof(BvhNode) + wide_nodes.size() * sizeof(BvhWideNode) + instances.size() * sizeof(::Instance) +
+           triangles.size() * sizeof(TriangleGeometry) + triangle_blocks.size() * sizeof(TriangleBlock) +
+           triangle_shading.size() * sizeof(TriangleShading) +
            vertices.size() * sizeof(Vertex) + materials.size() * sizeof(::Material) +
            texture_layers.size() * sizeof(::TextureLayer) + texture_infos.size() * sizeof(TextureInfo) +
            texels.size() * sizeof(uint32_t) + lights.size() * sizeof(::Light);
@@ -200,15 +262,43 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
     if (kept.size() != scene.instances.size())
         throw Error(scene.source + ": an instance's mesh has only degenerate triangles");   // keeps instance ids = scene ids
     build_top_level(device, transforms, true);
-    device.top_level_nodes = device.top_level.nodes.size();
-
-    device.nodes = top_level_device_nodes(device.top_level);
-    for (size_t m = 0; m < placements.size(); ++m) {
-        MeshPlacement& placement = placements[m];
-        uint32_t node_offset = static_cast<uint32_t>(device.nodes.size());
-        rebase_nodes(placement.bvh.nodes, options.layout, node_offset, placement.first_triangle);
-        device.nodes.insert(device.nodes.end(), placement.bvh.nodes.begin(), placement.bvh.nodes.end());
-        placement.first_vertex = node_offset;   // reused below as the mesh's root node index
+    // The layout's node array holds the top level first, then each mesh's BVH; the other array gets one unused
+    // node (GPU APIs dislike empty buffers).
+    if (options.layout == BvhLayout::Wide) {
+        device.top_level_nodes = wide_top_level_capacity(scene.instances.size());
+        device.wide_nodes = top_level_wide_device_nodes(device.top_level, device.top_level_nodes);
+        for (size_t m = 0; m < placements.size(); ++m) {
+            MeshPlacement& placement = placements[m];
+            uint32_t node_offset = static_cast<uint32_t>(device.wide_nodes.size());
+            rebase_wide_nodes(placement.bvh.wide_nodes, node_offset, placement.first_triangle);
+            block_wide_leaves(placement.bvh.wide_nodes, device.triangles, device.triangle_blocks);
+            device.wide_nodes.insert(device.wide_nodes.end(), placement.bvh.wide_nodes.begin(),
+                                     placement.bvh.wide_nodes.end());
+            placement.first_vertex = node_offset;   // reused below as the mesh's root node index
+        }
+        // The traversal's fixed stack must hold the deepest path: the top level's, the leave marker, a mesh's.
+        uint32_t mesh_bound = 0;
+        for (const prism::Instance& instance : scene.instances)
+            mesh_bound = std::max(mesh_bound, wide_stack_bound(device.wide_nodes, placements[instance.mesh].first_vertex));
+        uint32_t bound = wide_stack_bound(device.wide_nodes, 0) + 1 + mesh_bound;
+        if (bound > RT_BVH_WIDE_STACK_SIZE)
+            throw Error(scene.source + ": the wide BVH needs " + std::to_string(bound) + " traversal stack entries, more than " +
+                        std::to_string(RT_BVH_WIDE_STACK_SIZE) + " (use the stack layout)");
+        BvhNode unused{};
+        set_node_box(unused, Aabb{});
+        device.nodes.assign(1, unused);
+    } else {
+        device.top_level_nodes = device.top_level.nodes.size();
+        device.nodes = top_level_device_nodes(device.top_level);
+        for (size_t m = 0; m < placements.size(); ++m) {
+            MeshPlacement& placement = placements[m];
+            uint32_t node_offset = static_cast<uint32_t>(device.nodes.size());
+            rebase_nodes(placement.bvh.nodes, options.layout, node_offset, placement.first_triangle);
+            device.nodes.insert(device.nodes.end(), placement.bvh.nodes.begin(), placement.bvh.nodes.end());
+            placement.first_vertex = node_offset;   // reused below as the mesh's root node index
+        }
+        device.wide_nodes.assign(1, empty_wide_node());
+        device.triangle_blocks.assign(1, TriangleBlock{});
     }
     for (size_t i = 0; i < scene.instances.size(); ++i) {
         const MeshPlacement& placement = placements[scene.instances[i].mesh];
@@ -271,6 +361,11 @@ void update_instance_transforms(DeviceScene& device, const std::vector<glm::mat4
         device.instances[i] = device_instance(transforms[i], info.x, info.y, info.z);
     }
     build_top_level(device, transforms, rebuild);
+    if (device.bvh_options.layout == BvhLayout::Wide) {
+        std::vector<BvhWideNode> top = top_level_wide_device_nodes(device.top_level, device.top_level_nodes);
+        std::copy(top.begin(), top.end(), device.wide_nodes.begin());
+        return;
+    }
     if (device.top_level.nodes.size() != device.top_level_nodes)
         throw Error("internal: top-level BVH changed size on update");
     std::vector<BvhNode> top = top_level_device_nodes(device.top_level);

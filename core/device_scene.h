@@ -12,9 +12,11 @@
 namespace prism {
 
 struct DeviceScene {
-    std::vector<BvhNode> nodes;   // top level first (root 0), then each mesh's BVH
+    std::vector<BvhNode> nodes;   // top level first (root 0), then each mesh's BVH; one unused node in the wide layout
+    std::vector<BvhWideNode> wide_nodes;   // the wide layout's nodes, arranged the same way; else one unused node
     std::vector<::Instance> instances;
     std::vector<TriangleGeometry> triangles;
+    std::vector<TriangleBlock> triangle_blocks;   // the wide layout's leaves (kernels/types.h); else one unused block
     std::vector<TriangleShading> triangle_shading;
     std::vector<Vertex> vertices;
     std::vector<::Material> materials;
@@ -33,7 +35,7 @@ struct DeviceScene {
     // For `prism info` and the benchmarks.
     size_t traced_triangles = 0;        // over instances, degenerate ones excluded
     size_t degenerate_triangles = 0;    // over meshes
-    size_t top_level_nodes = 0;
+    size_t top_level_nodes = 0;         // entries of the top level at the start of nodes (wide_nodes in the wide layout)
     float sah_cost = 0.0f;              // triangle-weighted mean SAH cost of the mesh BVHs
     double bvh_build_ms = 0.0;
 
@@ -49,7 +51,7 @@ struct DeviceScene {
 DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& options = {});
 
 // New instance transforms (same instances, same meshes): refits the top level, or rebuilds it when `rebuild`.
-// Only `instances` and the first `top_level_nodes` entries of `nodes` change.
+// Only `instances` and the first `top_level_nodes` entries of `nodes` (`wide_nodes` in the wide layout) change.
 void update_instance_transforms(DeviceScene& device, const std::vector<glm::mat4>& transforms, bool rebuild);
 
 }  // namespace prism

@@ -15,8 +15,10 @@ KernelGlobals host_globals(const DeviceScene& scene, FrameParams* frame, uint32_
                            float4* radiance) {
     KernelGlobals kg{};
     kg.nodes = const_cast<BvhNode*>(scene.nodes.data());
+    kg.wide_nodes = const_cast<BvhWideNode*>(scene.wide_nodes.data());
     kg.instances = const_cast<::Instance*>(scene.instances.data());
     kg.triangles = const_cast<TriangleGeometry*>(scene.triangles.data());
+    kg.triangle_blocks = const_cast<TriangleBlock*>(scene.triangle_blocks.data());
     kg.triangle_shading = const_cast<TriangleShading*>(scene.triangle_shading.data());
     kg.vertices = const_cast<Vertex*>(scene.vertices.data());
     kg.materials = const_cast<::Material*>(scene.materials.data());

@@ -57,6 +57,7 @@ FrameParams make_frame_params(const DeviceScene& scene, const Camera& camera, co
     p.size = uint4{settings.width, settings.height, std::min(settings.max_depth, RT_MAX_DEPTH), scene.light_count};
     p.env = uint4{static_cast<uint32_t>(scene.environment_kind), scene.environment_texture, queue_capacity,
                   shadow_capacity};
+    if (scene.instances.size() == 1 && scene.top_level.primitive_order.size() == 1) flags |= RT_FLAG_ONE_INSTANCE;
     p.scene = uint4{static_cast<uint32_t>(scene.instances.size()), static_cast<uint32_t>(scene.bvh_options.layout),
                     flags, 0};
     return p;
@@ -70,8 +71,10 @@ Renderer::Renderer(Backend& backend, const DeviceScene& scene) : backend_(backen
 
 void Renderer::upload_scene() {
     upload(backend_, DeviceArray::nodes, scene_.nodes);
+    upload(backend_, DeviceArray::wide_nodes, scene_.wide_nodes);
     upload(backend_, DeviceArray::instances, scene_.instances);
     upload(backend_, DeviceArray::triangles, scene_.triangles);
+    upload(backend_, DeviceArray::triangle_blocks, scene_.triangle_blocks);
     upload(backend_, DeviceArray::triangle_shading, scene_.triangle_shading);
     upload(backend_, DeviceArray::vertices, scene_.vertices);
     upload(backend_, DeviceArray::materials, scene_.materials);
@@ -83,7 +86,10 @@ void Renderer::upload_scene() {
 
 void Renderer::update_instances(const DeviceScene& scene) {
     backend_.write(DeviceArray::instances, scene.instances.data(), scene.instances.size() * sizeof(::Instance));
-    backend_.write(DeviceArray::nodes, scene.nodes.data(), scene.top_level_nodes * sizeof(BvhNode));
+    if (scene.bvh_options.layout == BvhLayout::Wide)
+        backend_.write(DeviceArray::wide_nodes, scene.wide_nodes.data(), scene.top_level_nodes * sizeof(BvhWideNode));
+    else
+        backend_.write(DeviceArray::nodes, scene.nodes.data(), scene.top_level_nodes * sizeof(BvhNode));
 }
 
 void Renderer::ensure_queues(uint32_t pixels, uint32_t ray_capacity, uint32_t shadow_capacity) {

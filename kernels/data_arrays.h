@@ -22,3 +22,5 @@ RT_DATA_ARRAY(14, uint, counters, rw)
 RT_DATA_ARRAY(15, uint, accum, rw)
 RT_DATA_ARRAY(16, uint, image, rw)
 RT_DATA_ARRAY(17, float4, radiance, rw)
+RT_DATA_ARRAY(18, BvhWideNode, wide_nodes, ro)         // the wide layout's nodes (top level first); else one unused
+RT_DATA_ARRAY(19, TriangleBlock, triangle_blocks, ro)  // the wide layout's leaf triangles; else one unused block

@@ -21,6 +21,46 @@ RT_FUNC float rt_intersect_node(BvhNode node, float3 origin, float3 inv_dir, flo
     return rt_intersect_box(rt_xyz(node.lower), rt_xyz(node.upper), origin, inv_dir, tmin, tmax);
 }
 
+// The eight children of a wide node at once: the slab test of rt_intersect_box lane by lane. The ray's direction
+// signs pick each axis' near and far planes (as min/max would: the distances are the same), so an unused lane (a
+// box at +inf on every axis) gets an entry distance of +inf or an exit of -inf. tmax must be finite (at most
+// RT_FLT_MAX): an entry at +inf is a miss, as in the stack layout. Mask bit k: child k is entered within
+// [tmin, tmax]; lane k of t: its entry distance.
+RT_STRUCT_BEGIN(WideBoxHits)
+    rt_float8 t;
+    uint mask;
+RT_STRUCT_END(WideBoxHits)
+
+RT_FUNC WideBoxHits rt_intersect_wide_node(BvhWideNode node, float3 origin, float3 inv_dir, float tmin, float tmax) {
+    rt_float8 ox = rt_splat8(origin.x);
+    rt_float8 oy = rt_splat8(origin.y);
+    rt_float8 oz = rt_splat8(origin.z);
+    rt_float8 ix = rt_splat8(inv_dir.x);
+    rt_float8 iy = rt_splat8(inv_dir.y);
+    rt_float8 iz = rt_splat8(inv_dir.z);
+    // Chosen per axis with a branch the CPU predicts (one ray keeps its signs); a blend of both planes was slower.
+    bool x_forward = inv_dir.x >= 0.0f;
+    bool y_forward = inv_dir.y >= 0.0f;
+    bool z_forward = inv_dir.z >= 0.0f;
+    rt_float8 near_x = rt_mul8(rt_sub8(x_forward ? rt_make8(node.lower_x0, node.lower_x1)
+                                                 : rt_make8(node.upper_x0, node.upper_x1), ox), ix);
+    rt_float8 far_x = rt_mul8(rt_sub8(x_forward ? rt_make8(node.upper_x0, node.upper_x1)
+                                                : rt_make8(node.lower_x0, node.lower_x1), ox), ix);
+    rt_float8 near_y = rt_mul8(rt_sub8(y_forward ? rt_make8(node.lower_y0, node.lower_y1)
+                                                 : rt_make8(node.upper_y0, node.upper_y1), oy), iy);
+    rt_float8 far_y = rt_mul8(rt_sub8(y_forward ? rt_make8(node.upper_y0, node.upper_y1)
+                                                : rt_make8(node.lower_y0, node.lower_y1), oy), iy);
+    rt_float8 near_z = rt_mul8(rt_sub8(z_forward ? rt_make8(node.lower_z0, node.lower_z1)
+                                                 : rt_make8(node.upper_z0, node.upper_z1), oz), iz);
+    rt_float8 far_z = rt_mul8(rt_sub8(z_forward ? rt_make8(node.upper_z0, node.upper_z1)
+                                                : rt_make8(node.lower_z0, node.lower_z1), oz), iz);
+    WideBoxHits hits;
+    hits.t = rt_max8(rt_max8(near_x, near_y), rt_max8(near_z, rt_splat8(tmin)));
+    rt_float8 t_far = rt_min8(rt_min8(far_x, far_y), rt_min8(far_z, rt_splat8(tmax)));
+    hits.mask = rt_mask_le8(hits.t, t_far);
+    return hits;
+}
+
 // Returns (t, u, v, 1) for a hit with tmin < t < tmax, else (+inf, 0, 0, 0). u and v weight the second and
 // third vertex. Two-sided: no culling (glass is seen from both sides).
 RT_FUNC float4 rt_intersect_triangle(TriangleGeometry tri, float3 origin, float3 dir, float tmin, float tmax) {
@@ -40,6 +80,46 @@ RT_FUNC float4 rt_intersect_triangle(TriangleGeometry tri, float3 origin, float3
     float t = dot(e2, q) * inv_det;
     if (!(t > tmin && t < tmax)) return miss;
     return make_float4(t, u, v, 1.0f);
+}
+
+RT_STRUCT_BEGIN(TriangleHits4)
+    float4 t;
+    float4 u;
+    float4 v;
+    uint mask;   // bit k: triangle k is hit with tmin < t < tmax
+RT_STRUCT_END(TriangleHits4)
+
+// The four triangles of a block at once: rt_intersect_triangle lane by lane, the same operations in the same
+// order, so each lane's t, u, v and verdict are the scalar test's (no FMA contraction on the cpu backend).
+RT_FUNC TriangleHits4 rt_intersect_triangles4(TriangleBlock tri, float3 origin, float3 dir, float tmin, float tmax) {
+    float4 dx = rt_splat4(dir.x);
+    float4 dy = rt_splat4(dir.y);
+    float4 dz = rt_splat4(dir.z);
+    float4 zero = rt_splat4(0.0f);
+    float4 one = rt_splat4(1.0f);
+    // p = cross(dir, e2), det = dot(e1, p)
+    float4 px = dy * tri.e2z - dz * tri.e2y;
+    float4 py = dz * tri.e2x - dx * tri.e2z;
+    float4 pz = dx * tri.e2y - dy * tri.e2x;
+    float4 det = tri.e1x * px + tri.e1y * py + tri.e1z * pz;
+    float4 inv_det = one / det;
+    // s = origin - v0, u = dot(s, p) / det
+    float4 sx = rt_splat4(origin.x) - tri.v0x;
+    float4 sy = rt_splat4(origin.y) - tri.v0y;
+    float4 sz = rt_splat4(origin.z) - tri.v0z;
+    TriangleHits4 hits;
+    hits.u = (sx * px + sy * py + sz * pz) * inv_det;
+    // q = cross(s, e1), v = dot(dir, q) / det, t = dot(e2, q) / det
+    float4 qx = sy * tri.e1z - sz * tri.e1y;
+    float4 qy = sz * tri.e1x - sx * tri.e1z;
+    float4 qz = sx * tri.e1y - sy * tri.e1x;
+    hits.v = (dx * qx + dy * qy + dz * qz) * inv_det;
+    hits.t = (tri.e2x * qx + tri.e2y * qy + tri.e2z * qz) * inv_det;
+    uint nonzero = rt_mask_lt4(det, zero) | rt_mask_lt4(zero, det);
+    uint inside = rt_mask_le4(zero, hits.u) & rt_mask_le4(hits.u, one) & rt_mask_le4(zero, hits.v) &
+                  rt_mask_le4(hits.u + hits.v, one);
+    hits.mask = nonzero & inside & rt_mask_lt4(rt_splat4(tmin), hits.t) & rt_mask_lt4(hits.t, rt_splat4(tmax));
+    return hits;
 }
 
 #endif

@@ -7,10 +7,12 @@
 
 #define RT_PI 3.14159265358979f
 #define RT_NONE 0xffffffffu
+#define RT_FLT_MAX 3.402823466e+38f
 
 RT_FUNC float3 rt_xyz(float4 v) { return make_float3(v.x, v.y, v.z); }
 RT_FUNC float4 rt_float4(float3 v, float w) { return make_float4(v.x, v.y, v.z, w); }
 RT_FUNC float3 rt_splat3(float s) { return make_float3(s, s, s); }
+RT_FUNC float4 rt_splat4(float s) { return make_float4(s, s, s, s); }
 RT_FUNC float rt_max3(float3 v) { return rt_max(v.x, rt_max(v.y, v.z)); }
 RT_FUNC float rt_clamp01(float x) { return rt_min(rt_max(x, 0.0f), 1.0f); }
 RT_FUNC float3 rt_lerp3(float3 a, float3 b, float t) { return a * (1.0f - t) + b * t; }

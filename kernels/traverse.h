@@ -1,7 +1,9 @@
 // Two-level BVH traversal (thesis 6.2: a top-level BVH over instances, each leaf an instance whose mesh BVH is
 // entered with the ray moved into object space, Algorithm 6-3). One loop walks both levels, because GLSL forbids
-// recursion and a nested loop would double the stack. Two node layouts (kernels/types.h): a stack traversal that
-// visits the nearer child first, and the seed's stackless escape-index walk (thesis 6.4.1).
+// recursion and a nested loop would double the stack. Three node layouts (kernels/types.h): a stack traversal that
+// visits the nearer child first, the seed's stackless escape-index walk (thesis 6.4.1), and 8-wide nodes whose
+// children are tested together, with leaves of four-triangle blocks (the cpu backends' default: the lanes become
+// AVX or SSE registers).
 #ifndef RT_TRAVERSE_H
 #define RT_TRAVERSE_H
 
@@ -51,6 +53,27 @@ RT_FUNC Hit rt_intersect_leaf(KernelGlobals kg, Hit best, TraversalRay ray, uint
         if (h.x < best.tuv.x) {
             best.tuv = make_float4(h.x, h.y, h.z, 0.0f);
             best.ids = make_uint4(instance, rt_as_uint(tri.v0.w), first + k, 0u);
+        }
+    }
+    return best;
+}
+
+// The wide layout's leaves: rt_intersect_leaf a block of four triangles at a time, with the same per-triangle
+// results and, among equal distances, the same winner (the first triangle).
+RT_FUNC Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, uint instance, uint first, uint count) {
+    for (uint b = 0u; b < (count + 3u) / 4u; ++b) {
+        TriangleBlock block = RT_FETCH(kg, triangle_blocks, first + b);
+        TriangleHits4 hits = rt_intersect_triangles4(block, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w,
+                                                     best.tuv.x);
+        uint mask = hits.mask;
+        while (mask != 0u) {
+            uint k = rt_lowest_bit(mask);
+            mask &= mask - 1u;
+            float t = rt_lane(hits.t, k);
+            if (t < best.tuv.x) {
+                best.tuv = make_float4(t, rt_lane(hits.u, k), rt_lane(hits.v, k), 0.0f);
+                best.ids = make_uint4(instance, rt_lane_u(block.primitive, k), rt_lane_u(block.slot, k), 0u);
+            }
         }
     }
     return best;
@@ -182,8 +205,143 @@ RT_FUNC Hit rt_trace_escape(KernelGlobals kg, float3 origin, float3 direction, f
     return best;
 }
 
+// An instance whose transform is the identity keeps the world ray (and its inverse direction) as it is.
+RT_FUNC TraversalRay rt_wide_ray_to_object(Instance inst, TraversalRay world) {
+    return (inst.info.w & RT_INSTANCE_IDENTITY) != 0u ? world : rt_ray_to_object(inst, world);
+}
+
+// A pushed entry is visited later: start loading its node or its leaf's triangles now.
+RT_FUNC void rt_wide_prefetch(KernelGlobals kg, uint entry) {
+    if ((entry & RT_WIDE_LEAF) == 0u) {
+        RT_PREFETCH(kg, wide_nodes, entry, 1u);
+    } else if (entry != RT_STACK_LEAVE_INSTANCE) {
+        RT_PREFETCH(kg, triangle_blocks, (entry & ~RT_WIDE_LEAF) >> 3u, (entry & 7u) / 4u + 1u);
+    }
+}
+
+RT_FUNC uint rt_wide_child(BvhWideNode node, uint k) { return rt_lane8_u(node.child0, node.child1, k); }
+
+// Wide layout: a node tests its eight children at once and the traversal goes on with the nearest child entered;
+// a second one is pushed, and with three or more all are pushed and sorted, nearest on top (Embree's order). A
+// stack entry is a child reference as the node stores it (a node index, or a leaf with its range); a popped entry
+// beyond the closest hit so far is skipped. At the top level a leaf is an instance: entering it pushes the leave
+// marker, as in the stack layout.
+// A scene whose top level holds one instance starts inside it (frame flag RT_FLAG_ONE_INSTANCE), and an instance
+// with the identity transform keeps the world ray: the traversal then costs what a one-level BVH costs.
+RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit) {
+    Hit best = rt_no_hit();
+    best.tuv.x = tmax;
+    TraversalRay world = rt_traversal_ray(origin, direction, tmin);
+    TraversalRay ray = world;
+    uint instance = RT_NONE;
+    uint stack_node[RT_BVH_WIDE_STACK_SIZE];
+    float stack_t[RT_BVH_WIDE_STACK_SIZE];
+    uint sp = 0u;
+
+    uint current = 0u;
+    if ((RT_FETCH(kg, frame, 0u).scene.z & RT_FLAG_ONE_INSTANCE) != 0u) {
+        // The top level holds one instance: start inside it (its mesh root's boxes are tested anyway).
+        instance = 0u;
+        Instance inst = RT_FETCH(kg, instances, 0u);
+        ray = rt_wide_ray_to_object(inst, world);
+        current = inst.info.x;
+    }
+    bool going = true;
+    while (going) {
+        bool descend = false;
+        if ((current & RT_WIDE_LEAF) == 0u) {
+            BvhWideNode node = RT_FETCH(kg, wide_nodes, current);
+            WideBoxHits hits = rt_intersect_wide_node(node, rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin,
+                                                      rt_min(best.tuv.x, RT_FLT_MAX));
+            uint mask = hits.mask;
+            if (mask != 0u) {
+                uint k0 = rt_lowest_bit(mask);
+                mask &= mask - 1u;
+                uint e0 = rt_wide_child(node, k0);
+                descend = true;
+                if (mask == 0u) {
+                    current = e0;
+                } else {
+                    float t0 = rt_lane8(hits.t, k0);
+                    uint k1 = rt_lowest_bit(mask);
+                    mask &= mask - 1u;
+                    uint e1 = rt_wide_child(node, k1);
+                    float t1 = rt_lane8(hits.t, k1);
+                    if (mask == 0u) {
+                        // Two: go on with the nearer, push the farther.
+                        if (sp < rt_uint(RT_BVH_WIDE_STACK_SIZE)) {
+                            stack_node[sp] = t0 <= t1 ? e1 : e0;
+                            rt_wide_prefetch(kg, stack_node[sp]);
+                            stack_t[sp] = rt_max(t0, t1);
+                            sp += 1u;
+                        }
+                        current = t0 <= t1 ? e0 : e1;
+                    } else {
+                        // Three or more: push all, sorted so the nearest is on top, and take it.
+                        uint first_pushed = sp;
+                        mask |= (1u << k0) | (1u << k1);
+                        while (mask != 0u) {
+                            uint k = rt_lowest_bit(mask);
+                            mask &= mask - 1u;
+                            if (sp >= rt_uint(RT_BVH_WIDE_STACK_SIZE)) continue;
+                            float t = rt_lane8(hits.t, k);
+                            uint slot = sp;
+                            while (slot > first_pushed && stack_t[slot - 1u] < t) {
+                                stack_node[slot] = stack_node[slot - 1u];
+                                stack_t[slot] = stack_t[slot - 1u];
+                                slot -= 1u;
+                            }
+                            stack_node[slot] = rt_wide_child(node, k);
+                            rt_wide_prefetch(kg, stack_node[slot]);
+                            stack_t[slot] = t;
+                            sp += 1u;
+                        }
+                        sp -= 1u;
+                        current = stack_node[sp];
+                    }
+                }
+            }
+        } else {
+            uint first = (current & ~RT_WIDE_LEAF) >> 3u;
+            if (instance == RT_NONE) {
+                // A top-level leaf: enter the instance's mesh BVH in object space (t is preserved).
+                instance = first;
+                Instance inst = RT_FETCH(kg, instances, instance);
+                ray = rt_wide_ray_to_object(inst, world);
+                current = inst.info.x;
+                if (sp < rt_uint(RT_BVH_WIDE_STACK_SIZE)) {
+                    stack_node[sp] = RT_STACK_LEAVE_INSTANCE;
+                    sp += 1u;
+                }
+                descend = true;
+            } else {
+                uint count = (current & 7u) + 1u;
+                best = rt_intersect_blocks(kg, best, ray, instance, first, count);
+                if (any_hit && best.ids.x != RT_NONE) return best;
+            }
+        }
+        if (descend) continue;
+        // Pop the next entry that can still hold a closer hit.
+        going = false;
+        while (sp > 0u && !going) {
+            sp -= 1u;
+            uint popped = stack_node[sp];
+            if (popped == RT_STACK_LEAVE_INSTANCE) {
+                ray = world;
+                instance = RT_NONE;
+            } else if (stack_t[sp] < best.tuv.x) {
+                current = popped;
+                going = true;
+            }
+        }
+    }
+    if (best.ids.x == RT_NONE) best.tuv.x = RT_INFINITY;
+    return best;
+}
+
 RT_FUNC Hit rt_trace(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit) {
     uint bvh_layout = RT_FETCH(kg, frame, 0u).scene.y;
+    if (bvh_layout == RT_BVH_LAYOUT_WIDE) return rt_trace_wide(kg, origin, direction, tmin, tmax, any_hit);
     if (bvh_layout == RT_BVH_LAYOUT_ESCAPE) return rt_trace_escape(kg, origin, direction, tmin, tmax, any_hit);
     return rt_trace_stack(kg, origin, direction, tmin, tmax, any_hit);
 }

@@ -18,8 +18,42 @@ RT_STRUCT_BEGIN(BvhNode)
     float4 upper;
 RT_STRUCT_END(BvhNode)
 
+// Wide layout (the `wide_nodes` array; `nodes` then holds one unused node): 8-ary nodes collapsed from the binary
+// SAH tree, the eight child boxes stored per axis (members ending in 0: lanes 0-3, in 1: lanes 4-7; lane k =
+// child k), so a traversal tests all eight children with vector arithmetic (one AVX register, or two SSE ones, on
+// the cpu backend). Node 0 is the top-level root; a mesh's root is its Instance's info.x.
+//  lower_x0 .. upper_z1: child boxes; an unused (or empty) lane holds +inf in all six, a box the wide slab test
+//                        always rejects (its entry distance is +inf or its exit -inf)
+//  child0/1 lane k: an interior child: its node index; a leaf: RT_WIDE_LEAF | first << 3 | (count - 1), count
+//                   being 1..8 primitives and first the first of them; in the device arrays a mesh leaf's first is
+//                   its first TriangleBlock, a top-level leaf's its instance; unused: 0
+RT_STRUCT_BEGIN(BvhWideNode)
+    float4 lower_x0;
+    float4 lower_x1;
+    float4 upper_x0;
+    float4 upper_x1;
+    float4 lower_y0;
+    float4 lower_y1;
+    float4 upper_y0;
+    float4 upper_y1;
+    float4 lower_z0;
+    float4 lower_z1;
+    float4 upper_z0;
+    float4 upper_z1;
+    uint4 child0;
+    uint4 child1;
+    uint4 unused0;   // pads the node to 256 bytes: four cache lines
+    uint4 unused1;
+RT_STRUCT_END(BvhWideNode)
+
 #define RT_BVH_LAYOUT_STACK 0u
 #define RT_BVH_LAYOUT_ESCAPE 1u
+#define RT_BVH_LAYOUT_WIDE 2u
+#define RT_BVH_WIDTH 8u
+#define RT_WIDE_LEAF 0x80000000u          // child flag: a leaf, first << 3 | (count - 1) below it
+#define RT_WIDE_LEAF_MAX 8u               // primitives per leaf
+#define RT_WIDE_FIRST_LIMIT 0x10000000u   // first primitive (block) of a leaf: below 2^28
+#define RT_BVH_WIDE_STACK_SIZE 128        // checked against each built tree (core/device_scene.cpp)
 #define RT_ESCAPE_INTERIOR 0xffffffffu
 #define RT_ESCAPE_COUNT_SHIFT 24u
 #define RT_ESCAPE_FIRST_MASK 0x00ffffffu
@@ -32,6 +66,24 @@ RT_STRUCT_BEGIN(TriangleGeometry)
     float4 e1;
     float4 e2;
 RT_STRUCT_END(TriangleGeometry)
+
+// The wide layout's leaves: triangles four to a block, one per lane, as the four-at-a-time test reads them
+// (component arrays of v0, e1, e2). A leaf of n triangles owns ceil(n / 4) consecutive blocks; a lane past its end
+// has zero edges, which no ray hits. Lane k of slot: the triangle's slot in `triangles` (where shading finds its
+// geometric normal), of primitive: its index within its mesh (as TriangleGeometry.v0.w); RT_NONE when unused.
+RT_STRUCT_BEGIN(TriangleBlock)
+    float4 v0x;
+    float4 v0y;
+    float4 v0z;
+    float4 e1x;
+    float4 e1y;
+    float4 e1z;
+    float4 e2x;
+    float4 e2y;
+    float4 e2z;
+    uint4 slot;
+    uint4 primitive;
+RT_STRUCT_END(TriangleBlock)
 
 // Per-triangle shading data in file order per mesh: indices into the vertex arrays.
 //  vertices.xyz = global vertex indices, vertices.w = material index
@@ -47,8 +99,9 @@ RT_STRUCT_BEGIN(Vertex)
 RT_STRUCT_END(Vertex)
 
 // An instance of a mesh (thesis 6.2: the Node Primitive). Rows of 3x4 affine matrices.
-//  info.x = root of the mesh's BVH in nodes, info.y = first triangle of the mesh in triangles,
-//  info.z = first entry of the mesh in triangle_shading, info.w = 1 if the transform mirrors (det < 0; informative)
+//  info.x = root of the mesh's BVH in nodes (in wide_nodes for the wide layout),
+//  info.y = first triangle of the mesh in triangles, info.z = first entry of the mesh in triangle_shading,
+//  info.w = RT_INSTANCE_* bits
 RT_STRUCT_BEGIN(Instance)
     float4 world_to_object0;
     float4 world_to_object1;
@@ -58,6 +111,9 @@ RT_STRUCT_BEGIN(Instance)
     float4 object_to_world2;
     uint4 info;
 RT_STRUCT_END(Instance)
+
+#define RT_INSTANCE_MIRRORED 1u   // the transform mirrors (det < 0; informative)
+#define RT_INSTANCE_IDENTITY 2u   // world_to_object is exactly the identity: object space is world space
 
 // ---- Materials and textures ----------------------------------------------------------------------------------
 // The seed's material (thesis 6.3, eq. 6.7). See core/scene.h Material for the meaning of each field.
@@ -122,6 +178,7 @@ RT_STRUCT_END(Light)
 
 #define RT_FLAG_ANY_HIT 1u        // intersect reports any hit (ray queries with --any-hit)
 #define RT_FLAG_NO_SHADING 2u     // ray queries: no frame, intersect only
+#define RT_FLAG_ONE_INSTANCE 4u   // the top level holds exactly instance 0 (the wide traversal starts inside it)
 
 // One per frame (array of one element). The camera basis is precomputed on the host.
 //  camera_position.w = tan(vertical fov / 2), camera_forward.w = aspect ratio

@@ -136,6 +136,73 @@ void check_leaf(const Bvh& bvh, std::span<const Aabb> bounds, const BvhNode& nod
     }
 }
 
+// ---- The wide layout's nodes, decoded from kernels/types.h alone ------------------------------------------------
+
+float wide_lane(const float4& lanes_0_3, const float4& lanes_4_7, uint32_t k) {
+    const float4& v = k < 4 ? lanes_0_3 : lanes_4_7;
+    float lanes[4] = {v.x, v.y, v.z, v.w};
+    return lanes[k & 3];
+}
+
+uint32_t wide_ref(const BvhWideNode& node, uint32_t k) {
+    const uint4& v = k < 4 ? node.child0 : node.child1;
+    uint32_t lanes[4] = {v.x, v.y, v.z, v.w};
+    return lanes[k & 3];
+}
+
+// The lane's box as a binary node (the tiny tracer's slab test takes those).
+BvhNode wide_box(const BvhWideNode& node, uint32_t k) {
+    BvhNode box{};
+    box.lower = {wide_lane(node.lower_x0, node.lower_x1, k), wide_lane(node.lower_y0, node.lower_y1, k),
+                 wide_lane(node.lower_z0, node.lower_z1, k), 0.0f};
+    box.upper = {wide_lane(node.upper_x0, node.upper_x1, k), wide_lane(node.upper_y0, node.upper_y1, k),
+                 wide_lane(node.upper_z0, node.upper_z1, k), 0.0f};
+    return box;
+}
+
+// Every node reached once from the root, after its parent; a used lane's box holds its child's (non-empty) lanes
+// or its leaf's primitives; an unused lane is +inf in all six and refers to nothing; leaves hold 1..8 primitives, and
+// together every primitive the binary tree holds, once.
+void check_wide_structure(const Bvh& bvh, std::span<const Aabb> bounds, uint32_t max_leaf,
+                          const std::vector<bool>& referenced) {
+    const auto& wide = bvh.wide_nodes;
+    ASSERT_FALSE(wide.empty());
+    std::vector<int> references(bounds.size(), 0), visits(wide.size(), 0);
+    std::vector<uint32_t> stack{0};
+    const float inf = std::numeric_limits<float>::infinity();
+    while (!stack.empty()) {
+        uint32_t index = stack.back();
+        stack.pop_back();
+        visits[index]++;
+        const BvhWideNode& node = wide[index];
+        for (uint32_t k = 0; k < RT_BVH_WIDTH; ++k) {
+            uint32_t ref = wide_ref(node, k);
+            BvhNode lane = wide_box(node, k);
+            if (ref == 0) {
+                for (float bound : {lane.lower.x, lane.lower.y, lane.lower.z, lane.upper.x, lane.upper.y, lane.upper.z})
+                    EXPECT_EQ(bound, inf) << "unused lane " << k << " of node " << index;
+                continue;
+            }
+            if (ref & RT_WIDE_LEAF) {
+                uint32_t first = (ref & ~RT_WIDE_LEAF) >> 3, count = (ref & 7u) + 1;
+                check_leaf(bvh, bounds, lane, {first, count}, std::min(max_leaf, RT_WIDE_LEAF_MAX), references);
+                continue;
+            }
+            ASSERT_GT(ref, index) << "children follow their parent";
+            ASSERT_LT(ref, wide.size());
+            for (uint32_t c = 0; c < RT_BVH_WIDTH; ++c) {
+                // A used lane may be empty (+inf) after a refit made all its primitives degenerate.
+                if (wide_ref(wide[ref], c) != 0 && wide_box(wide[ref], c).lower.x != inf) {
+                    EXPECT_TRUE(contains(box_of(lane), box_of(wide_box(wide[ref], c)))) << "child lane " << c;
+                }
+            }
+            stack.push_back(ref);
+        }
+    }
+    for (size_t i = 0; i < wide.size(); ++i) EXPECT_EQ(visits[i], 1) << "wide node " << i << " reached once";
+    for (size_t i = 0; i < bounds.size(); ++i) EXPECT_EQ(references[i], referenced[i] ? 1 : 0) << "primitive " << i;
+}
+
 // The invariants of both layouts, decoded independently of core/ (kernels/types.h is the contract).
 // `referenced` says which primitives the leaves must hold (default: those with usable bounds). Returns the depth.
 uint32_t check_structure(const Bvh& bvh, std::span<const Aabb> bounds, uint32_t max_leaf,
@@ -160,7 +227,7 @@ uint32_t check_structure(const Bvh& bvh, std::span<const Aabb> bounds, uint32_t 
         visits[entry.index]++;
         uint32_t lower_w = bits(node.lower.w), upper_w = bits(node.upper.w);
         uint32_t children[2];
-        if (bvh.layout == BvhLayout::Stack) {
+        if (bvh.layout != BvhLayout::Escape) {   // the wide layout keeps its binary tree in the stack layout
             if (upper_w != 0) {
                 check_leaf(bvh, bounds, node, {lower_w, upper_w}, max_leaf, references);
                 continue;
@@ -206,6 +273,8 @@ uint32_t check_structure(const Bvh& bvh, std::span<const Aabb> bounds, uint32_t 
     }
     EXPECT_EQ(bvh.primitive_order.size(), expected_count);
     EXPECT_EQ(bvh.depth, depth);
+    if (bvh.layout == BvhLayout::Wide) check_wide_structure(bvh, bounds, max_leaf, referenced);
+    else EXPECT_TRUE(bvh.wide_nodes.empty());
     return depth;
 }
 
@@ -303,6 +372,22 @@ Hit trace_escape_layout(const Ray& ray, const Soup& soup, const Bvh& bvh) {
     return hit;
 }
 
+Hit trace_wide_layout(const Ray& ray, const Soup& soup, const Bvh& bvh) {
+    Hit hit;
+    std::vector<uint32_t> stack{0};
+    while (!stack.empty()) {
+        const BvhWideNode& node = bvh.wide_nodes[stack.back()];
+        stack.pop_back();
+        for (uint32_t k = 0; k < RT_BVH_WIDTH; ++k) {
+            uint32_t ref = wide_ref(node, k);
+            if (ref == 0 || !hits_box(ray, wide_box(node, k), hit.t)) continue;
+            if (ref & RT_WIDE_LEAF) test_leaf(ray, soup, bvh, (ref & ~RT_WIDE_LEAF) >> 3, (ref & 7u) + 1, hit);
+            else stack.push_back(ref);
+        }
+    }
+    return hit;
+}
+
 Hit trace_brute_force(const Ray& ray, const Soup& soup) {
     Hit hit;
     for (uint32_t i = 0; i < soup.triangles.size(); ++i)
@@ -343,8 +428,9 @@ void check_closest_hits(const Bvh& bvh, const Soup& soup, uint32_t ray_count) {
     uint32_t hits = 0;
     for (const Ray& ray : random_rays(soup, ray_count, 7)) {
         Hit expected = trace_brute_force(ray, soup);
-        Hit got = bvh.layout == BvhLayout::Stack ? trace_stack_layout(ray, soup, bvh)
-                                                 : trace_escape_layout(ray, soup, bvh);
+        Hit got = bvh.layout == BvhLayout::Stack    ? trace_stack_layout(ray, soup, bvh)
+                  : bvh.layout == BvhLayout::Escape ? trace_escape_layout(ray, soup, bvh)
+                                                    : trace_wide_layout(ray, soup, bvh);
         ASSERT_EQ(got.primitive, expected.primitive);
         ASSERT_EQ(got.t, expected.t);
         hits += expected.primitive != UINT32_MAX;
@@ -353,11 +439,11 @@ void check_closest_hits(const Bvh& bvh, const Soup& soup, uint32_t ray_count) {
 }
 
 const BvhMethod kMethods[] = {BvhMethod::BinnedSah, BvhMethod::Median};
-const BvhLayout kLayouts[] = {BvhLayout::Stack, BvhLayout::Escape};
+const BvhLayout kLayouts[] = {BvhLayout::Stack, BvhLayout::Escape, BvhLayout::Wide};
 
 std::string describe(BvhMethod method, BvhLayout layout) {
     return std::string(method == BvhMethod::BinnedSah ? "sah" : "median") + "/" +
-           (layout == BvhLayout::Stack ? "stack" : "escape");
+           (layout == BvhLayout::Stack ? "stack" : layout == BvhLayout::Escape ? "escape" : "wide");
 }
 
 // ---- Tests --------------------------------------------------------------------------------------------------
@@ -414,6 +500,10 @@ TEST(BvhBuild, SameNodesForAnyThreadCount) {
                               0);
                     EXPECT_EQ(one.primitive_order, many.primitive_order);
                     EXPECT_EQ(one.sah_cost, many.sah_cost);
+                    ASSERT_EQ(one.wide_nodes.size(), many.wide_nodes.size());
+                    EXPECT_EQ(std::memcmp(one.wide_nodes.data(), many.wide_nodes.data(),
+                                          one.wide_nodes.size() * sizeof(BvhWideNode)),
+                              0);
                 }
             }
         }
@@ -444,6 +534,10 @@ TEST(BvhBuild, NoUsablePrimitiveGivesOneLeafNoRayHits) {
                 if (layout == BvhLayout::Escape) {
                     EXPECT_EQ(bits(node.lower.w), 1u);
                     EXPECT_EQ(bits(node.upper.w) >> RT_ESCAPE_COUNT_SHIFT, 0u);
+                }
+                if (layout == BvhLayout::Wide) {   // one node, no lane used
+                    ASSERT_EQ(bvh.wide_nodes.size(), 1u);
+                    for (uint32_t k = 0; k < RT_BVH_WIDTH; ++k) EXPECT_EQ(wide_ref(bvh.wide_nodes[0], k), 0u);
                 }
                 Soup probe = random_soup(50, 3);
                 for (const Ray& ray : random_rays(probe, 100, 4))
@@ -478,6 +572,34 @@ TEST(BvhBuild, EscapeLayoutCapsLeavesAt255) {
     Bvh stack = build_bvh(same, options);
     ASSERT_EQ(stack.nodes.size(), 1u) << "no split can pay when every box is the same";
     EXPECT_EQ(bits(stack.nodes[0].upper.w), 1000u);
+}
+
+TEST(BvhBuild, WideLayoutCapsLeavesAt8) {
+    std::vector<Aabb> same(1000);
+    for (auto& box : same) box.lower = glm::vec3(0.0f), box.upper = glm::vec3(1.0f);
+    BvhBuildOptions options = options_for(BvhMethod::BinnedSah, BvhLayout::Wide);
+    options.max_leaf_size = 2000;
+    Bvh wide = build_bvh(same, options);
+    check_structure(wide, same, RT_WIDE_LEAF_MAX);
+    EXPECT_GT(wide.wide_nodes.size(), 1u);
+}
+
+// A traversal holds at most (children - 1) entries per node on its path; the bound must cover the deepest path.
+TEST(BvhBuild, WideStackBoundFollowsTheDeepestPath) {
+    std::vector<BvhWideNode> nodes(3, empty_wide_node());
+    Aabb box{glm::vec3(0.0f), glm::vec3(1.0f)};
+    for (uint32_t k = 0; k < 3; ++k) set_wide_lane_box(nodes[0], k, box);   // root: a leaf, node 1, node 2
+    set_wide_lane_leaf(nodes[0], 0, 0, 1);
+    set_wide_lane_node(nodes[0], 1, 1);
+    set_wide_lane_node(nodes[0], 2, 2);
+    for (uint32_t k = 0; k < 8; ++k) set_wide_lane_box(nodes[2], k, box), set_wide_lane_leaf(nodes[2], k, k, 1);
+    set_wide_lane_box(nodes[1], 0, box);
+    set_wide_lane_leaf(nodes[1], 0, 9, 1);
+    EXPECT_EQ(wide_stack_bound(nodes, 1), 0u);
+    EXPECT_EQ(wide_stack_bound(nodes, 2), 7u);
+    EXPECT_EQ(wide_stack_bound(nodes, 0), 2u + 7u);
+    EXPECT_THROW(set_wide_lane_leaf(nodes[1], 1, 0, RT_WIDE_LEAF_MAX + 1), Error);
+    EXPECT_THROW(set_wide_lane_leaf(nodes[1], 1, RT_WIDE_FIRST_LIMIT, 1), Error);
 }
 
 TEST(BvhBuild, MedianSplitsAtTheBoxMiddleCyclingAxes) {
@@ -569,6 +691,10 @@ TEST(BvhRefit, MovedPrimitivesKeepInvariantsAndHits) {
             refit_bvh(unchanged, soup.bounds);
             EXPECT_EQ(std::memcmp(unchanged.nodes.data(), bvh.nodes.data(), bvh.nodes.size() * sizeof(BvhNode)), 0)
                 << "refit with the same bounds is the identity";
+            EXPECT_EQ(std::memcmp(unchanged.wide_nodes.data(), bvh.wide_nodes.data(),
+                                  bvh.wide_nodes.size() * sizeof(BvhWideNode)),
+                      0)
+                << "also for wide nodes";
 
             float cost_before = bvh.sah_cost;
             refit_bvh(bvh, after.bounds);

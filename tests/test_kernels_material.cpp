@@ -88,8 +88,10 @@ struct OneTriangle {
         frame.ambient_light = float4{0.1f, 0.1f, 0.1f, 1e-4f};
         frame.size = uint4{1, 1, 8, 0};
         kg.nodes = device.nodes.data();
+        kg.wide_nodes = device.wide_nodes.data();
         kg.instances = device.instances.data();
         kg.triangles = device.triangles.data();
+        kg.triangle_blocks = device.triangle_blocks.data();
         kg.triangle_shading = device.triangle_shading.data();
         kg.vertices = device.vertices.data();
         kg.materials = device.materials.data();

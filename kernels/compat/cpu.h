@@ -7,6 +7,11 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
 
 #define RT_FUNC static inline
 #define RT_CONST static constexpr
@@ -40,7 +45,6 @@ RT_FUNC float2 operator+(float2 a, float2 b) { return {a.x + b.x, a.y + b.y}; }
 RT_FUNC float2 operator-(float2 a, float2 b) { return {a.x - b.x, a.y - b.y}; }
 RT_FUNC float2 operator*(float2 a, float s) { return {a.x * s, a.y * s}; }
 RT_FUNC float2 operator*(float s, float2 a) { return {a.x * s, a.y * s}; }
-RT_FUNC float4 operator+(float4 a, float4 b) { return {a.x + b.x, a.y + b.y, a.z + b.z, a.w + b.w}; }
 RT_FUNC float4 operator*(float4 a, float s) { return {a.x * s, a.y * s, a.z * s, a.w * s}; }
 RT_FUNC float4 operator*(float s, float4 a) { return {a.x * s, a.y * s, a.z * s, a.w * s}; }
 
@@ -70,6 +74,105 @@ RT_FUNC uint rt_max_u(uint a, uint b) { return a > b ? a : b; }
 RT_FUNC int rt_min_i(int a, int b) { return a < b ? a : b; }
 RT_FUNC int rt_max_i(int a, int b) { return a > b ? a : b; }
 
+// ---- Lanes: float4 arithmetic and 8-lane vectors (wide BVH nodes, four triangles at a time) ----
+// float4 maps to one SSE register (every x86-64 CPU has SSE2); rt_float8 (two float4 halves, as the nodes store
+// them) to one AVX register where the translation unit is compiled for AVX (the cpu backend's AVX2 stages), else
+// to two SSE registers; elsewhere to plain per-component code. memcpy moves bytes between the structs and registers
+// without an aliasing question; the compiler keeps the values in registers. min/max pick per lane as rt_min/rt_max
+// do (minps(b, a) is b < a ? b : a); a mask has bit k set for lane k.
+struct rt_float8 {
+    float4 lo, hi;   // lanes 0-3, 4-7
+};
+#if defined(__SSE2__)
+RT_FUNC __m128 rt_sse(float4 a) {
+    __m128 v;
+    std::memcpy(&v, &a, sizeof v);
+    return v;
+}
+RT_FUNC float4 rt_from_sse(__m128 v) {
+    float4 a;
+    std::memcpy(&a, &v, sizeof a);
+    return a;
+}
+RT_FUNC float4 operator+(float4 a, float4 b) { return rt_from_sse(_mm_add_ps(rt_sse(a), rt_sse(b))); }
+RT_FUNC float4 operator-(float4 a, float4 b) { return rt_from_sse(_mm_sub_ps(rt_sse(a), rt_sse(b))); }
+RT_FUNC float4 operator*(float4 a, float4 b) { return rt_from_sse(_mm_mul_ps(rt_sse(a), rt_sse(b))); }
+RT_FUNC float4 operator/(float4 a, float4 b) { return rt_from_sse(_mm_div_ps(rt_sse(a), rt_sse(b))); }
+RT_FUNC float4 rt_min4(float4 a, float4 b) { return rt_from_sse(_mm_min_ps(rt_sse(b), rt_sse(a))); }
+RT_FUNC float4 rt_max4(float4 a, float4 b) { return rt_from_sse(_mm_max_ps(rt_sse(b), rt_sse(a))); }
+RT_FUNC uint rt_mask_le4(float4 a, float4 b) { return uint(_mm_movemask_ps(_mm_cmple_ps(rt_sse(a), rt_sse(b)))); }
+RT_FUNC uint rt_mask_lt4(float4 a, float4 b) { return uint(_mm_movemask_ps(_mm_cmplt_ps(rt_sse(a), rt_sse(b)))); }
+#else
+RT_FUNC float4 operator+(float4 a, float4 b) { return {a.x + b.x, a.y + b.y, a.z + b.z, a.w + b.w}; }
+RT_FUNC float4 operator-(float4 a, float4 b) { return {a.x - b.x, a.y - b.y, a.z - b.z, a.w - b.w}; }
+RT_FUNC float4 operator*(float4 a, float4 b) { return {a.x * b.x, a.y * b.y, a.z * b.z, a.w * b.w}; }
+RT_FUNC float4 operator/(float4 a, float4 b) { return {a.x / b.x, a.y / b.y, a.z / b.z, a.w / b.w}; }
+RT_FUNC float4 rt_min4(float4 a, float4 b) {
+    return {rt_min(a.x, b.x), rt_min(a.y, b.y), rt_min(a.z, b.z), rt_min(a.w, b.w)};
+}
+RT_FUNC float4 rt_max4(float4 a, float4 b) {
+    return {rt_max(a.x, b.x), rt_max(a.y, b.y), rt_max(a.z, b.z), rt_max(a.w, b.w)};
+}
+RT_FUNC uint rt_mask_le4(float4 a, float4 b) {
+    return (a.x <= b.x ? 1u : 0u) | (a.y <= b.y ? 2u : 0u) | (a.z <= b.z ? 4u : 0u) | (a.w <= b.w ? 8u : 0u);
+}
+RT_FUNC uint rt_mask_lt4(float4 a, float4 b) {
+    return (a.x < b.x ? 1u : 0u) | (a.y < b.y ? 2u : 0u) | (a.z < b.z ? 4u : 0u) | (a.w < b.w ? 8u : 0u);
+}
+#endif
+RT_FUNC float rt_lane(float4 v, uint k) {
+    float lanes[4];
+    std::memcpy(lanes, &v, sizeof lanes);
+    return lanes[k];
+}
+RT_FUNC uint rt_lane_u(uint4 v, uint k) {
+    uint lanes[4];
+    std::memcpy(lanes, &v, sizeof lanes);
+    return lanes[k];
+}
+
+RT_FUNC rt_float8 rt_make8(float4 lo, float4 hi) { return rt_float8{lo, hi}; }
+RT_FUNC rt_float8 rt_splat8(float s) { return rt_float8{float4{s, s, s, s}, float4{s, s, s, s}}; }
+#if defined(__AVX__)
+RT_FUNC __m256 rt_avx(rt_float8 a) {
+    __m256 v;
+    std::memcpy(&v, &a, sizeof v);
+    return v;
+}
+RT_FUNC rt_float8 rt_from_avx(__m256 v) {
+    rt_float8 a;
+    std::memcpy(&a, &v, sizeof a);
+    return a;
+}
+RT_FUNC rt_float8 rt_sub8(rt_float8 a, rt_float8 b) { return rt_from_avx(_mm256_sub_ps(rt_avx(a), rt_avx(b))); }
+RT_FUNC rt_float8 rt_mul8(rt_float8 a, rt_float8 b) { return rt_from_avx(_mm256_mul_ps(rt_avx(a), rt_avx(b))); }
+RT_FUNC rt_float8 rt_min8(rt_float8 a, rt_float8 b) { return rt_from_avx(_mm256_min_ps(rt_avx(b), rt_avx(a))); }
+RT_FUNC rt_float8 rt_max8(rt_float8 a, rt_float8 b) { return rt_from_avx(_mm256_max_ps(rt_avx(b), rt_avx(a))); }
+RT_FUNC uint rt_mask_le8(rt_float8 a, rt_float8 b) {
+    return uint(_mm256_movemask_ps(_mm256_cmp_ps(rt_avx(a), rt_avx(b), _CMP_LE_OQ)));
+}
+#else
+RT_FUNC rt_float8 rt_sub8(rt_float8 a, rt_float8 b) { return rt_float8{a.lo - b.lo, a.hi - b.hi}; }
+RT_FUNC rt_float8 rt_mul8(rt_float8 a, rt_float8 b) { return rt_float8{a.lo * b.lo, a.hi * b.hi}; }
+RT_FUNC rt_float8 rt_min8(rt_float8 a, rt_float8 b) { return rt_float8{rt_min4(a.lo, b.lo), rt_min4(a.hi, b.hi)}; }
+RT_FUNC rt_float8 rt_max8(rt_float8 a, rt_float8 b) { return rt_float8{rt_max4(a.lo, b.lo), rt_max4(a.hi, b.hi)}; }
+RT_FUNC uint rt_mask_le8(rt_float8 a, rt_float8 b) { return rt_mask_le4(a.lo, b.lo) | (rt_mask_le4(a.hi, b.hi) << 4); }
+#endif
+RT_FUNC float rt_lane8(rt_float8 v, uint k) {
+    float lanes[8];
+    std::memcpy(lanes, &v, sizeof lanes);
+    return lanes[k];
+}
+// Lane k of the 8-lane uint vector (lo, hi).
+RT_FUNC uint rt_lane8_u(uint4 lo, uint4 hi, uint k) {
+    uint lanes[8];
+    std::memcpy(lanes, &lo, sizeof lo);
+    std::memcpy(lanes + 4, &hi, sizeof hi);
+    return lanes[k];
+}
+// The index of the lowest set bit of a nonzero x.
+RT_FUNC uint rt_lowest_bit(uint x) { return uint(std::countr_zero(x)); }
+
 // Conversions: GLSL has only constructor syntax, C has only cast syntax.
 #define rt_float(x) ((float)(x))
 #define rt_uint(x) ((uint)(x))
@@ -87,6 +190,13 @@ RT_FUNC float rt_int_as_float(int i) { return std::bit_cast<float>(i); }
 #define RT_STORE(kg, array, i, value) ((kg).array[(i)] = (value))
 // Atomic add on a uint buffer element, returning the old value. atomic_ref keeps the buffers plain arrays.
 #define RT_ATOMIC_ADD(kg, array, i, value) (std::atomic_ref<uint>((kg).array[(i)]).fetch_add((value)))
+// A hint that elements [i, i + n) of a device array are needed soon (the wide traversal's pushed children).
+#define RT_PREFETCH(kg, array, i, n)                                                   \
+    do {                                                                               \
+        const char* rt_first_ = reinterpret_cast<const char*>(&(kg).array[(i)]);       \
+        for (size_t rt_o_ = 0; rt_o_ < sizeof((kg).array[0]) * (n); rt_o_ += 64)       \
+            __builtin_prefetch(rt_first_ + rt_o_);                                     \
+    } while (0)
 
 // The grid loop of a stage entry. The cpu backend's thread pool hands each worker chunks of work through
 // rt_cpu_next_chunk (backends/cpu), so one worker loop serves every stage.

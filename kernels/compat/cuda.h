@@ -25,6 +25,9 @@ RT_FUNC float2 operator-(float2 a, float2 b) { return make_float2(a.x - b.x, a.y
 RT_FUNC float2 operator*(float2 a, float s) { return make_float2(a.x * s, a.y * s); }
 RT_FUNC float2 operator*(float s, float2 a) { return make_float2(a.x * s, a.y * s); }
 RT_FUNC float4 operator+(float4 a, float4 b) { return make_float4(a.x + b.x, a.y + b.y, a.z + b.z, a.w + b.w); }
+RT_FUNC float4 operator-(float4 a, float4 b) { return make_float4(a.x - b.x, a.y - b.y, a.z - b.z, a.w - b.w); }
+RT_FUNC float4 operator*(float4 a, float4 b) { return make_float4(a.x * b.x, a.y * b.y, a.z * b.z, a.w * b.w); }
+RT_FUNC float4 operator/(float4 a, float4 b) { return make_float4(a.x / b.x, a.y / b.y, a.z / b.z, a.w / b.w); }
 RT_FUNC float4 operator*(float4 a, float s) { return make_float4(a.x * s, a.y * s, a.z * s, a.w * s); }
 RT_FUNC float4 operator*(float s, float4 a) { return make_float4(a.x * s, a.y * s, a.z * s, a.w * s); }
 
@@ -46,6 +49,35 @@ RT_FUNC float3 normalize(float3 a) { return a * rsqrtf(dot(a, a)); }
 #define rt_atan2(y, x) atan2f((y), (x))
 #define rt_acos(a) acosf(a)
 #define rt_isfinite(a) isfinite(a)
+// ---- Lanes (wide BVH nodes, four triangles at a time): per-component, as OpenCL C and GLSL have them built in.
+// A mask has bit k set for lane k; rt_float8 is two float4 halves (lanes 0-3, 4-7).
+RT_FUNC float4 rt_min4(float4 a, float4 b) {
+    return make_float4(fminf(a.x, b.x), fminf(a.y, b.y), fminf(a.z, b.z), fminf(a.w, b.w));
+}
+RT_FUNC float4 rt_max4(float4 a, float4 b) {
+    return make_float4(fmaxf(a.x, b.x), fmaxf(a.y, b.y), fmaxf(a.z, b.z), fmaxf(a.w, b.w));
+}
+RT_FUNC uint rt_mask_le4(float4 a, float4 b) {
+    return (a.x <= b.x ? 1u : 0u) | (a.y <= b.y ? 2u : 0u) | (a.z <= b.z ? 4u : 0u) | (a.w <= b.w ? 8u : 0u);
+}
+RT_FUNC uint rt_mask_lt4(float4 a, float4 b) {
+    return (a.x < b.x ? 1u : 0u) | (a.y < b.y ? 2u : 0u) | (a.z < b.z ? 4u : 0u) | (a.w < b.w ? 8u : 0u);
+}
+RT_FUNC float rt_lane(float4 v, uint k) { return k == 0u ? v.x : (k == 1u ? v.y : (k == 2u ? v.z : v.w)); }
+RT_FUNC uint rt_lane_u(uint4 v, uint k) { return k == 0u ? v.x : (k == 1u ? v.y : (k == 2u ? v.z : v.w)); }
+struct rt_float8 {
+    float4 lo, hi;
+};
+RT_FUNC rt_float8 rt_make8(float4 lo, float4 hi) { rt_float8 r; r.lo = lo; r.hi = hi; return r; }
+RT_FUNC rt_float8 rt_splat8(float s) { return rt_make8(make_float4(s, s, s, s), make_float4(s, s, s, s)); }
+RT_FUNC rt_float8 rt_sub8(rt_float8 a, rt_float8 b) { return rt_make8(a.lo - b.lo, a.hi - b.hi); }
+RT_FUNC rt_float8 rt_mul8(rt_float8 a, rt_float8 b) { return rt_make8(a.lo * b.lo, a.hi * b.hi); }
+RT_FUNC rt_float8 rt_min8(rt_float8 a, rt_float8 b) { return rt_make8(rt_min4(a.lo, b.lo), rt_min4(a.hi, b.hi)); }
+RT_FUNC rt_float8 rt_max8(rt_float8 a, rt_float8 b) { return rt_make8(rt_max4(a.lo, b.lo), rt_max4(a.hi, b.hi)); }
+RT_FUNC uint rt_mask_le8(rt_float8 a, rt_float8 b) { return rt_mask_le4(a.lo, b.lo) | (rt_mask_le4(a.hi, b.hi) << 4); }
+RT_FUNC float rt_lane8(rt_float8 v, uint k) { return k < 4u ? rt_lane(v.lo, k) : rt_lane(v.hi, k - 4u); }
+RT_FUNC uint rt_lane8_u(uint4 lo, uint4 hi, uint k) { return k < 4u ? rt_lane_u(lo, k) : rt_lane_u(hi, k - 4u); }
+RT_FUNC uint rt_lowest_bit(uint x) { return uint(__ffs(x) - 1); }
 RT_FUNC uint rt_min_u(uint a, uint b) { return umin(a, b); }
 RT_FUNC uint rt_max_u(uint a, uint b) { return umax(a, b); }
 RT_FUNC int rt_min_i(int a, int b) { return min(a, b); }
@@ -65,6 +97,7 @@ RT_FUNC int rt_max_i(int a, int b) { return max(a, b); }
 #define RT_FETCH(kg, array, i) ((kg).array[(i)])
 #define RT_STORE(kg, array, i, value) ((kg).array[(i)] = (value))
 #define RT_ATOMIC_ADD(kg, array, i, value) atomicAdd(&(kg).array[(i)], (value))
+#define RT_PREFETCH(kg, array, i, n) ((void)0)   // a CPU cache hint; GPUs hide latency with other warps
 
 // Grid-stride loop: the backend launches a fixed grid sized to fill the GPU; the item count lives on the device.
 #define RT_GRID_LOOP(i, n) \

@@ -21,6 +21,32 @@
 
 #define rt_min(a, b) min((a), (b))
 #define rt_max(a, b) max((a), (b))
+// ---- Lanes (wide BVH nodes, four triangles at a time): min/max and arithmetic are built in for vec4 and a vec4
+// can be indexed; a mask has bit k set for lane k; rt_float8 is two vec4 halves (lanes 0-3, 4-7).
+#define rt_min4(a, b) min((a), (b))
+#define rt_max4(a, b) max((a), (b))
+uint rt_mask_le4(vec4 a, vec4 b) {
+    return (a.x <= b.x ? 1u : 0u) | (a.y <= b.y ? 2u : 0u) | (a.z <= b.z ? 4u : 0u) | (a.w <= b.w ? 8u : 0u);
+}
+uint rt_mask_lt4(vec4 a, vec4 b) {
+    return (a.x < b.x ? 1u : 0u) | (a.y < b.y ? 2u : 0u) | (a.z < b.z ? 4u : 0u) | (a.w < b.w ? 8u : 0u);
+}
+#define rt_lane(v, k) ((v)[(k)])
+#define rt_lane_u(v, k) ((v)[(k)])
+struct rt_float8 {
+    vec4 lo;
+    vec4 hi;
+};
+#define rt_make8(lo, hi) rt_float8((lo), (hi))
+rt_float8 rt_splat8(float s) { return rt_float8(vec4(s), vec4(s)); }
+rt_float8 rt_sub8(rt_float8 a, rt_float8 b) { return rt_float8(a.lo - b.lo, a.hi - b.hi); }
+rt_float8 rt_mul8(rt_float8 a, rt_float8 b) { return rt_float8(a.lo * b.lo, a.hi * b.hi); }
+rt_float8 rt_min8(rt_float8 a, rt_float8 b) { return rt_float8(min(a.lo, b.lo), min(a.hi, b.hi)); }
+rt_float8 rt_max8(rt_float8 a, rt_float8 b) { return rt_float8(max(a.lo, b.lo), max(a.hi, b.hi)); }
+uint rt_mask_le8(rt_float8 a, rt_float8 b) { return rt_mask_le4(a.lo, b.lo) | (rt_mask_le4(a.hi, b.hi) << 4); }
+float rt_lane8(rt_float8 v, uint k) { return k < 4u ? v.lo[k] : v.hi[k - 4u]; }
+uint rt_lane8_u(uvec4 lo, uvec4 hi, uint k) { return k < 4u ? lo[k] : hi[k - 4u]; }
+#define rt_lowest_bit(x) uint(findLSB(x))
 #define rt_abs(a) abs(a)
 #define rt_sqrt(a) sqrt(a)
 #define rt_floor(a) floor(a)
@@ -48,6 +74,7 @@
 #define RT_FETCH(kg, array, i) (array[(i)])
 #define RT_STORE(kg, array, i, value) (array[(i)] = (value))
 #define RT_ATOMIC_ADD(kg, array, i, value) atomicAdd(array[(i)], (value))
+#define RT_PREFETCH(kg, array, i, n)   // a CPU cache hint; GPUs hide latency with other invocations
 
 // The shader must declare layout(local_size_x = ...) BEFORE including kernels/: glslang compiles gl_WorkGroupSize
 // as (1, 1, 1), without a diagnostic, in functions defined before that declaration.
