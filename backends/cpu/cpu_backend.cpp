@@ -3,14 +3,16 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <new>
 #include <thread>
 #include <utility>
 
+#include "backends/cpu/cpu_stages.h"
 #include "core/error.h"
 #include "core/thread_pool.h"
-#include "kernels/stages.h"
 
 thread_local RtCpuGrid rt_cpu_grid;
 
@@ -26,14 +28,47 @@ std::string cpu_name() {
     return "host CPU";
 }
 
+// The stages built for the best instruction set this CPU runs; PRISM_CPU_ISA=baseline|avx2 picks one (tests, and
+// measuring what AVX2 gains).
+struct StageSet {
+    cpu::StageRunner run = cpu::run_stage_baseline;
+    std::string isa = "baseline";
+};
+
+StageSet pick_stages() {
+    const char* requested = std::getenv("PRISM_CPU_ISA");
+    std::string isa = requested ? requested : "";
+    if (!isa.empty() && isa != "baseline" && isa != "avx2")
+        throw Error("cpu: PRISM_CPU_ISA='" + isa + "' is not baseline or avx2");
+#if defined(PRISM_CPU_AVX2)
+    bool avx2 = __builtin_cpu_supports("avx2");
+    if (isa == "avx2" && !avx2) throw Error("cpu: PRISM_CPU_ISA=avx2, but this CPU has no AVX2");
+    if (avx2 && isa != "baseline") return StageSet{cpu::run_stage_avx2, "avx2"};
+#else
+    if (isa == "avx2") throw Error("cpu: PRISM_CPU_ISA=avx2, but this build has no AVX2 stages");
+#endif
+    return StageSet{};
+}
+
+template <class T>
+struct CacheLineAllocator {
+    using value_type = T;
+    CacheLineAllocator() = default;
+    template <class U>
+    CacheLineAllocator(const CacheLineAllocator<U>&) {}
+    T* allocate(size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t(64))); }
+    void deallocate(T* p, size_t) { ::operator delete(p, std::align_val_t(64)); }
+    bool operator==(const CacheLineAllocator&) const { return true; }
+};
+
 class CpuBackend final : public Backend {
 public:
-    explicit CpuBackend(unsigned threads) : pool_(threads) {}
+    explicit CpuBackend(unsigned threads) : pool_(threads), stages_(pick_stages()) {}
 
     BackendInfo info() const override {
         BackendInfo info;
         info.name = "cpu";
-        info.device = cpu_name() + " (" + std::to_string(pool_.size()) + " threads)";
+        info.device = cpu_name() + " (" + std::to_string(pool_.size()) + " threads, " + stages_.isa + ")";
         info.driver = "host";
         info.api_version = "C++20";
         info.max_buffer = size_t(1) << 40;
@@ -43,7 +78,7 @@ public:
     void allocate(DeviceArray array, size_t bytes) override {
         auto& buffer = buffers_[size_t(array)];
         if (buffer.size() != bytes) {
-            // std::vector<float4> keeps the 16-byte alignment every element type needs.
+            // Cache-line aligned: a 256-byte wide BVH node then spans exactly four lines.
             buffer.assign((bytes + sizeof(float4) - 1) / sizeof(float4), float4{});
             sizes_[size_t(array)] = bytes;
         }
@@ -68,15 +103,7 @@ public:
         const uint32_t chunk = stage == Stage::Generate || stage == Stage::Resolve ? 1024 : 64;
         pool_.run([&](unsigned) {
             rt_cpu_grid = RtCpuGrid{&cursor, chunk};
-            switch (stage) {
-                case Stage::Generate: rt_kernel_generate(kg, depth); break;
-                case Stage::Intersect: rt_kernel_intersect(kg, depth); break;
-                case Stage::Miss: rt_kernel_miss(kg, depth); break;
-                case Stage::Shade: rt_kernel_shade(kg, depth); break;
-                case Stage::Shadow: rt_kernel_shadow(kg, depth); break;
-                case Stage::Resolve: rt_kernel_resolve(kg, depth); break;
-                case Stage::Count: break;
-            }
+            stages_.run(stage, kg, depth);
         });
         timings_.push_back(StageTiming{stage, depth,
                                        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()});
@@ -100,7 +127,8 @@ private:
     }
 
     ThreadPool pool_;
-    std::array<std::vector<float4>, device_array_count> buffers_;
+    StageSet stages_;
+    std::array<std::vector<float4, CacheLineAllocator<float4>>, device_array_count> buffers_;
     std::array<size_t, device_array_count> sizes_{};
     std::vector<StageTiming> timings_;
 };
