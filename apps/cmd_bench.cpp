@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -199,7 +200,19 @@ void run_bench(BenchOptions options) {
     for (const std::string& scene_name : split(options.scenes)) {
         SceneOptions scene_options = options.scene;
         scene_options.scene = scene_name;
-        LoadedScene loaded = load_and_build(scene_options);
+        std::vector<std::string> backends = split(options.backends);
+        LoadedScene loaded = load_and_build(scene_options, backends.empty() ? "auto" : backends.front());
+        // Each backend traces the layout --bvh-layout resolves to for it (auto: wide on cpu, stack on GPUs); the
+        // scene's first build serves every backend that wants its layout.
+        std::map<BvhLayout, DeviceScene> other_layouts;
+        auto device_for = [&](const std::string& backend) -> const DeviceScene& {
+            BvhLayout layout = resolve_bvh_layout(scene_options.layout, backend);
+            if (layout == loaded.device.bvh_options.layout) return loaded.device;
+            auto found = other_layouts.find(layout);
+            if (found == other_layouts.end())
+                found = other_layouts.emplace(layout, build_device_scene_for(loaded.scene, scene_options, layout)).first;
+            return found->second;
+        };
         nlohmann::json scene_json = {{"scene", scene_name},
                                      {"triangles", loaded.device.traced_triangles},
                                      {"bvh_build_ms", loaded.device.bvh_build_ms},
@@ -214,14 +227,18 @@ void run_bench(BenchOptions options) {
             rays = oracle::make_oracle_rays(loaded.scene, *embree, options.query_rays / 2, options.query_rays, 7);
         }
 #endif
-        for (const std::string& backend : split(options.backends)) {
-            RenderEngine engine(backend, loaded.device);
+        for (const std::string& backend : backends) {
+            const DeviceScene& device = device_for(backend);
+            RenderEngine engine(backend, device);
             BackendInfo info = engine.info();
-            std::printf("%s on %s [%s]...\n", scene_name.c_str(), backend.c_str(), info.device.c_str());
+            std::string layout = bvh_layout_name(device.bvh_options.layout);
+            std::printf("%s on %s [%s], %s BVH...\n", scene_name.c_str(), backend.c_str(), info.device.c_str(),
+                        layout.c_str());
             std::fflush(stdout);
             nlohmann::json entry = {{"backend", backend},        {"api", info.name},
                                     {"device", info.device},     {"driver", info.driver},
-                                    {"api_version", info.api_version}};
+                                    {"api_version", info.api_version},
+                                    {"bvh_layout", layout},      {"bvh_build_ms", device.bvh_build_ms}};
             entry["frames"] = bench_frames(engine, loaded.scene, options, first);
 #ifdef PRISM_HAVE_EMBREE
             if (embree) entry["queries"] = bench_queries(&engine, nullptr, false, rays, options.runs);
@@ -264,8 +281,11 @@ void add_bench_command(CLI::App& app) {
     command->add_option("--data-dir", options->scene.data_dir, "where builtin scenes find their assets")
         ->capture_default_str();
     command->add_option("--bvh", options->scene.bvh, "sah or median")->check(CLI::IsMember({"sah", "median"}));
-    command->add_option("--bvh-layout", options->scene.layout, "stack or escape")
-        ->check(CLI::IsMember({"stack", "escape"}));
+    command->add_option("--bvh-layout", options->scene.layout,
+                        "stack, escape, wide or auto (per backend: wide on cpu, stack on GPUs; PRISM_BVH_LAYOUT "
+                        "overrides auto)")
+        ->check(CLI::IsMember({"stack", "escape", "wide", "auto"}))
+        ->capture_default_str();
     command->add_option("--width", options->settings.width)->capture_default_str();
     command->add_option("--height", options->settings.height)->capture_default_str();
     command->add_option("--depth", options->settings.max_depth)->capture_default_str();

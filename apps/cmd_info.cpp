@@ -59,8 +59,8 @@ void run_info(const InfoOptions& options) {
                          {"textures", loaded.scene.textures.size()},
                          {"lights", loaded.scene.lights.size()},
                          {"bvh_method", options.scene.bvh},
-                         {"bvh_layout", options.scene.layout},
-                         {"bvh_nodes", d.nodes.size()},
+                         {"bvh_layout", loaded.layout},
+                         {"bvh_nodes", d.bvh_options.layout == BvhLayout::Wide ? d.wide_nodes.size() : d.nodes.size()},
                          {"top_level_nodes", d.top_level_nodes},
                          {"sah_cost", d.sah_cost},
                          {"bvh_build_ms", d.bvh_build_ms},
@@ -86,7 +86,7 @@ void run_info(const InfoOptions& options) {
                     options.scene.scene.c_str(), s["triangles"].get<size_t>(), s["traced_triangles"].get<size_t>(),
                     s["degenerate_triangles"].get<size_t>(), s["meshes"].get<size_t>(), s["instances"].get<size_t>(),
                     s["materials"].get<size_t>(), s["textures"].get<size_t>(), s["lights"].get<size_t>(),
-                    options.scene.bvh.c_str(), options.scene.layout.c_str(), s["bvh_nodes"].get<size_t>(),
+                    options.scene.bvh.c_str(), s["bvh_layout"].get<std::string>().c_str(), s["bvh_nodes"].get<size_t>(),
                     s["top_level_nodes"].get<size_t>(), s["sah_cost"].get<double>(), s["bvh_build_ms"].get<double>(),
                     s["load_ms"].get<double>(), double(s["device_bytes"].get<size_t>()) / (1024.0 * 1024.0));
         for (const auto& w : s["warnings"]) std::printf("  warning: %s\n", w.get<std::string>().c_str());

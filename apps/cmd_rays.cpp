@@ -48,7 +48,7 @@ std::vector<RayQuery> read_rays(const std::string& path) {
 
 void run_rays(const RaysOptions& options) {
     std::vector<RayQuery> rays = read_rays(options.in);
-    LoadedScene loaded = load_and_build(options.scene);
+    LoadedScene loaded = load_and_build(options.scene, options.backend);
     RenderEngine engine(options.backend, loaded.device);
     auto start = std::chrono::steady_clock::now();
     std::vector<RayHit> hits = engine.trace(rays, options.any_hit);

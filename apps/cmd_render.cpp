@@ -33,7 +33,7 @@ void print_progress(double fraction) {
 void run_render(const RenderOptions& options) {
     check_output_extension(options.out);   // fail before any work
     auto start = std::chrono::steady_clock::now();
-    LoadedScene loaded = load_and_build(options.scene);
+    LoadedScene loaded = load_and_build(options.scene, options.backend);
     auto built = std::chrono::steady_clock::now();
     RenderEngine engine(options.backend, loaded.device);
     BackendInfo info = engine.info();
@@ -42,7 +42,7 @@ void run_render(const RenderOptions& options) {
                 loaded.device.traced_triangles, loaded.device.instances.size(), info.name.c_str(), info.device.c_str());
     for (const std::string& warning : loaded.scene.warnings) std::printf("  warning: %s\n", warning.c_str());
     std::printf("  load %.1f ms, BVH %.1f ms (%s, %s layout, SAH cost %.1f), upload %.1f ms\n", loaded.load_ms,
-                loaded.device.bvh_build_ms, options.scene.bvh.c_str(), options.scene.layout.c_str(),
+                loaded.device.bvh_build_ms, options.scene.bvh.c_str(), loaded.layout.c_str(),
                 loaded.device.sah_cost, upload_ms);
     std::fflush(stdout);
 
@@ -60,7 +60,7 @@ void run_render(const RenderOptions& options) {
         nlohmann::json stats = frame_json(frame, options.settings, info);
         stats["scene"] = options.scene.scene;
         stats["commit"] = build_commit();
-        stats["bvh"] = {{"method", options.scene.bvh}, {"layout", options.scene.layout},
+        stats["bvh"] = {{"method", options.scene.bvh}, {"layout", loaded.layout},
                         {"build_ms", loaded.device.bvh_build_ms}, {"sah_cost", loaded.device.sah_cost}};
         write_file_atomically(options.stats, stats.dump(2) + "\n");
     }

@@ -91,7 +91,7 @@ public:
           settings_(options.settings),
           script_(viewer::parse_key_script(options.keys)),
           window_("Prism", int(settings_.width), int(settings_.height), !options.no_vsync),
-          loaded_(load_and_build(options.scene)),
+          loaded_(load_and_build(options.scene, options.backend)),
           controls_(loaded_.scene.camera),
           moving_(loaded_) {
         engine_ = std::make_unique<RenderEngine>(options.backend, loaded_.device);

@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "core/render_engine.h"
 #include "core/scene_loader.h"
 
 namespace prism::app {
@@ -17,22 +18,30 @@ void add_scene_options(CLI::App* command, SceneOptions& options, bool scene_requ
     command->add_option("--bvh", options.bvh, "BVH builder: sah (binned SAH) or median (the seed's split)")
         ->check(CLI::IsMember({"sah", "median"}))
         ->capture_default_str();
-    command->add_option("--bvh-layout", options.layout, "node layout: stack or escape (the seed's stackless order)")
-        ->check(CLI::IsMember({"stack", "escape"}))
+    command->add_option("--bvh-layout", options.layout,
+                        "node layout: stack, escape (the seed's stackless order), wide (8-wide nodes) or auto (wide on "
+                        "cpu/cpu-ref, stack on GPUs; PRISM_BVH_LAYOUT overrides auto)")
+        ->check(CLI::IsMember({"stack", "escape", "wide", "auto"}))
         ->capture_default_str();
 }
 
-LoadedScene load_and_build(const SceneOptions& options) {
+DeviceScene build_device_scene_for(const Scene& scene, const SceneOptions& options, BvhLayout layout) {
+    BvhBuildOptions bvh;
+    bvh.method = options.bvh == "median" ? BvhMethod::Median : BvhMethod::BinnedSah;
+    bvh.layout = layout;
+    return build_device_scene(scene, bvh);
+}
+
+LoadedScene load_and_build(const SceneOptions& options, const std::string& backend) {
     LoadedScene loaded;
+    BvhLayout layout = resolve_bvh_layout(options.layout, backend);   // a bad PRISM_BVH_LAYOUT fails before loading
     auto start = std::chrono::steady_clock::now();
     LoadOptions load_options;
     load_options.data_dir = options.data_dir;
     loaded.scene = load_scene(options.scene, load_options);
     loaded.load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    BvhBuildOptions bvh;
-    bvh.method = options.bvh == "median" ? BvhMethod::Median : BvhMethod::BinnedSah;
-    bvh.layout = options.layout == "escape" ? BvhLayout::Escape : BvhLayout::Stack;
-    loaded.device = build_device_scene(loaded.scene, bvh);
+    loaded.device = build_device_scene_for(loaded.scene, options, layout);
+    loaded.layout = bvh_layout_name(layout);
     return loaded;
 }
 

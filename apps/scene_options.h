@@ -15,7 +15,7 @@ struct SceneOptions {
     std::string scene = "builtin:sphere";
     std::string data_dir = "../shared/scenes";
     std::string bvh = "sah";
-    std::string layout = "stack";
+    std::string layout = "auto";   // stack, escape, wide, or auto: per backend (core/render_engine.h)
 };
 
 void add_scene_options(CLI::App* command, SceneOptions& options, bool scene_required = false);
@@ -24,8 +24,11 @@ struct LoadedScene {
     Scene scene;
     DeviceScene device;
     double load_ms = 0.0;
+    std::string layout;   // the node layout built (options.layout resolved for the backend)
 };
 
-LoadedScene load_and_build(const SceneOptions& options);
+// Loads the scene and builds its device arrays with the BVH layout `options.layout` resolves to for `backend`.
+LoadedScene load_and_build(const SceneOptions& options, const std::string& backend = "auto");
+DeviceScene build_device_scene_for(const Scene& scene, const SceneOptions& options, BvhLayout layout);
 
 }  // namespace prism::app

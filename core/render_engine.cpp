@@ -1,5 +1,6 @@
 #include "core/render_engine.h"
 
+#include <cstdlib>
 #include <thread>
 
 #include "core/error.h"
@@ -11,6 +12,34 @@ std::string resolve_backend_name(const std::string& requested) {
     for (const BackendFactory& factory : registered_backends())
         if (factory.name == "cuda" && factory.probe().available) return "cuda";
     return "cpu";
+}
+
+namespace {
+
+BvhLayout parse_bvh_layout(const std::string& name, const std::string& where) {
+    if (name == "stack") return BvhLayout::Stack;
+    if (name == "escape") return BvhLayout::Escape;
+    if (name == "wide") return BvhLayout::Wide;
+    throw Error(where + "'" + name + "' is not a BVH layout (stack, escape, wide or auto)");
+}
+
+}  // namespace
+
+BvhLayout resolve_bvh_layout(const std::string& requested, const std::string& backend) {
+    if (requested != "auto") return parse_bvh_layout(requested, "");
+    const char* variable = std::getenv("PRISM_BVH_LAYOUT");
+    if (variable && *variable && std::string(variable) != "auto") return parse_bvh_layout(variable, "PRISM_BVH_LAYOUT: ");
+    std::string api = parse_backend_spec(resolve_backend_name(backend)).api;
+    return api == "cpu" || api == "cpu-ref" ? BvhLayout::Wide : BvhLayout::Stack;
+}
+
+std::string bvh_layout_name(BvhLayout layout) {
+    switch (layout) {
+        case BvhLayout::Stack: return "stack";
+        case BvhLayout::Escape: return "escape";
+        case BvhLayout::Wide: return "wide";
+    }
+    return "?";
 }
 
 RenderEngine::RenderEngine(const std::string& backend_name, const DeviceScene& scene)

@@ -14,6 +14,13 @@ namespace prism {
 // "auto" becomes the fastest backend this machine runs: cuda when a CUDA device answers, else cpu.
 std::string resolve_backend_name(const std::string& requested);
 
+// The BVH node layout to build for `backend` when "stack", "escape", "wide" or "auto" is requested. "auto" is the
+// PRISM_BVH_LAYOUT environment variable when it is set, else the layout measured fastest for the backend: wide on
+// the cpu backends (cpu, cpu-ref), stack on the GPU ones (every backend traces every layout).
+// Throws prism::Error for an unknown name.
+BvhLayout resolve_bvh_layout(const std::string& requested, const std::string& backend);
+std::string bvh_layout_name(BvhLayout layout);
+
 class RenderEngine {
 public:
     // Throws prism::Error for unknown or unavailable backends (listing what is available).

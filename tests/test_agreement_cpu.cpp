@@ -3,6 +3,8 @@
 // the images are expected to be identical; the requirement is PSNR >= 50 dB.
 #include <gtest/gtest.h>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "core/render_engine.h"
 #include "core/scene_loader.h"
 #include "tests/test_support.h"
@@ -12,6 +14,7 @@ namespace {
 struct Case {
     std::string scene;
     uint32_t width, height, depth;
+    prism::BvhLayout layout = prism::BvhLayout::Stack;
 };
 
 void PrintTo(const Case& c, std::ostream* os) { *os << c.scene; }
@@ -40,7 +43,7 @@ std::string resolve(const std::string& spec) {
 TEST_P(CpuAgreement, WavefrontMatchesRecursiveReference) {
     const Case& c = GetParam();
     prism::Scene scene;
-    prism::DeviceScene device = load(resolve(c.scene), prism::BvhLayout::Stack, prism::BvhMethod::BinnedSah, &scene);
+    prism::DeviceScene device = load(resolve(c.scene), c.layout, prism::BvhMethod::BinnedSah, &scene);
     prism::RenderSettings settings;
     settings.width = c.width;
     settings.height = c.height;
@@ -58,33 +61,101 @@ TEST_P(CpuAgreement, WavefrontMatchesRecursiveReference) {
     EXPECT_GT(distinct, actual.image.size() / 10);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Scenes, CpuAgreement,
-    ::testing::Values(Case{"builtin:sphere", 160, 120, 8}, Case{"builtin:bunny", 160, 120, 6},
-                      Case{"builtin:dragon", 128, 96, 6}, Case{"gltf/GlassVaseFlowers/GlassVaseFlowers.glb", 128, 128, 6},
-                      Case{"gltf/TransmissionTest/TransmissionTest.glb", 128, 96, 6},
-                      Case{"gltf/BoxTextured/BoxTextured.glb", 96, 96, 4},
-                      Case{"gltf/OrientationTest/OrientationTest.glb", 128, 96, 4},
-                      Case{"gltf/DamagedHelmet/DamagedHelmet.glb", 96, 96, 4},
-                      Case{"gltf/MetalRoughSpheresNoTextures/MetalRoughSpheresNoTextures.glb", 128, 96, 4}),
-    [](const ::testing::TestParamInfo<Case>& info) {
-        std::string name = info.param.scene.substr(info.param.scene.find_last_of(":/") + 1);
-        for (char& ch : name)
-            if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-        return name;
-    });
+const Case kCases[] = {Case{"builtin:sphere", 160, 120, 8}, Case{"builtin:bunny", 160, 120, 6},
+                       Case{"builtin:dragon", 128, 96, 6}, Case{"gltf/GlassVaseFlowers/GlassVaseFlowers.glb", 128, 128, 6},
+                       Case{"gltf/TransmissionTest/TransmissionTest.glb", 128, 96, 6},
+                       Case{"gltf/BoxTextured/BoxTextured.glb", 96, 96, 4},
+                       Case{"gltf/OrientationTest/OrientationTest.glb", 128, 96, 4},
+                       Case{"gltf/DamagedHelmet/DamagedHelmet.glb", 96, 96, 4},
+                       Case{"gltf/MetalRoughSpheresNoTextures/MetalRoughSpheresNoTextures.glb", 128, 96, 4}};
 
-// Both node layouts and both builders trace the same closest hits, so they render the same image.
+std::vector<Case> with_layout(prism::BvhLayout layout) {
+    std::vector<Case> cases(std::begin(kCases), std::end(kCases));
+    for (Case& c : cases) c.layout = layout;
+    return cases;
+}
+
+std::string case_name(const ::testing::TestParamInfo<Case>& info) {
+    std::string name = info.param.scene.substr(info.param.scene.find_last_of(":/") + 1);
+    for (char& ch : name)
+        if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+    return name;
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, CpuAgreement, ::testing::ValuesIn(with_layout(prism::BvhLayout::Stack)), case_name);
+// The wide layout (the cpu backends' default): the cpu backend runs it from its AVX2 stages where the CPU has
+// them, cpu-ref from the baseline build, so this also checks that both instruction sets trace the same hits.
+INSTANTIATE_TEST_SUITE_P(WideScenes, CpuAgreement, ::testing::ValuesIn(with_layout(prism::BvhLayout::Wide)), case_name);
+
+// Every node layout and both builders trace the same closest hits, so they render the same image.
 TEST(CpuAgreement, LayoutsAndBuildersRenderTheSameImage) {
     prism::Scene scene;
     prism::DeviceScene stack = load("builtin:sphere", prism::BvhLayout::Stack, prism::BvhMethod::BinnedSah, &scene);
     prism::DeviceScene escape = load("builtin:sphere", prism::BvhLayout::Escape, prism::BvhMethod::Median);
+    prism::DeviceScene wide = load("builtin:sphere", prism::BvhLayout::Wide, prism::BvhMethod::BinnedSah);
+    prism::DeviceScene wide_median = load("builtin:sphere", prism::BvhLayout::Wide, prism::BvhMethod::Median);
     prism::RenderSettings settings;
     settings.width = 96;
     settings.height = 72;
     prism::FrameResult a = prism::RenderEngine("cpu", stack).render(scene.camera, settings);
-    prism::FrameResult b = prism::RenderEngine("cpu", escape).render(scene.camera, settings);
-    EXPECT_GE(prism::test::psnr_rgba8(a.image, b.image), 50.0);
+    for (const prism::DeviceScene* other : {&escape, &wide, &wide_median}) {
+        prism::FrameResult b = prism::RenderEngine("cpu", *other).render(scene.camera, settings);
+        EXPECT_GE(prism::test::psnr_rgba8(a.image, b.image), 50.0) << prism::bvh_layout_name(other->bvh_options.layout);
+        EXPECT_EQ(a.stats.rays_per_depth, b.stats.rays_per_depth);
+    }
+}
+
+// The cpu backend's two builds of the stages (baseline SSE2 and AVX2, PRISM_CPU_ISA) give the same bits.
+TEST(CpuAgreement, BaselineAndAvx2StagesAgreeBitForBit) {
+    prism::Scene scene;
+    prism::DeviceScene device = load("builtin:bunny", prism::BvhLayout::Wide, prism::BvhMethod::BinnedSah, &scene);
+    prism::RenderSettings settings;
+    settings.width = 96;
+    settings.height = 72;
+    settings.max_depth = 6;
+    auto render_with = [&](const char* isa) {
+        prism::test::ScopedEnv env("PRISM_CPU_ISA", isa);
+        return prism::RenderEngine("cpu", device).render(scene.camera, settings);
+    };
+    prism::FrameResult baseline = render_with("baseline");
+    std::string reason;
+    if (!__builtin_cpu_supports("avx2")) GTEST_SKIP() << "this CPU has no AVX2";
+    prism::FrameResult avx2 = render_with("avx2");
+    EXPECT_EQ(baseline.image, avx2.image);
+    EXPECT_EQ(baseline.radiance, avx2.radiance);
+    EXPECT_EQ(baseline.stats.rays_per_depth, avx2.stats.rays_per_depth);
+    EXPECT_EQ(baseline.stats.shadow_rays_per_depth, avx2.stats.shadow_rays_per_depth);
+}
+
+// Moving instances in the wide layout refits (or rebuilds) its top level in place: the frame equals one from a
+// scene built with the instances already moved.
+TEST(CpuAgreement, WideTopLevelRefitAndRebuildMatchAFreshBuild) {
+    prism::Scene scene;
+    prism::DeviceScene device = load("builtin:sphere", prism::BvhLayout::Wide, prism::BvhMethod::BinnedSah, &scene);
+    ASSERT_GT(scene.instances.size(), 1u);
+    std::vector<glm::mat4> transforms;
+    for (size_t i = 0; i < scene.instances.size(); ++i)
+        transforms.push_back(glm::translate(glm::mat4(1.0f), glm::vec3(0.3f * float(i), 0.2f, -0.1f)) *
+                             scene.instances[i].transform);
+    prism::Scene moved = scene;
+    for (size_t i = 0; i < moved.instances.size(); ++i) moved.instances[i].transform = transforms[i];
+    prism::BvhBuildOptions wide;
+    wide.layout = prism::BvhLayout::Wide;
+    prism::DeviceScene fresh = prism::build_device_scene(moved, wide);
+    prism::RenderSettings settings;
+    settings.width = 96;
+    settings.height = 72;
+    prism::FrameResult expected = prism::RenderEngine("cpu-ref", fresh).render(moved.camera, settings);
+    for (bool rebuild : {false, true}) {
+        SCOPED_TRACE(rebuild ? "rebuild" : "refit");
+        prism::DeviceScene updated = device;
+        prism::RenderEngine engine("cpu", updated);
+        engine.update_instances(updated, transforms, rebuild);
+        prism::FrameResult actual = engine.render(moved.camera, settings);
+        EXPECT_GE(prism::test::psnr_rgba8(expected.image, actual.image), 50.0);
+        EXPECT_EQ(expected.stats.rays_per_depth, actual.stats.rays_per_depth);
+        EXPECT_EQ(prism::RenderEngine("cpu-ref", updated).render(moved.camera, settings).image, actual.image);
+    }
 }
 
 // Issue 8's determinism: the same frame twice is bit-identical (exact accumulation, deterministic BVH).

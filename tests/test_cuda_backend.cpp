@@ -27,22 +27,7 @@ namespace {
         if (!prism::test::backend_available("cuda", &reason_)) GTEST_SKIP() << reason_;        \
     } while (0)
 
-// Sets an environment variable for one scope.
-class ScopedEnv {
-public:
-    ScopedEnv(const char* name, const std::string& value) : name_(name) {
-        if (const char* old = std::getenv(name)) old_ = old;
-        setenv(name, value.c_str(), 1);
-    }
-    ~ScopedEnv() {
-        if (old_) setenv(name_, old_->c_str(), 1);
-        else unsetenv(name_);
-    }
-
-private:
-    const char* name_;
-    std::optional<std::string> old_;
-};
+using prism::test::ScopedEnv;
 
 std::string resolve(const std::string& spec) {
     return spec.rfind("builtin:", 0) == 0 ? spec : prism::test::scene(spec).string();
@@ -53,12 +38,16 @@ struct LoadedScene {
     prism::DeviceScene device;
 };
 
-LoadedScene load(const std::string& spec) {
+// The BVH layout is the one the renderer would pick for this backend: stack, or $PRISM_BVH_LAYOUT (so the whole
+// suite can run on another layout); the tests that name a layout pass it.
+LoadedScene load(const std::string& spec, prism::BvhLayout layout = prism::resolve_bvh_layout("auto", "cuda")) {
     prism::LoadOptions options;
     options.data_dir = prism::test::scenes_dir();
     LoadedScene loaded;
     loaded.scene = prism::load_scene(resolve(spec), options);
-    loaded.device = prism::build_device_scene(loaded.scene);
+    prism::BvhBuildOptions bvh;
+    bvh.layout = layout;
+    loaded.device = prism::build_device_scene(loaded.scene, bvh);
     return loaded;
 }
 
@@ -187,9 +176,7 @@ INSTANTIATE_TEST_SUITE_P(
         return name;
     });
 
-TEST(CudaBackend, RayQueriesMatchReferenceHits) {
-    REQUIRE_CUDA_DEVICE();
-    LoadedScene s = load("builtin:bunny");
+static void expect_ray_queries_match_reference(const LoadedScene& s) {
     std::vector<prism::RayQuery> rays = query_rays(s.scene.camera, 20000, 20240611);
     std::vector<prism::RayHit> expected = prism::RenderEngine("cpu-ref", s.device).trace(rays, false);
     prism::RenderEngine cuda("cuda", s.device);
@@ -213,6 +200,30 @@ TEST(CudaBackend, RayQueriesMatchReferenceHits) {
     size_t same_any = 0;
     for (size_t i = 0; i < rays.size(); ++i) same_any += (expected_any[i].t < INFINITY) == (actual_any[i].t < INFINITY);
     EXPECT_GE(double(same_any) / double(rays.size()), 0.9999);
+}
+
+TEST(CudaBackend, RayQueriesMatchReferenceHits) {
+    REQUIRE_CUDA_DEVICE();
+    expect_ray_queries_match_reference(load("builtin:bunny"));
+}
+
+// The wide layout (the cpu backends' default) traced by the CUDA build of the same traversal.
+TEST(CudaBackend, WideLayoutRayQueriesMatchReferenceHits) {
+    REQUIRE_CUDA_DEVICE();
+    expect_ray_queries_match_reference(load("builtin:bunny", prism::BvhLayout::Wide));
+}
+
+TEST(CudaBackend, WideLayoutImageMatchesReference) {
+    REQUIRE_CUDA_DEVICE();
+    for (const char* spec : {"builtin:sphere", "builtin:dragon"}) {
+        SCOPED_TRACE(spec);
+        LoadedScene s = load(spec, prism::BvhLayout::Wide);
+        prism::RenderSettings settings = small(160, 120, 6);
+        prism::FrameResult expected = prism::RenderEngine("cpu-ref", s.device).render(s.scene.camera, settings);
+        prism::FrameResult actual = prism::RenderEngine("cuda", s.device).render(s.scene.camera, settings);
+        EXPECT_GE(prism::test::psnr_rgba8(expected.image, actual.image), 50.0);
+        prism::test::expect_ray_counts_near(expected.stats, actual.stats);
+    }
 }
 
 TEST(CudaBackend, RendersAreBitIdentical) {

@@ -20,7 +20,10 @@ namespace {
 // The cpu backend is checked through the `prism rays` command (the user's path); GPU backends through the same
 // RenderEngine::trace in this process, because a child process cannot open a GPU that this test process already
 // holds when the GPU is in exclusive-process compute mode (as on the H100 machine).
-void check_against_embree(const std::string& model, const std::string& backend, size_t total) {
+// `layout`: the --bvh-layout the cpu backend's `prism rays` gets (auto: wide), or the layout a GPU backend's scene
+// is built with (auto: what the renderer picks for it).
+void check_against_embree(const std::string& model, const std::string& backend, size_t total,
+                          const std::string& layout = "auto") {
     std::string path = prism::test::scene(model).string();
     prism::Scene scene = prism::load_scene(path);
     prism::oracle::EmbreeScene embree(scene);
@@ -35,15 +38,18 @@ void check_against_embree(const std::string& model, const std::string& backend, 
         std::ofstream(in, std::ios::binary)
             .write(reinterpret_cast<const char*>(rays.rays.data()),
                    std::streamsize(rays.rays.size() * sizeof(prism::RayQuery)));
-        prism::test::CommandResult run = prism::test::run_prism("rays --scene '" + path + "' --backend " + backend +
-                                                                " --rays '" + in.string() + "' --out '" + out.string() + "'");
+        prism::test::CommandResult run =
+            prism::test::run_prism("rays --scene '" + path + "' --backend " + backend + " --bvh-layout " + layout +
+                                   " --rays '" + in.string() + "' --out '" + out.string() + "'");
         ASSERT_EQ(run.exit_code, 0) << run.output;
         std::ifstream file(out, std::ios::binary);
         std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
         ASSERT_EQ(bytes.size(), total * 20);
         std::memcpy(prism_hits.data(), bytes.data(), bytes.size());
     } else {
-        prism::DeviceScene device = prism::build_device_scene(scene);
+        prism::BvhBuildOptions bvh;
+        bvh.layout = prism::resolve_bvh_layout(layout, backend);
+        prism::DeviceScene device = prism::build_device_scene(scene, bvh);
         prism_hits = prism::RenderEngine(backend, device).trace(rays.rays, false);
     }
 
@@ -58,14 +64,23 @@ void check_against_embree(const std::string& model, const std::string& backend, 
 
 }  // namespace
 
+// The cpu backend's default (wide) layout, and the stack layout the GPU backends default to.
 TEST(EmbreeOracle, CpuBackendAgreesOnBunny) { check_against_embree("stanford/bunny.ply", "cpu", 1000000); }
 TEST(EmbreeOracle, CpuBackendAgreesOnDragon) { check_against_embree("stanford/dragon.ply.gz", "cpu", 1000000); }
+TEST(EmbreeOracle, CpuBackendStackLayoutAgreesOnBunny) {
+    check_against_embree("stanford/bunny.ply", "cpu", 1000000, "stack");
+}
 
 #ifdef PRISM_HAVE_OPENCL
 TEST(EmbreeOracle, OpenclAgreesOnBunny) {
     std::string device = prism::test::test_device("opencl"), reason;
     if (!prism::test::device_present("opencl", device.substr(7), &reason)) GTEST_SKIP() << reason;
     check_against_embree("stanford/bunny.ply", device, 1000000);
+}
+TEST(EmbreeOracle, OpenclWideLayoutAgreesOnBunny) {
+    std::string device = prism::test::test_device("opencl"), reason;
+    if (!prism::test::device_present("opencl", device.substr(7), &reason)) GTEST_SKIP() << reason;
+    check_against_embree("stanford/bunny.ply", device, 1000000, "wide");
 }
 #endif
 #ifdef PRISM_HAVE_VULKAN
@@ -74,12 +89,22 @@ TEST(EmbreeOracle, VulkanAgreesOnBunny) {
     if (!prism::test::device_present("vulkan", device.substr(7), &reason)) GTEST_SKIP() << reason;
     check_against_embree("stanford/bunny.ply", device, 1000000);
 }
+TEST(EmbreeOracle, VulkanWideLayoutAgreesOnBunny) {
+    std::string device = prism::test::test_device("vulkan"), reason;
+    if (!prism::test::device_present("vulkan", device.substr(7), &reason)) GTEST_SKIP() << reason;
+    check_against_embree("stanford/bunny.ply", device, 1000000, "wide");
+}
 #endif
 #ifdef PRISM_HAVE_CUDA
 TEST(EmbreeOracle, CudaAgreesOnDragon) {
     std::string reason;
     if (!prism::test::backend_available("cuda", &reason)) GTEST_SKIP() << "no CUDA device: " << reason;
     check_against_embree("stanford/dragon.ply.gz", "cuda", 1000000);
+}
+TEST(EmbreeOracle, CudaWideLayoutAgreesOnDragon) {
+    std::string reason;
+    if (!prism::test::backend_available("cuda", &reason)) GTEST_SKIP() << "no CUDA device: " << reason;
+    check_against_embree("stanford/dragon.ply.gz", "cuda", 1000000, "wide");
 }
 #endif
 

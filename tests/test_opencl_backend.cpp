@@ -64,12 +64,17 @@ std::string error_of(const std::function<void()>& f) {
     return "";
 }
 
-prism::DeviceScene load(const std::string& spec, prism::Scene* out) {
+// The BVH layout is the one the renderer would pick for this backend: stack, or $PRISM_BVH_LAYOUT (so the whole
+// suite can run on another layout); the tests that name a layout pass it.
+prism::DeviceScene load(const std::string& spec, prism::Scene* out,
+                        prism::BvhLayout layout = prism::resolve_bvh_layout("auto", "opencl")) {
     prism::LoadOptions options;
     options.data_dir = prism::test::scenes_dir();
     std::string resolved = spec.rfind("builtin:", 0) == 0 ? spec : prism::test::scene(spec).string();
     prism::Scene scene = prism::load_scene(resolved, options);
-    prism::DeviceScene device = prism::build_device_scene(scene, prism::BvhBuildOptions{});
+    prism::BvhBuildOptions bvh;
+    bvh.layout = layout;
+    prism::DeviceScene device = prism::build_device_scene(scene, bvh);
     if (out) *out = std::move(scene);
     return device;
 }
@@ -352,6 +357,23 @@ INSTANTIATE_TEST_SUITE_P(Scenes, OpenclAgreement,
                              return name;
                          });
 
+TEST(OpenclAgreementMisc, WideLayoutImageMatchesReference) {
+    REQUIRE_POCL();
+    for (const char* spec : {"builtin:sphere", "builtin:bunny"}) {
+        SCOPED_TRACE(spec);
+        prism::Scene scene;
+        prism::DeviceScene device = load(spec, &scene, prism::BvhLayout::Wide);
+        prism::RenderSettings settings;
+        settings.width = 96;
+        settings.height = 72;
+        settings.max_depth = 5;
+        prism::FrameResult expected = prism::RenderEngine("cpu-ref", device).render(scene.camera, settings);
+        prism::FrameResult actual = prism::RenderEngine(prism::test::test_device("opencl"), device).render(scene.camera, settings);
+        EXPECT_GE(prism::test::psnr_rgba8(expected.image, actual.image), 50.0);
+        prism::test::expect_ray_counts_near(expected.stats, actual.stats);
+    }
+}
+
 TEST(OpenclAgreementMisc, RenderingIsDeterministic) {
     REQUIRE_POCL();
     prism::Scene scene;
@@ -384,15 +406,16 @@ TEST(OpenclAgreementMisc, OverflowingQueuesAreGrownNotDropped) {
     prism::test::expect_ray_counts_near(expected.stats, actual.stats);
 }
 
-// Random rays through and around the scene: the same primitive (or both miss), t within 1e-4 relative.
+// Random rays through and around the scene: the same primitive (or both miss), t within 1e-4 relative. In the
+// default layout and in the wide one (the cpu backends' default), traced by the OpenCL C build of the traversal.
 TEST(OpenclAgreementMisc, RayQueriesMatchReference) {
     REQUIRE_POCL();
-    for (const char* spec : {"builtin:bunny", "gltf/GlassVaseFlowers/GlassVaseFlowers.glb"}) {
-        SCOPED_TRACE(spec);
-        prism::DeviceScene device = load(spec, nullptr);
-        ASSERT_FALSE(device.nodes.empty());
-        const BvhNode& root = device.nodes[0];
-        glm::vec3 lower(root.lower.x, root.lower.y, root.lower.z), upper(root.upper.x, root.upper.y, root.upper.z);
+    for (const char* spec : {"builtin:bunny", "gltf/GlassVaseFlowers/GlassVaseFlowers.glb"})
+    for (bool wide : {false, true}) {
+        SCOPED_TRACE(std::string(spec) + (wide ? ", wide layout" : ""));
+        prism::DeviceScene device = wide ? load(spec, nullptr, prism::BvhLayout::Wide) : load(spec, nullptr);
+        prism::Aabb bounds = prism::node_bounds(device.top_level.nodes[0]);   // the world box, whatever the layout
+        glm::vec3 lower = bounds.lower, upper = bounds.upper;
         glm::vec3 center = 0.5f * (lower + upper);
         float radius = 0.75f * glm::length(upper - lower) + 1e-3f;
         std::mt19937 rng(20261124);

@@ -1,9 +1,11 @@
 // Helpers shared by the tests: where the assets are, temporary files, running the prism command.
 #pragma once
 
+#include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <functional>
-#include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,5 +49,24 @@ struct CommandResult {
 // Runs the prism binary with the given arguments (a shell-quoted string), after `launcher` when one is given
 // (e.g. "xvfb-run -a" for the viewer, "env -u DISPLAY").
 CommandResult run_prism(const std::string& arguments, const std::string& launcher = "");
+
+// Sets an environment variable for one scope.
+class ScopedEnv {
+public:
+    ScopedEnv(const char* name, const std::string& value) : name_(name) {
+        if (const char* old = std::getenv(name)) old_ = old;
+        setenv(name, value.c_str(), 1);
+    }
+    ~ScopedEnv() {
+        if (old_) setenv(name_, old_->c_str(), 1);
+        else unsetenv(name_);
+    }
+    ScopedEnv(const ScopedEnv&) = delete;
+    ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+private:
+    const char* name_;
+    std::optional<std::string> old_;
+};
 
 }  // namespace prism::test

@@ -78,11 +78,16 @@ std::string resolve(const std::string& spec) {
     return spec.rfind("builtin:", 0) == 0 ? spec : prism::test::scene(spec).string();
 }
 
-prism::DeviceScene load(const std::string& spec, prism::Scene* out = nullptr) {
+// The BVH layout is the one the renderer would pick for this backend: stack, or $PRISM_BVH_LAYOUT (so the whole
+// suite can run on another layout); the tests that name a layout pass it.
+prism::DeviceScene load(const std::string& spec, prism::Scene* out = nullptr,
+                        prism::BvhLayout layout = prism::resolve_bvh_layout("auto", "vulkan")) {
     prism::LoadOptions options;
     options.data_dir = prism::test::scenes_dir();
     prism::Scene scene = prism::load_scene(resolve(spec), options);
-    prism::DeviceScene device = prism::build_device_scene(scene, prism::BvhBuildOptions{});
+    prism::BvhBuildOptions bvh;
+    bvh.layout = layout;
+    prism::DeviceScene device = prism::build_device_scene(scene, bvh);
     if (out) *out = std::move(scene);
     return device;
 }
@@ -221,10 +226,10 @@ INSTANTIATE_TEST_SUITE_P(
     });
 
 // Closest hits of random rays through the scene's bounds: same instance and primitive, same t.
-TEST_F(Vulkan, RayQueriesMatchReferenceHits) {
-    prism::DeviceScene device = load("builtin:bunny");
-    const BvhNode& root = device.nodes[0];
-    float lower[3] = {root.lower.x, root.lower.y, root.lower.z}, upper[3] = {root.upper.x, root.upper.y, root.upper.z};
+static void expect_ray_queries_match_reference(const prism::DeviceScene& device) {
+    prism::Aabb bounds = prism::node_bounds(device.top_level.nodes[0]);   // the world box, whatever the layout
+    float lower[3] = {bounds.lower.x, bounds.lower.y, bounds.lower.z};
+    float upper[3] = {bounds.upper.x, bounds.upper.y, bounds.upper.z};
     std::mt19937 random(7);
     std::uniform_real_distribution<float> unit(0.0f, 1.0f);
     std::vector<prism::RayQuery> rays(4000);
@@ -256,6 +261,29 @@ TEST_F(Vulkan, RayQueriesMatchReferenceHits) {
     }
     EXPECT_GT(hits, rays.size() / 4) << "the rays should mostly hit the bunny";
     EXPECT_GE(double(agree), 0.9999 * double(rays.size())) << agree << " of " << rays.size() << " agree";
+}
+
+TEST_F(Vulkan, RayQueriesMatchReferenceHits) { expect_ray_queries_match_reference(load("builtin:bunny")); }
+
+// The wide layout (the cpu backends' default) traced by the GLSL build of the same traversal.
+TEST_F(Vulkan, WideLayoutRayQueriesMatchReferenceHits) {
+    expect_ray_queries_match_reference(load("builtin:bunny", nullptr, prism::BvhLayout::Wide));
+}
+
+TEST_F(Vulkan, WideLayoutImageMatchesReference) {
+    for (const char* spec : {"builtin:sphere", "builtin:bunny"}) {
+        SCOPED_TRACE(spec);
+        prism::Scene scene;
+        prism::DeviceScene device = load(spec, &scene, prism::BvhLayout::Wide);
+        prism::RenderSettings settings;
+        settings.width = 96;
+        settings.height = 72;
+        settings.max_depth = 4;
+        prism::FrameResult expected = prism::RenderEngine("cpu-ref", device).render(scene.camera, settings);
+        prism::FrameResult actual = prism::RenderEngine(kDevice, device).render(scene.camera, settings);
+        EXPECT_GE(prism::test::psnr_rgba8(expected.image, actual.image), 50.0);
+        prism::test::expect_ray_counts_near(expected.stats, actual.stats);
+    }
 }
 
 TEST_F(Vulkan, TwoRendersAreBitIdentical) {
