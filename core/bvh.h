@@ -39,6 +39,7 @@ struct BvhBuildOptions {
     uint32_t threads = 0;           // 0: std::thread::hardware_concurrency()
     float traversal_cost = 1.0f;    // SAH constants: cost of a node visit relative to one primitive test
     float intersection_cost = 1.0f;
+    uint32_t wide_leaf_size = RT_WIDE_LEAF_MAX;   // the wide layout: subtrees of at most this many become one leaf
 };
 
 struct Bvh {
@@ -84,10 +85,12 @@ Aabb node_bounds(const BvhNode& node);
 
 // ---- The wide layout (core/bvh_wide.cpp) ----
 // Collapses a binary BVH in the stack layout: each wide node takes a binary node's two children and opens the
-// interior child with the largest surface area until it has RT_BVH_WIDTH (8) children (or only leaves). A parent
-// precedes its children; unused lanes hold the empty box and child 0. A single-node tree becomes one wide node with
-// the leaf in lane 0 (or, for the empty tree, no lane used). Leaves must hold at most RT_WIDE_LEAF_MAX primitives.
-std::vector<BvhWideNode> collapse_bvh_wide(const std::vector<BvhNode>& stack_nodes);
+// interior child with the largest surface area until it has RT_BVH_WIDTH (8) children (or only leaves). A subtree
+// of at most leaf_size primitives (capped at RT_WIDE_LEAF_MAX) is one leaf. A parent precedes its children; unused
+// lanes hold the empty box and child 0. A root that is a leaf becomes one wide node with it in lane 0 (the empty
+// tree: no lane used). Binary leaves must hold at most RT_WIDE_LEAF_MAX primitives.
+std::vector<BvhWideNode> collapse_bvh_wide(const std::vector<BvhNode>& stack_nodes,
+                                           uint32_t leaf_size = RT_WIDE_LEAF_MAX);
 // Refits the boxes of collapsed nodes in place (leaf ranges index primitive_order, as in the binary tree).
 void refit_bvh_wide(std::vector<BvhWideNode>& wide, const std::vector<uint32_t>& primitive_order,
                     std::span<const Aabb> primitive_bounds);

@@ -395,7 +395,7 @@ Bvh build_bvh(std::span<const Aabb> primitive_bounds, const BvhBuildOptions& opt
     BvhTree tree = build_bvh_tree(primitive_bounds, options);
     Bvh bvh;
     bvh.nodes = flatten_bvh_tree(tree, options.layout == BvhLayout::Wide ? BvhLayout::Stack : options.layout);
-    if (options.layout == BvhLayout::Wide) bvh.wide_nodes = collapse_bvh_wide(bvh.nodes);
+    if (options.layout == BvhLayout::Wide) bvh.wide_nodes = collapse_bvh_wide(bvh.nodes, options.wide_leaf_size);
     bvh.primitive_order = std::move(tree.primitive_order);
     bvh.layout = options.layout;
     bvh.options = options;

@@ -27,13 +27,25 @@ auto& lane(Vector& lanes_0_3, Vector& lanes_4_7, uint32_t k) {
 
 class Collapser {
 public:
-    explicit Collapser(const std::vector<BvhNode>& binary) : binary_(binary) {}
+    Collapser(const std::vector<BvhNode>& binary, uint32_t leaf_size)
+        : binary_(binary), range_(binary.size()), leaf_size_(leaf_size) {
+        // Each subtree's primitive range (its leaves are contiguous): children follow their parent.
+        for (uint32_t index = uint32_t(binary.size()); index-- > 0;) {
+            if (upper_w(binary[index]) != 0) {
+                range_[index] = {lower_w(binary[index]), upper_w(binary[index])};
+            } else if (binary.size() > 1) {
+                const Range& left = range_[lower_w(binary[index])];
+                const Range& right = range_[lower_w(binary[index]) + 1];
+                range_[index] = {left.first, left.count + right.count};
+            }
+        }
+    }
 
     std::vector<BvhWideNode> run() {
         wide_.push_back(empty_wide_node());
-        // A single node is the root leaf (or the empty tree's node, count 0, which needs no lane).
-        if (binary_.size() == 1) {
-            if (upper_w(binary_[0]) != 0) set_leaf_lane(wide_[0], 0, 0);
+        // A root small enough for one leaf (or the empty tree's node, count 0, which needs no lane) takes lane 0.
+        if (leaf(0)) {
+            if (range_[0].count != 0) set_leaf_lane(wide_[0], 0, 0);
         } else {
             fill(0, 0);
         }
@@ -41,7 +53,13 @@ public:
     }
 
 private:
-    bool leaf(uint32_t index) const { return upper_w(binary_[index]) != 0; }
+    struct Range {
+        uint32_t first = 0, count = 0;
+    };
+
+    // A subtree of at most leaf_size_ primitives becomes one leaf lane: testing its (at most two) blocks of four
+    // triangles costs less than visiting a node that holds only its two leaves, the collapse's usual bottom level.
+    bool leaf(uint32_t index) const { return upper_w(binary_[index]) != 0 || range_[index].count <= leaf_size_; }
 
     // Wide node `target` takes the children of binary node `source`, then opens the interior child with the
     // largest surface area (the likeliest to be entered) until it has RT_BVH_WIDTH children or only leaves.
@@ -79,10 +97,12 @@ private:
 
     void set_leaf_lane(BvhWideNode& node, uint32_t k, uint32_t source) {
         set_wide_lane_box(node, k, node_bounds(binary_[source]));
-        set_wide_lane_leaf(node, k, lower_w(binary_[source]), upper_w(binary_[source]));
+        set_wide_lane_leaf(node, k, range_[source].first, range_[source].count);
     }
 
     const std::vector<BvhNode>& binary_;
+    std::vector<Range> range_;
+    uint32_t leaf_size_;
     std::vector<BvhWideNode> wide_;
 };
 
@@ -135,9 +155,9 @@ void set_wide_lane_leaf(BvhWideNode& node, uint32_t k, uint32_t first, uint32_t 
     PRISM_WIDE_LANE(node, child, k) = RT_WIDE_LEAF | first << 3 | (count - 1);
 }
 
-std::vector<BvhWideNode> collapse_bvh_wide(const std::vector<BvhNode>& stack_nodes) {
+std::vector<BvhWideNode> collapse_bvh_wide(const std::vector<BvhNode>& stack_nodes, uint32_t leaf_size) {
     if (stack_nodes.empty()) throw Error("internal: collapsing an empty BVH");
-    return Collapser(stack_nodes).run();
+    return Collapser(stack_nodes, std::min(leaf_size, RT_WIDE_LEAF_MAX)).run();
 }
 
 uint32_t wide_stack_bound(const std::vector<BvhWideNode>& wide, uint32_t root) {

@@ -157,6 +157,7 @@ void build_top_level(DeviceScene& device, const std::vector<glm::mat4>& transfor
     if (rebuild) {
         BvhBuildOptions options = device.bvh_options;
         options.max_leaf_size = 1;
+        options.wide_leaf_size = 1;   // a top-level leaf is one instance
         device.top_level = build_bvh(bounds, options);
     } else {
         // refit_bvh maps leaves through primitive_order, which still holds the instance order.

@@ -185,7 +185,9 @@ void check_wide_structure(const Bvh& bvh, std::span<const Aabb> bounds, uint32_t
             }
             if (ref & RT_WIDE_LEAF) {
                 uint32_t first = (ref & ~RT_WIDE_LEAF) >> 3, count = (ref & 7u) + 1;
-                check_leaf(bvh, bounds, lane, {first, count}, std::min(max_leaf, RT_WIDE_LEAF_MAX), references);
+                // Subtrees of up to wide_leaf_size primitives are merged into one leaf.
+                check_leaf(bvh, bounds, lane, {first, count},
+                           std::min(std::max(max_leaf, bvh.options.wide_leaf_size), RT_WIDE_LEAF_MAX), references);
                 continue;
             }
             ASSERT_GT(ref, index) << "children follow their parent";
@@ -574,6 +576,31 @@ TEST(BvhBuild, EscapeLayoutCapsLeavesAt255) {
     EXPECT_EQ(bits(stack.nodes[0].upper.w), 1000u);
 }
 
+// The wide collapse merges subtrees of up to wide_leaf_size primitives into one leaf (its blocks are tested
+// together), and never beyond RT_WIDE_LEAF_MAX.
+TEST(BvhBuild, WideLeavesMergeSmallSubtrees) {
+    const Soup& soup = bunny();
+    BvhBuildOptions options = options_for(BvhMethod::BinnedSah, BvhLayout::Wide);
+    std::vector<size_t> node_counts;
+    for (uint32_t merge : {1u, 4u, 8u, 64u}) {
+        options.wide_leaf_size = merge;
+        Bvh bvh = build_bvh(soup.bounds, options);
+        uint32_t largest = 0;
+        for (const BvhWideNode& node : bvh.wide_nodes)
+            for (uint32_t k = 0; k < RT_BVH_WIDTH; ++k)
+                if (wide_ref(node, k) & RT_WIDE_LEAF) largest = std::max(largest, (wide_ref(node, k) & 7u) + 1);
+        EXPECT_LE(largest, std::min(std::max(merge, 4u), RT_WIDE_LEAF_MAX)) << merge;
+        if (merge >= 8) {
+            EXPECT_EQ(largest, RT_WIDE_LEAF_MAX) << merge;
+        }
+        node_counts.push_back(bvh.wide_nodes.size());
+        check_closest_hits(bvh, soup, 100);
+    }
+    EXPECT_EQ(node_counts[0], node_counts[1]) << "binary leaves hold at most 4: merging to 4 changes nothing";
+    EXPECT_LT(node_counts[2], node_counts[1]) << "merging to 8 removes the nodes over two small leaves";
+    EXPECT_EQ(node_counts[3], node_counts[2]) << "capped at RT_WIDE_LEAF_MAX";
+}
+
 TEST(BvhBuild, WideLayoutCapsLeavesAt8) {
     std::vector<Aabb> same(1000);
     for (auto& box : same) box.lower = glm::vec3(0.0f), box.upper = glm::vec3(1.0f);
@@ -640,6 +667,7 @@ TEST(BvhBuild, TopLevelOverInstancesWithOneInstancePerLeaf) {
     for (BvhLayout layout : kLayouts) {
         BvhBuildOptions options = options_for(BvhMethod::BinnedSah, layout);
         options.max_leaf_size = 1;
+        options.wide_leaf_size = 1;   // as the device scene's top level builds it
         Bvh bvh = build_bvh(instances, options);
         EXPECT_EQ(bvh.nodes.size(), 13u);
         check_structure(bvh, instances, 1);
