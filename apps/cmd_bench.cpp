@@ -1,12 +1,15 @@
 // `prism bench`: the seed's results table (thesis Tables 2/3) redone per backend and scene — frame time, fps,
 // per-stage device times and Mrays/s per ray type (primary, secondary by depth, shadow), median of N runs after
-// warm-up — and, with --embree, ray-query throughput of each backend against Embree on the same rays.
+// warm-up — and, with --embree, ray-query throughput of each backend against Embree on the same rays (the methods
+// interleaved round by round).
 // Every backend traces the same rays: frames are deterministic, and the ray counts per depth are checked equal.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <map>
+#include <memory>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -148,35 +151,37 @@ nlohmann::json bench_frames(RenderEngine& engine, const Scene& scene, const Benc
 }
 
 #ifdef PRISM_HAVE_EMBREE
-// Ray-query throughput (closest hit) on the oracle rays: primary and diffuse measured separately.
-nlohmann::json bench_queries(RenderEngine* engine, const oracle::EmbreeScene* embree, bool packets,
-                             const oracle::OracleRays& rays, uint32_t runs) {
+// Ray-query throughput (closest hit) on the oracle rays, primary and diffuse measured separately. Every method —
+// each backend, Embree rtcIntersect1 and rtcIntersect8 — runs once per round, round after round, so a machine
+// that gets busier or quieter during the benchmark (a shared 2-core one) slows all of them alike; each reports
+// its median round, after one warm-up round.
+using QueryMethod = std::function<double(const std::vector<RayQuery>&)>;   // one run, in ms
+
+std::vector<nlohmann::json> bench_queries(const std::vector<QueryMethod>& methods, const oracle::OracleRays& rays,
+                                          uint32_t runs) {
     std::vector<RayQuery> primary(rays.rays.begin(), rays.rays.begin() + long(rays.primary));
     std::vector<RayQuery> diffuse(rays.rays.begin() + long(rays.primary), rays.rays.end());
     auto measure = [&](const std::vector<RayQuery>& set) {
-        std::vector<double> ms;
-        for (uint32_t i = 0; i < runs + 1; ++i) {
-            double t = 0.0;
-            if (engine) {
-                engine->trace(set, false);
-                t = engine->last_trace_ms();
-            } else {
-                auto start = std::chrono::steady_clock::now();
-                if (packets) embree->intersect8(set);
-                else embree->intersect1(set);
-                t = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        std::vector<std::vector<double>> ms(methods.size());
+        for (uint32_t round = 0; round < runs + 1; ++round)
+            for (size_t m = 0; m < methods.size(); ++m) {
+                double t = methods[m](set);
+                if (round > 0) ms[m].push_back(t);   // the first round is the warm-up
             }
-            if (i > 0) ms.push_back(t);   // the first run is the warm-up
-        }
-        return median(ms);
+        std::vector<double> medians;
+        for (auto& samples : ms) medians.push_back(median(samples));
+        return medians;
     };
-    double primary_ms = measure(primary), diffuse_ms = measure(diffuse);
-    return {{"primary_rays", primary.size()},
-            {"diffuse_rays", diffuse.size()},
-            {"primary_ms", primary_ms},
-            {"diffuse_ms", diffuse_ms},
-            {"primary_mrays_per_s", mrays(primary.size(), primary_ms)},
-            {"diffuse_mrays_per_s", mrays(diffuse.size(), diffuse_ms)}};
+    std::vector<double> primary_ms = measure(primary), diffuse_ms = measure(diffuse);
+    std::vector<nlohmann::json> out;
+    for (size_t m = 0; m < methods.size(); ++m)
+        out.push_back({{"primary_rays", primary.size()},
+                       {"diffuse_rays", diffuse.size()},
+                       {"primary_ms", primary_ms[m]},
+                       {"diffuse_ms", diffuse_ms[m]},
+                       {"primary_mrays_per_s", mrays(primary.size(), primary_ms[m])},
+                       {"diffuse_mrays_per_s", mrays(diffuse.size(), diffuse_ms[m])}});
+    return out;
 }
 #endif
 
@@ -195,7 +200,8 @@ void run_bench(BenchOptions options) {
     result["settings"] = {{"width", options.settings.width}, {"height", options.settings.height},
                           {"max_depth", options.settings.max_depth}, {"runs", options.runs},
                           {"warmup", options.warmup}, {"seed_setting", options.seed_setting},
-                          {"bvh", options.scene.bvh}, {"bvh_layout", options.scene.layout}};
+                          {"bvh", options.scene.bvh}, {"bvh_layout", options.scene.layout},
+                          {"queries_interleaved", true}};
     result["scenes"] = nlohmann::json::array();
     for (const std::string& scene_name : split(options.scenes)) {
         SceneOptions scene_options = options.scene;
@@ -227,9 +233,11 @@ void run_bench(BenchOptions options) {
             rays = oracle::make_oracle_rays(loaded.scene, *embree, options.query_rays / 2, options.query_rays, 7);
         }
 #endif
+        std::vector<std::unique_ptr<RenderEngine>> query_engines;   // kept for the interleaved query rounds
         for (const std::string& backend : backends) {
             const DeviceScene& device = device_for(backend);
-            RenderEngine engine(backend, device);
+            auto engine_owner = std::make_unique<RenderEngine>(backend, device);
+            RenderEngine& engine = *engine_owner;
             BackendInfo info = engine.info();
             std::string layout = bvh_layout_name(device.bvh_options.layout);
             std::printf("%s on %s [%s], %s BVH...\n", scene_name.c_str(), backend.c_str(), info.device.c_str(),
@@ -241,7 +249,7 @@ void run_bench(BenchOptions options) {
                                     {"bvh_layout", layout},      {"bvh_build_ms", device.bvh_build_ms}};
             entry["frames"] = bench_frames(engine, loaded.scene, options, first);
 #ifdef PRISM_HAVE_EMBREE
-            if (embree) entry["queries"] = bench_queries(&engine, nullptr, false, rays, options.runs);
+            if (embree) query_engines.push_back(std::move(engine_owner));
 #endif
             const auto& f = entry["frames"];
             std::printf("  frame %.2f ms (%.1f fps), primary %.1f, secondary %.1f, shadow %.1f Mrays/s\n",
@@ -251,9 +259,25 @@ void run_bench(BenchOptions options) {
         }
 #ifdef PRISM_HAVE_EMBREE
         if (embree) {
+            std::vector<QueryMethod> methods;
+            for (auto& engine : query_engines)
+                methods.push_back([&engine](const std::vector<RayQuery>& set) {
+                    engine->trace(set, false);
+                    return engine->last_trace_ms();
+                });
+            for (bool packets : {false, true})
+                methods.push_back([&embree, packets](const std::vector<RayQuery>& set) {
+                    auto start = std::chrono::steady_clock::now();
+                    if (packets) embree->intersect8(set);
+                    else embree->intersect1(set);
+                    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+                });
+            std::vector<nlohmann::json> queries = bench_queries(methods, rays, options.runs);
+            for (size_t b = 0; b < query_engines.size(); ++b) scene_json["backends"][b]["queries"] = queries[b];
+            query_engines.clear();
             scene_json["embree"] = {{"version", RTC_VERSION_STRING},
-                                    {"intersect1", bench_queries(nullptr, embree.get(), false, rays, options.runs)},
-                                    {"intersect8", bench_queries(nullptr, embree.get(), true, rays, options.runs)}};
+                                    {"intersect1", queries[queries.size() - 2]},
+                                    {"intersect8", queries.back()}};
             for (const auto& b : scene_json["backends"]) {
                 std::printf("  %s vs Embree rtcIntersect1: primary %.2fx, diffuse %.2fx\n",
                             b["backend"].get<std::string>().c_str(),
