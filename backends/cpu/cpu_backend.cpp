@@ -99,10 +99,12 @@ public:
         KernelGlobals kg = globals();
         auto start = std::chrono::steady_clock::now();
         std::atomic<uint32_t> cursor{0};
-        // Chunks small enough to balance glass against background, large enough to amortise the atomic.
+        // The smallest range a worker takes (RT_GRID_LOOP guides the larger ones): small enough to balance glass
+        // against background at the end of a launch, large enough to amortise the atomic.
         const uint32_t chunk = stage == Stage::Generate || stage == Stage::Resolve ? 1024 : 64;
+        const uint32_t workers = pool_.size();
         pool_.run([&](unsigned) {
-            rt_cpu_grid = RtCpuGrid{&cursor, chunk};
+            rt_cpu_grid = RtCpuGrid{&cursor, chunk, workers};
             stages_.run(stage, kg, depth);
         });
         timings_.push_back(StageTiming{stage, depth,
