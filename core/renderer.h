@@ -19,6 +19,9 @@ struct RenderSettings {
     uint32_t max_depth = 8;          // ray generations traced: 1 = primary rays only
     float min_weight = 1e-4f;        // rays whose RGB weight is below this everywhere are not spawned
     float queue_factor = 2.0f;       // ray queue capacity per pixel; grown automatically when a frame overflows
+    // Read back the linear radiance too (16 bytes a pixel: 33 MB at 1080p, more than the 8-bit image) — only .hdr
+    // output and the bit-exactness tests need it, so frames and benchmarks skip that transfer by default.
+    bool read_radiance = false;
 };
 
 struct FrameStats {
@@ -34,7 +37,7 @@ struct FrameStats {
 struct FrameResult {
     uint32_t width = 0, height = 0;
     std::vector<uint32_t> image;    // RGBA8 sRGB, row 0 at the top
-    std::vector<float> radiance;    // linear RGBA
+    std::vector<float> radiance;    // linear RGBA; empty unless RenderSettings::read_radiance
     FrameStats stats;
 };
 
