@@ -45,9 +45,15 @@
 
 #define RT_INFINITY uintBitsToFloat(0x7f800000u)
 
+#if defined(RT_GLSL_ADDRESS)   // arrays through buffer device addresses (kernels/globals.h)
+#define RT_FETCH(kg, array, i) (rt_array_##array().array##_at[(i)])
+#define RT_STORE(kg, array, i, value) (rt_array_##array().array##_at[(i)] = (value))
+#define RT_ATOMIC_ADD(kg, array, i, value) atomicAdd(rt_array_##array().array##_at[(i)], (value))
+#else
 #define RT_FETCH(kg, array, i) (array[(i)])
 #define RT_STORE(kg, array, i, value) (array[(i)] = (value))
 #define RT_ATOMIC_ADD(kg, array, i, value) atomicAdd(array[(i)], (value))
+#endif
 
 // The shader must declare layout(local_size_x = ...) BEFORE including kernels/: glslang compiles gl_WorkGroupSize
 // as (1, 1, 1), without a diagnostic, in functions defined before that declaration.
