@@ -139,7 +139,9 @@ FrameResult Renderer::render(const Camera& camera, const RenderSettings& setting
             if (progress) progress(depth + 1, params.size.z);
         }
         backend_.enqueue(Stage::Resolve, 0);
+        auto enqueued = std::chrono::steady_clock::now();
         backend_.read(DeviceArray::counters, counters.data(), counters.size() * sizeof(uint32_t));
+        auto counted = std::chrono::steady_clock::now();
         result.image.resize(pixels);
         backend_.read(DeviceArray::image, result.image.data(), result.image.size() * sizeof(uint32_t));
         if (settings.read_radiance) {
@@ -147,8 +149,12 @@ FrameResult Renderer::render(const Camera& camera, const RenderSettings& setting
             backend_.read(DeviceArray::radiance, result.radiance.data(), result.radiance.size() * sizeof(float));
         }
         result.stats.stages = backend_.finish();
-        result.stats.frame_ms =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        auto end = std::chrono::steady_clock::now();
+        using ms = std::chrono::duration<double, std::milli>;
+        result.stats.frame_ms = ms(end - start).count();
+        result.stats.enqueue_ms = ms(enqueued - start).count();
+        result.stats.device_wait_ms = ms(counted - enqueued).count();
+        result.stats.readback_ms = ms(end - counted).count();
 
         if (counters[RT_COUNTER_DROPPED] == 0 || capacity >= (1u << 30) || attempt >= 4) {
             result.stats.queue_capacity = capacity;

@@ -26,6 +26,9 @@ struct RenderSettings {
 
 struct FrameStats {
     double frame_ms = 0.0;                    // wall time of the whole frame, upload of parameters to read-back
+    // Where the host's frame time went: recording/launching every stage, waiting for the device to finish them
+    // (the first read-back waits), then reading the image back. Device time per stage is in `stages`.
+    double enqueue_ms = 0.0, device_wait_ms = 0.0, readback_ms = 0.0;
     std::vector<StageTiming> stages;          // per stage and depth (device timers where the API has them)
     std::vector<uint32_t> rays_per_depth;     // closest-hit rays traced at each depth
     std::vector<uint32_t> shadow_rays_per_depth;
