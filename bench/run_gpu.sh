@@ -4,6 +4,8 @@
 #   PRISM_BUILD: build folder with apps/prism and tests/prism_tests (default build-gpu)
 #   PRISM_DATA:  scenes folder laid out like ../shared/scenes (default .device-data/scenes)
 #   PRISM_TAG:   suffix of the result files (default: the GPU's name)
+#   PRISM_SKIP_TESTS / PRISM_SKIP_SEED_TABLE / PRISM_SKIP_BANDWIDTH=1 skip a part; PRISM_CPU_BENCH=0 skips the
+#   host-CPU table; PRISM_VULKAN_AB=1 adds Vulkan's fixed-grid and device-address variants.
 set -uo pipefail
 build=${PRISM_BUILD:-build-gpu}
 data=${PRISM_DATA:-.device-data/scenes}
@@ -46,6 +48,16 @@ $prism bench --data-dir "$data" --backends "$backends" --seed-setting --depth 8 
 step "seed table at 1920x1080, depth 8"
 $prism bench --data-dir "$data" --backends "$backends" --width 1920 --height 1080 --depth 8 --runs 10 --warmup 2 \
   --json "$out/seed-table-$tag-1080p.json"
+fi
+if [ "${PRISM_VULKAN_AB:-0}" = 1 ]; then
+  # What Vulkan's launch choices cost (docs/vulkan.md): the fixed grid instead of indirect dispatch, and buffer
+  # device addresses instead of descriptors, each against the default run of the table above.
+  step "Vulkan at 1920x1080 with the fixed grid (PRISM_VULKAN_DISPATCH=fixed)"
+  PRISM_VULKAN_DISPATCH=fixed $prism bench --data-dir "$data" --backends vulkan:nvidia --width 1920 --height 1080 \
+    --depth 8 --runs 10 --warmup 2 --json "$out/vulkan-$tag-fixed-dispatch-1080p.json"
+  step "Vulkan at 1920x1080 through buffer device addresses (PRISM_VULKAN_ADDRESSING=addresses)"
+  PRISM_VULKAN_ADDRESSING=addresses $prism bench --data-dir "$data" --backends vulkan:nvidia --width 1920 \
+    --height 1080 --depth 8 --runs 10 --warmup 2 --json "$out/vulkan-$tag-addresses-1080p.json"
 fi
 if [ "${PRISM_CPU_BENCH:-1}" = 1 ]; then
   step "the same on the host CPU (cpu backend)"

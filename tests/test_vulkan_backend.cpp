@@ -420,7 +420,9 @@ TEST_F(Vulkan, DescriptorsOnlyRefuseArraysAboveMaxStorageBufferRange) {
     } catch (const prism::Error& e) {
         std::string message = e.what();
         EXPECT_NE(message.find("'rays'"), std::string::npos) << message;
-        if (on_lavapipe()) EXPECT_NE(message.find("maxStorageBufferRange"), std::string::npos) << message;
+        if (on_lavapipe()) {
+            EXPECT_NE(message.find("maxStorageBufferRange"), std::string::npos) << message;
+        }
     }
 }
 
