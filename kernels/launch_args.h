@@ -7,21 +7,23 @@
 
 #include "stages.h"
 
-// Which count sizes a stage's launch.
-#define RT_LAUNCH_PIXELS 0u    // generate, resolve
-#define RT_LAUNCH_RAYS 1u      // intersect, miss and shade of one depth
-#define RT_LAUNCH_SHADOWS 2u   // shadow of one depth
+// Which count sizes a stage's launch, and its slot in the argument array (one uint4 each: groups x, y, z, unused):
+// slot 0 the pixels (generate, resolve), then the rays of each depth (intersect, miss, shade), then the shadow
+// rays of each depth (shadow).
+#define RT_LAUNCH_PIXELS 0u
+#define RT_LAUNCH_RAYS 1u
+#define RT_LAUNCH_SHADOWS 2u
 #define RT_LAUNCH_SLOTS (1u + 2u * (RT_MAX_DEPTH + 1u))
 
-// Slot of a launch in the argument array (one uint4 each: groups x, y, z, unused).
 RT_FUNC uint rt_launch_slot(uint queue, uint depth) {
     return queue == RT_LAUNCH_PIXELS ? 0u : 1u + (queue - 1u) * (RT_MAX_DEPTH + 1u) + depth;
 }
 
-RT_FUNC uint rt_launch_items(KernelGlobals kg, uint queue, uint depth) {
-    if (queue == RT_LAUNCH_PIXELS) return rt_pixel_count(kg);
-    if (queue == RT_LAUNCH_RAYS) return rt_ray_count(kg, depth);
-    return rt_shadow_count(kg, depth);
+// Items of the launch in `slot`, from the counters as they are now.
+RT_FUNC uint rt_launch_items(KernelGlobals kg, uint slot) {
+    if (slot == 0u) return rt_pixel_count(kg);
+    if (slot <= RT_MAX_DEPTH + 1u) return rt_ray_count(kg, slot - 1u);
+    return rt_shadow_count(kg, slot - 1u - (RT_MAX_DEPTH + 1u));
 }
 
 // Enough groups for every item, at most `max_groups` (the grid loop strides over the rest).

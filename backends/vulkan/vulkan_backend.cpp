@@ -1,8 +1,8 @@
 // The Vulkan backend: memory, launches and timers for the SPIR-V of shaders/ (kernels/ compiled as GLSL).
 //
-// Commands are recorded into one command buffer on one compute queue: enqueue() records a one-invocation
-// launch_args dispatch that sizes the stage from its queue counter on the device (kernels/launch_args.h), then the
-// stage as vkCmdDispatchIndirect between two timestamps; write() a copy from a host-visible staging buffer, zero()
+// Commands are recorded into one command buffer on one compute queue: enqueue() records the stage as
+// vkCmdDispatchIndirect between two timestamps, after a launch_args dispatch that sizes every launch from the queue
+// counters on the device (kernels/launch_args.h) whenever they may have changed (once per depth: after shade); write() a copy from a host-visible staging buffer, zero()
 // a vkCmdFillBuffer. A full memory barrier (compute, transfer and indirect reads) precedes every command, which
 // makes the queue behave in order like a CUDA stream or an in-order OpenCL queue. Nothing is submitted until
 // read() or finish() (or a full staging buffer or query pool), which submit, wait on a fence and collect the
@@ -43,6 +43,7 @@ namespace {
 constexpr uint32_t kWorkGroupSize = 128;                 // local_size_x of shaders/common.glsl
 constexpr VkDeviceSize kTransferChunk = 64ull << 20;     // staging and read-back buffers grow up to this
 constexpr uint32_t kQueryCapacity = 2 * 512;             // timestamps per submission (two per dispatch)
+static_assert(RT_LAUNCH_SLOTS <= kWorkGroupSize, "shaders/launch_args.comp fills one slot per invocation of one group");
 static_assert(RT_VK_BINDING_LAUNCH_ARGS == device_array_count, "shaders/vulkan_bindings.h: after the data arrays");
 static_assert(RT_VK_BINDING_ADDRESSES == device_array_count + 1, "shaders/vulkan_bindings.h: after launch args");
 
@@ -131,6 +132,7 @@ public:
     void allocate(DeviceArray array, size_t bytes) override {
         Buffer& buffer = arrays_[size_t(array)];
         if (buffer.buffer && buffer.bytes == bytes) return;
+        launch_args_fresh_ = false;
         const char* name = device_array_name(array);
         const std::string device = physical_.properties.deviceName;
         if (bytes > physical_.properties.limits.maxStorageBufferRange &&
@@ -165,6 +167,7 @@ public:
 
     void write(DeviceArray array, const void* data, size_t bytes, size_t offset) override {
         check_range(array, bytes, offset);
+        if (array == DeviceArray::counters || array == DeviceArray::frame) launch_args_fresh_ = false;
         const char* source = static_cast<const char*>(data);
         while (bytes > 0) {
             if (staging_.capacity < kTransferChunk && staging_used_ + bytes > staging_.capacity) {
@@ -230,6 +233,7 @@ public:
     void zero(DeviceArray array) override {
         Buffer& buffer = arrays_[size_t(array)];
         if (!buffer.buffer) return;
+        if (array == DeviceArray::counters || array == DeviceArray::frame) launch_args_fresh_ = false;
         begin_command();
         vkCmdFillBuffer(command_, buffer.buffer, 0, VK_WHOLE_SIZE, 0u);
     }
@@ -238,11 +242,13 @@ public:
         if (timestamps_ && queries_used_ + 2 > kQueryCapacity) flush();
         bool address = addressing();
         uint32_t queue = launch_queue(stage);
-        if (indirect_) {   // size the launch from its counter, on the device
+        if (indirect_ && !launch_args_fresh_) {   // size the launches from the counters, on the device
             begin_command();
-            dispatch(pipeline(launch_args_pipelines_, launch_args_address_pipelines_, 0, "launch_args", address), 1,
-                     (queue << 8) | depth);
+            dispatch(pipeline(launch_args_pipelines_, launch_args_address_pipelines_, 0, "launch_args", address), 1, 0);
+            launch_args_fresh_ = true;
         }
+        // Shade appends rays and shadow rays: the counts it changes size the launches after it.
+        if (stage == Stage::Shade) launch_args_fresh_ = false;
         begin_command();
         uint32_t query = queries_used_;
         if (timestamps_) vkCmdWriteTimestamp(command_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, query_pool_, query);
@@ -269,6 +275,7 @@ public:
             found = extra_pipelines_.emplace(spirv.data(), create_pipeline(spirv, "module")).first;
         begin_command();
         dispatch(found->second, groups, push);
+        launch_args_fresh_ = false;   // a module may write anything, the counters included
     }
 
     // For the tests: the variant the next stage would run with, and whether launches are indirect.
@@ -652,6 +659,9 @@ private:
     Buffer addresses_;     // device_array_count x uint64: the address table of address mode
     std::array<uint64_t, device_array_count> address_table_{};
     bool addresses_dirty_ = false;
+    // Whether launch_args_ holds the counts of the counters as they are (cleared by anything that changes them:
+    // host writes to counters or frame, a reallocation, a shade stage).
+    bool launch_args_fresh_ = false;
     Buffer staging_;
     VkDeviceSize staging_used_ = 0;
     Buffer readback_;
