@@ -140,10 +140,16 @@ FrameResult Renderer::render(const Camera& camera, const RenderSettings& setting
         }
         backend_.enqueue(Stage::Resolve, 0);
         backend_.read(DeviceArray::counters, counters.data(), counters.size() * sizeof(uint32_t));
-        result.image.resize(pixels);
-        result.radiance.resize(size_t(pixels) * 4);
-        backend_.read(DeviceArray::image, result.image.data(), result.image.size() * sizeof(uint32_t));
-        backend_.read(DeviceArray::radiance, result.radiance.data(), result.radiance.size() * sizeof(float));
+        result.image.clear();
+        result.radiance.clear();
+        if (settings.read_image) {
+            result.image.resize(pixels);
+            backend_.read(DeviceArray::image, result.image.data(), result.image.size() * sizeof(uint32_t));
+        }
+        if (settings.read_radiance) {
+            result.radiance.resize(size_t(pixels) * 4);
+            backend_.read(DeviceArray::radiance, result.radiance.data(), result.radiance.size() * sizeof(float));
+        }
         result.stats.stages = backend_.finish();
         result.stats.frame_ms =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -19,6 +19,11 @@ struct RenderSettings {
     uint32_t max_depth = 8;          // ray generations traced: 1 = primary rays only
     float min_weight = 1e-4f;        // rays whose RGB weight is below this everywhere are not spawned
     float queue_factor = 2.0f;       // ray queue capacity per pixel; grown automatically when a frame overflows
+    // What render() copies back into FrameResult. The viewer needs only the image for its host copy, and nothing
+    // when the display copies the device's image array itself (GL interop). The reference renderer, whose frame
+    // is in host memory anyway, always fills both.
+    bool read_image = true;
+    bool read_radiance = true;
 };
 
 struct FrameStats {
@@ -33,8 +38,8 @@ struct FrameStats {
 
 struct FrameResult {
     uint32_t width = 0, height = 0;
-    std::vector<uint32_t> image;    // RGBA8 sRGB, row 0 at the top
-    std::vector<float> radiance;    // linear RGBA
+    std::vector<uint32_t> image;    // RGBA8 sRGB, row 0 at the top (empty when settings.read_image was false)
+    std::vector<float> radiance;    // linear RGBA (empty when settings.read_radiance was false)
     FrameStats stats;
 };
 
