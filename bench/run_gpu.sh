@@ -4,6 +4,7 @@
 #   PRISM_BUILD: build folder with apps/prism and tests/prism_tests (default build-gpu)
 #   PRISM_DATA:  scenes folder laid out like ../shared/scenes (default .device-data/scenes)
 #   PRISM_TAG:   suffix of the result files (default: the GPU's name)
+#   PRISM_VIEW_BENCH=1: also bench/view_gpu.sh (the viewer's display paths; needs .gpu-xvfb/ carried along)
 set -uo pipefail
 build=${PRISM_BUILD:-build-gpu}
 data=${PRISM_DATA:-.device-data/scenes}
@@ -55,5 +56,10 @@ fi
 if [ "${PRISM_SKIP_BANDWIDTH:-0}" != 1 ]; then
   step "bandwidth"
   $prism bandwidth --json "$out/bandwidth-$tag.json" --plot "$out/bandwidth-$tag.png" 2>&1 | tee "$out/bandwidth-$tag.txt"
+fi
+if [ "${PRISM_VIEW_BENCH:-0}" = 1 ]; then
+  # Needs .gpu-xvfb/ (bench/pack_xvfb.sh) carried along; PRISM_VIEW_* select scene, size, frames, backends.
+  step "prism view: display by interop, by host copy, and the render alone (bench/view_gpu.sh)"
+  PRISM_BUILD=$build PRISM_DATA=$data OUT=$out PRISM_TAG=$tag bash bench/view_gpu.sh
 fi
 step done
