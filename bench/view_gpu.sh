@@ -10,7 +10,7 @@
 #   PRISM_TAG            suffix of the result files (default: the GPU's name)
 #   PRISM_VIEW_BACKENDS  default cuda,opencl:nvidia,vulkan:nvidia
 #   PRISM_VIEW_SCENE     default builtin:dragon;  PRISM_VIEW_SIZE default 1920x1080;  PRISM_VIEW_FRAMES default 200
-#   PRISM_VIEW_DEPTH     default 8
+#   PRISM_VIEW_DEPTH     default 8;  PRISM_VIEW_TIMEOUT: seconds allowed per run (default 240)
 #   PRISM_VIEW_ANY_GL=1  run even when GL is not NVIDIA's (to check this script on a machine without a GPU:
 #                        PRISM_VIEW_ANY_GL=1 PRISM_VIEW_BACKENDS=vulkan:llvmpipe PRISM_VIEW_SIZE=160x90 ...)
 set -uo pipefail
@@ -23,6 +23,7 @@ width=${size%x*}
 height=${size#*x}
 frames=${PRISM_VIEW_FRAMES:-200}
 depth=${PRISM_VIEW_DEPTH:-8}
+run_limit=${PRISM_VIEW_TIMEOUT:-240}   # seconds per prism view run
 backends=${PRISM_VIEW_BACKENDS:-cuda,opencl:nvidia,vulkan:nvidia}
 prism=$PWD/$build/apps/prism
 target_ms=0.2   # issue 7: interop may add at most this much to a frame over the render alone
@@ -85,9 +86,12 @@ for backend in ${backends//,/ }; do
     log=$out/view/$tag-$name-$mode.log
     echo "== $backend, --display $mode ($frames frames at ${width}x${height}, $(date -u +%H:%M:%S))"
     rm -f "$stats"
-    "$prism" view --data-dir "$data" --scene "$scene" --backend "$backend" --width "$width" --height "$height" \
-      --depth "$depth" --frames "$frames" --no-vsync --display "$mode" --stats "$stats" >"$log" 2>&1
+    # A time limit per run: a driver that hangs in one mode (a sync never signalled) must not take the session.
+    timeout -k 10 "$run_limit" "$prism" view --data-dir "$data" --scene "$scene" --backend "$backend" \
+      --width "$width" --height "$height" --depth "$depth" --frames "$frames" --no-vsync --display "$mode" \
+      --stats "$stats" >"$log" 2>&1
     status=$?
+    [ $status -eq 124 ] || [ $status -eq 137 ] && echo "prism view: killed after ${run_limit} s" >>"$log"
     grep -E "^  (interop|display): |^  timing: " "$log" | sed 's/^/   /'
     if [ $status -ne 0 ] || [ ! -s "$stats" ]; then
       error[$mode]=$(tail -1 "$log" | json_escape)
