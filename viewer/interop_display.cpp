@@ -30,6 +30,8 @@ public:
                 throw Error("view: cannot create a GL buffer of " + std::to_string(bytes) + " bytes");
             }
             buffer_ = own_buffer_;
+            // The device's first access (OpenCL's acquire in particular) must find GL done with the new buffer.
+            glFinish();
             try {
                 interop_.attach_gl_buffer(buffer_, bytes);
             } catch (...) {

@@ -26,10 +26,11 @@ fi
 
 # LIBGL_DRIVERS_PATH: the stub swrast driver (swrast_stub_dri.c) that gives Xvfb its GLX extension; clients render
 # directly (NVIDIA's GLX with __GLX_VENDOR_LIBRARY_NAME=nvidia) and must not inherit this variable.
+# PRISM_XVFB_DRI=<dir> takes Mesa's real swrast_dri.so from there instead, where a machine has one.
 # -displayfd: Xvfb picks a free display and writes its number once it accepts connections.
 fifo=$(mktemp -u /tmp/prism-xvfb-fd.XXXXXX)
 mkfifo "$fifo"
-env LD_LIBRARY_PATH="$libs" LIBGL_DRIVERS_PATH="$pack/dri" "$prefix/usr/bin/Xvfb" -displayfd 3 \
+env LD_LIBRARY_PATH="$libs" LIBGL_DRIVERS_PATH="${PRISM_XVFB_DRI:-$pack/dri}" "$prefix/usr/bin/Xvfb" -displayfd 3 \
   -screen 0 "$screen" -nolisten tcp -noreset -fp built-ins -xkbdir "$prefix/usr/share/X11/xkb" \
   3>"$fifo" >"$prefix/xvfb.log" 2>&1 &
 pid=$!
