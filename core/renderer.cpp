@@ -142,8 +142,12 @@ FrameResult Renderer::render(const Camera& camera, const RenderSettings& setting
         auto enqueued = std::chrono::steady_clock::now();
         backend_.read(DeviceArray::counters, counters.data(), counters.size() * sizeof(uint32_t));
         auto counted = std::chrono::steady_clock::now();
-        result.image.resize(pixels);
-        backend_.read(DeviceArray::image, result.image.data(), result.image.size() * sizeof(uint32_t));
+        result.image.clear();
+        result.radiance.clear();
+        if (settings.read_image) {
+            result.image.resize(pixels);
+            backend_.read(DeviceArray::image, result.image.data(), result.image.size() * sizeof(uint32_t));
+        }
         if (settings.read_radiance) {
             result.radiance.resize(size_t(pixels) * 4);
             backend_.read(DeviceArray::radiance, result.radiance.data(), result.radiance.size() * sizeof(float));

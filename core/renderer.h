@@ -19,8 +19,10 @@ struct RenderSettings {
     uint32_t max_depth = 8;          // ray generations traced: 1 = primary rays only
     float min_weight = 1e-4f;        // rays whose RGB weight is below this everywhere are not spawned
     float queue_factor = 2.0f;       // ray queue capacity per pixel; grown automatically when a frame overflows
-    // Read back the linear radiance too (16 bytes a pixel: 33 MB at 1080p, more than the 8-bit image) — only .hdr
-    // output and the bit-exactness tests need it, so frames and benchmarks skip that transfer by default.
+    // What render() copies back into FrameResult. The viewer needs only the image for its host copy, and nothing
+    // when the display copies the device's image array itself (GL interop). The linear radiance (16 bytes a pixel:
+    // 33 MB at 1080p) only .hdr output and the bit-exactness tests need, so frames and benchmarks skip it.
+    bool read_image = true;
     bool read_radiance = false;
 };
 
@@ -39,8 +41,8 @@ struct FrameStats {
 
 struct FrameResult {
     uint32_t width = 0, height = 0;
-    std::vector<uint32_t> image;    // RGBA8 sRGB, row 0 at the top
-    std::vector<float> radiance;    // linear RGBA; empty unless RenderSettings::read_radiance
+    std::vector<uint32_t> image;    // RGBA8 sRGB, row 0 at the top (empty when settings.read_image was false)
+    std::vector<float> radiance;    // linear RGBA (empty unless settings.read_radiance)
     FrameStats stats;
 };
 

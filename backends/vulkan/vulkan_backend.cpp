@@ -31,6 +31,7 @@
 #include <utility>
 
 #include "backends/vulkan/vulkan_context.h"
+#include "backends/vulkan/vulkan_gl_interop.h"
 #include "core/error.h"
 #include "shaders/vulkan_bindings.h"
 #include "spirv/vulkan_shaders.h"
@@ -99,11 +100,11 @@ struct PendingTiming {
     uint32_t query;   // start; end is query + 1
 };
 
-class VulkanBackend final : public Backend {
+class VulkanBackend final : public Backend, private vk::ImageCopier {
 public:
-    explicit VulkanBackend(const std::string& filter) : instance_(vk::validation_requested()) {
+    VulkanBackend(const std::string& filter, const GlContextHandles* gl) : instance_(vk::validation_requested()) {
         try {
-            create(filter);
+            create(filter, gl);
         } catch (...) {
             destroy();
             throw;
@@ -269,6 +270,8 @@ public:
         return std::exchange(timings_, {});
     }
 
+    GlInteropOffer gl_interop() override { return {gl_.get(), gl_ ? "" : gl_reason_}; }
+
     void dispatch_module(std::span<const uint32_t> spirv, uint32_t groups, uint32_t push) {
         auto found = extra_pipelines_.find(spirv.data());
         if (found == extra_pipelines_.end())
@@ -283,7 +286,34 @@ public:
     bool uses_indirect_dispatch() const { return indirect_; }
 
 private:
-    void create(const std::string& filter) {
+    // vk::ImageCopier, for the Vulkan-GL path: the image array into the exported buffer, which is handed to and
+    // taken back from GL by queue family ownership transfers (VK_QUEUE_FAMILY_EXTERNAL), as the spec asks for
+    // memory another API uses.
+    void copy_image_to(VkBuffer target, VkDeviceSize bytes, bool acquire, VkSemaphore wait,
+                       VkSemaphore signal) override {
+        begin_command();
+        VkBufferMemoryBarrier ownership{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER};
+        ownership.buffer = target;
+        ownership.size = VK_WHOLE_SIZE;
+        if (acquire) {
+            ownership.srcQueueFamilyIndex = VK_QUEUE_FAMILY_EXTERNAL;
+            ownership.dstQueueFamilyIndex = physical_.compute_family;
+            ownership.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+            vkCmdPipelineBarrier(command_, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
+                                 nullptr, 1, &ownership, 0, nullptr);
+        }
+        VkBufferCopy region{0, 0, bytes};
+        vkCmdCopyBuffer(command_, arrays_[size_t(DeviceArray::image)].buffer, target, 1, &region);
+        ownership.srcQueueFamilyIndex = physical_.compute_family;
+        ownership.dstQueueFamilyIndex = VK_QUEUE_FAMILY_EXTERNAL;
+        ownership.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        ownership.dstAccessMask = 0;
+        vkCmdPipelineBarrier(command_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0, 0,
+                             nullptr, 1, &ownership, 0, nullptr);
+        flush(wait, signal);
+    }
+
+    void create(const std::string& filter, const GlContextHandles* gl) {
         physical_ = instance_.select(filter);
         grid_ = vk::choose_grid(physical_);
         vkGetPhysicalDeviceMemoryProperties(physical_.handle, &memory_);
@@ -325,10 +355,18 @@ private:
         VkPhysicalDeviceFeatures2 enable{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
         enable.features.shaderInt64 = address_supported_;
         enable.pNext = &enable12;
+        // Vulkan-GL needs its extensions enabled at device creation; without them the backend runs as before.
+        vk::GlSharingPlan gl_plan;
+        if (gl) gl_plan = vk::plan_gl_sharing(physical_, *gl);
+        gl_reason_ = gl ? gl_plan.reason : "GL interop was not requested";
         VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
         device_info.pNext = &enable;
         device_info.queueCreateInfoCount = 1;
         device_info.pQueueCreateInfos = &queue_info;
+        if (gl && gl_plan.reason.empty()) {
+            device_info.enabledExtensionCount = uint32_t(gl_plan.extensions.size());
+            device_info.ppEnabledExtensionNames = gl_plan.extensions.data();
+        }
         vk::check(vkCreateDevice(physical_.handle, &device_info, nullptr, &device_), "vkCreateDevice");
         vkGetDeviceQueue(device_, physical_.compute_family, 0, &queue_);
 
@@ -403,6 +441,7 @@ private:
         addresses_ = create_buffer("addresses", device_array_count * sizeof(uint64_t), array_usage_,
                                    VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, 0, false);
         bind_extra(RT_VK_BINDING_ADDRESSES, addresses_);
+        if (gl && gl_plan.reason.empty()) gl_ = vk::create_gl_interop(device_, physical_, memory_, *this, gl_plan);
     }
 
     // The pipeline of one entry point in the variant asked for, created on first use.
@@ -419,6 +458,7 @@ private:
 
     void destroy() {
         if (!device_) return;
+        gl_.reset();   // its buffer and semaphores belong to this device
         vkDeviceWaitIdle(device_);
         for (Buffer& b : arrays_) release(b);
         release(placeholder_);
@@ -580,14 +620,25 @@ private:
         vkCmdDispatchIndirect(command_, launch_args_.buffer, offset);
     }
 
-    // Submits what was recorded, waits, and turns the timestamps into stage timings.
-    void flush() {
+    // Submits what was recorded, waits, and turns the timestamps into stage timings. `wait`/`signal`: semaphores
+    // shared with GL (the Vulkan-GL path), or none.
+    void flush(VkSemaphore wait = VK_NULL_HANDLE, VkSemaphore signal = VK_NULL_HANDLE) {
         if (!recording_) return;
         recording_ = false;
         vk::check(vkEndCommandBuffer(command_), "vkEndCommandBuffer");
         VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
         submit.commandBufferCount = 1;
         submit.pCommandBuffers = &command_;
+        VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
+        if (wait) {
+            submit.waitSemaphoreCount = 1;
+            submit.pWaitSemaphores = &wait;
+            submit.pWaitDstStageMask = &wait_stage;
+        }
+        if (signal) {
+            submit.signalSemaphoreCount = 1;
+            submit.pSignalSemaphores = &signal;
+        }
         vk::check(vkQueueSubmit(queue_, 1, &submit, fence_), "vkQueueSubmit");
         VkResult waited = vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX);
         if (waited == VK_ERROR_DEVICE_LOST)
@@ -665,6 +716,9 @@ private:
     Buffer staging_;
     VkDeviceSize staging_used_ = 0;
     Buffer readback_;
+
+    std::unique_ptr<GlInterop> gl_;   // Vulkan-GL, when the viewer asked and GL can import this device's memory
+    std::string gl_reason_;           // why gl_ is null
 };
 
 }  // namespace
@@ -686,8 +740,8 @@ VulkanLaunchMode vulkan_launch_mode(const Backend& backend) {
 BackendFactory vulkan_backend_factory() {
     BackendFactory factory;
     factory.name = "vulkan";
-    factory.create = [](const std::string& filter) -> std::unique_ptr<Backend> {
-        return std::make_unique<VulkanBackend>(filter);
+    factory.create = [](const std::string& filter, const GlContextHandles* gl) -> std::unique_ptr<Backend> {
+        return std::make_unique<VulkanBackend>(filter, gl);
     };
     factory.probe = [] {
         BackendAvailability a;

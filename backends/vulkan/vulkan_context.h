@@ -19,6 +19,8 @@ void record_message(const std::string& message);
 
 bool validation_requested();   // PRISM_VULKAN_VALIDATION=1
 
+bool has_device_extension(VkPhysicalDevice device, const char* name);
+
 struct DeviceCandidate {
     VkPhysicalDevice handle = VK_NULL_HANDLE;
     VkPhysicalDeviceProperties properties{};
