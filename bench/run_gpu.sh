@@ -56,6 +56,9 @@ if [ "${PRISM_VULKAN_AB:-0}" = 1 ]; then
   step "Vulkan at 1920x1080 with the fixed grid (PRISM_VULKAN_DISPATCH=fixed)"
   PRISM_VULKAN_DISPATCH=fixed $prism bench --data-dir "$data" --backends vulkan:nvidia --width 1920 --height 1080 \
     --depth 8 --runs 10 --warmup 2 --json "$out/vulkan-$tag-fixed-dispatch-1080p.json"
+  step "Vulkan at the seed's setting with the fixed grid (PRISM_VULKAN_DISPATCH=fixed)"
+  PRISM_VULKAN_DISPATCH=fixed $prism bench --data-dir "$data" --backends vulkan:nvidia --seed-setting --depth 8 \
+    --runs 10 --warmup 2 --json "$out/vulkan-$tag-fixed-dispatch-seed-setting.json"
   step "Vulkan at 1920x1080 through buffer device addresses (PRISM_VULKAN_ADDRESSING=addresses)"
   PRISM_VULKAN_ADDRESSING=addresses $prism bench --data-dir "$data" --backends vulkan:nvidia --width 1920 \
     --height 1080 --depth 8 --runs 10 --warmup 2 --json "$out/vulkan-$tag-addresses-1080p.json"
