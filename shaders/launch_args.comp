@@ -1,16 +1,8 @@
-// Vulkan only: sizes the next indirect dispatches from the device-side queue counters (kernels/launch_args.h).
-// One work-group; invocation i fills slot i, so one dispatch refreshes every launch's arguments at once.
+// Vulkan only: refreshes the indirect-dispatch arguments when no generate or shadow stage has (ray queries, whose
+// counts the host writes). One work-group (shaders/launch_args.glsl).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
-#include "launch_args.h"
+#include "launch_args.glsl"
 
-layout(std430, set = 0, binding = RT_VK_BINDING_LAUNCH_ARGS) writeonly buffer launch_args_block { uvec4 launch_args[]; };
-
-void main() {
-    uint slot = gl_LocalInvocationID.x;
-    if (slot >= RT_LAUNCH_SLOTS) return;
-    uint groups = rt_launch_groups(rt_launch_items(0, slot), gl_WorkGroupSize.x, pc.groups);
-    launch_args[slot] = uvec4(groups, 1u, 1u, 0u);
-}
-
+void main() { rt_vk_fill_launch_args(); }

@@ -1,8 +1,9 @@
 // The Vulkan backend: memory, launches and timers for the SPIR-V of shaders/ (kernels/ compiled as GLSL).
 //
-// Commands are recorded into one command buffer on one compute queue: enqueue() records the stage as
-// vkCmdDispatchIndirect between two timestamps, after a launch_args dispatch that sizes every launch from the queue
-// counters on the device (kernels/launch_args.h) whenever they may have changed (once per depth: after shade); write() a copy from a host-visible staging buffer, zero()
+// Commands are recorded into one command buffer on one compute queue: enqueue() records a stage between two
+// timestamps — intersect, miss and shade as vkCmdDispatchIndirect, sized on the device from the queue counters
+// (kernels/launch_args.h) by generate and shadow, which run on the fixed grid and write every launch's arguments in
+// passing (shaders/launch_args.glsl), so a frame has no extra dispatch for it; write() a copy from a host-visible staging buffer, zero()
 // a vkCmdFillBuffer. A full memory barrier (compute, transfer and indirect reads) precedes every command, which
 // makes the queue behave in order like a CUDA stream or an in-order OpenCL queue. Nothing is submitted until
 // read() or finish() (or a full staging buffer or query pool), which submit, wait on a fence and collect the
@@ -52,16 +53,6 @@ struct StagePush {   // shaders/common.glsl
     uint32_t depth;
     uint32_t groups;
 };
-
-// The count that sizes a stage's launch (kernels/launch_args.h).
-uint32_t launch_queue(Stage stage) {
-    switch (stage) {
-        case Stage::Generate:
-        case Stage::Resolve: return RT_LAUNCH_PIXELS;
-        case Stage::Shadow: return RT_LAUNCH_SHADOWS;
-        default: return RT_LAUNCH_RAYS;
-    }
-}
 
 // "" when unset; otherwise one of `allowed`, else a one-line error naming the variable.
 std::string env_choice(const char* name, std::initializer_list<const char*> allowed) {
@@ -242,20 +233,22 @@ public:
     void enqueue(Stage stage, uint32_t depth) override {
         if (timestamps_ && queries_used_ + 2 > kQueryCapacity) flush();
         bool address = addressing();
-        uint32_t queue = launch_queue(stage);
-        if (indirect_ && !launch_args_fresh_) {   // size the launches from the counters, on the device
+        // Intersect, miss and shade launch indirectly, sized by the arguments that generate and shadow (on the
+        // fixed grid) write in passing; a launch_args dispatch fills them only where neither ran since the counts
+        // changed (ray queries).
+        bool indirect = indirect_ && (stage == Stage::Intersect || stage == Stage::Miss || stage == Stage::Shade);
+        if (indirect && !launch_args_fresh_) {
             begin_command();
             dispatch(pipeline(launch_args_pipelines_, launch_args_address_pipelines_, 0, "launch_args", address), 1, 0);
             launch_args_fresh_ = true;
         }
-        // Shade appends rays and shadow rays: the counts it changes size the launches after it.
-        if (stage == Stage::Shade) launch_args_fresh_ = false;
         begin_command();
         uint32_t query = queries_used_;
         if (timestamps_) vkCmdWriteTimestamp(command_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, query_pool_, query);
         VkPipeline stage_pipeline = pipeline(pipelines_, address_pipelines_, size_t(stage), stage_name(stage), address);
-        if (indirect_)
-            dispatch_indirect(stage_pipeline, VkDeviceSize(rt_launch_slot(queue, depth)) * sizeof(uint4), depth);
+        if (indirect)
+            dispatch_indirect(stage_pipeline,
+                              VkDeviceSize(rt_launch_slot(RT_LAUNCH_RAYS, depth)) * sizeof(uint4), depth);
         else
             dispatch(stage_pipeline, grid_.groups, depth);
         if (timestamps_) {
@@ -263,6 +256,8 @@ public:
             queries_used_ += 2;
         }
         pending_.push_back(PendingTiming{stage, depth, query});
+        if (stage == Stage::Generate || stage == Stage::Shadow) launch_args_fresh_ = true;   // they refreshed them
+        if (stage == Stage::Shade) launch_args_fresh_ = false;   // it appended rays and shadow rays
     }
 
     std::vector<StageTiming> finish() override {
