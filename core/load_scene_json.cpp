@@ -51,7 +51,7 @@ private:
         text << stream.rdbuf();
         try {
             return json::parse(text.str());
-        } catch (const json::parse_error& error) {
+        } catch (const json::exception& error) {   // parse_error, and out_of_range for numbers like 1e999
             std::string message = error.what();
             size_t tag_end = message.find("] ");   // drop nlohmann's "[json.exception.parse_error.101] "
             if (tag_end != std::string::npos) message = message.substr(tag_end + 2);

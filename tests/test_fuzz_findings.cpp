@@ -39,3 +39,13 @@ TEST(FuzzFindings, ErrorMessagesNeverCarryControlCharacters) {
     EXPECT_STREQ(prism::Error(std::string("a\rb\nc\0d\x7f", 8)).what(), "a\\x0db\\x0ac\\x00d\\x7f");
     EXPECT_STREQ(prism::file_error("f.ply", "caf\xc3\xa9 \t").what(), "f.ply: caf\xc3\xa9 \\x09");   // UTF-8 stays
 }
+
+// fuzz_scene_json: a number beyond double's range is nlohmann's out_of_range (406), not a parse_error; it escaped
+// the loader as a bare library message without the file's name.
+TEST(FuzzFindings, SceneFileNumberOutOfRangeNamesTheFile) {
+    const fs::path file = finding("scene-number-overflow.json");
+    const std::string message = load_error(file);
+    EXPECT_EQ(message.rfind(file.string() + ": invalid JSON: ", 0), 0u) << message;
+    EXPECT_NE(message.find("1e999"), std::string::npos) << message;
+    prism::test::expect_clean_failure(file.string(), "scene-number-overflow.json: invalid JSON");
+}
