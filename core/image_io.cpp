@@ -17,6 +17,7 @@
 #include <stb_image_write.h>
 
 #include "core/error.h"
+#include "core/image_guard.h"
 #include "core/rgbe.h"
 
 namespace prism {
@@ -41,7 +42,6 @@ std::string stb_reason() {
     const char* reason = stbi_failure_reason();
     return reason ? reason : "unreadable image";
 }
-
 struct StbFree {
     void operator()(void* pixels) const { stbi_image_free(pixels); }
 };
@@ -82,6 +82,7 @@ void check_image_size(const std::filesystem::path& path, int width, int height, 
 Texture load_texture_from_memory(std::span<const uint8_t> bytes, const std::string& name, bool color_data) {
     if (bytes.empty()) throw file_error(name, "empty image file");
     if (bytes.size() > static_cast<size_t>(INT32_MAX)) throw file_error(name, "image file too large");
+    check_encoded_image(bytes, name);
     const int length = static_cast<int>(bytes.size());
     Texture texture;
     texture.name = name;

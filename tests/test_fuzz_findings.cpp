@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "core/image_guard.h"
+#include "core/image_io.h"
 #include "core/scene_loader.h"
 #include "tests/test_support.h"
 
@@ -20,6 +22,17 @@ fs::path finding(const std::string& name) { return fs::path(PRISM_SOURCE_DIR) / 
 
 std::string load_error(const fs::path& file) {
     return prism::test::error_message([&] { (void)prism::load_scene(file.string()); });
+}
+
+std::string texture_error(const fs::path& file) {
+    return prism::test::error_message([&] { (void)prism::load_texture(file); });
+}
+
+// A scene file whose one material uses `texture` (by absolute path): how an image reaches `prism render`.
+fs::path scene_with_texture(const fs::path& texture) {
+    const fs::path scene = prism::test::temp_dir("fuzz-findings") / (texture.stem().string() + ".json");
+    std::ofstream(scene) << R"({"materials": {"m": {"textures": [{"file": ")" << texture.string() << R"("}]}}})";
+    return scene;
 }
 
 }  // namespace
@@ -48,4 +61,45 @@ TEST(FuzzFindings, SceneFileNumberOutOfRangeNamesTheFile) {
     EXPECT_EQ(message.rfind(file.string() + ": invalid JSON: ", 0), 0u) << message;
     EXPECT_NE(message.find("1e999"), std::string::npos) << message;
     prism::test::expect_clean_failure(file.string(), "scene-number-overflow.json: invalid JSON");
+}
+
+// fuzz_image: a JPEG Huffman table whose 16 code counts add up to more than 256 made Debian's stb_image (2.27)
+// write past its code-length array (UBSan: stbi__build_huffman, index 257 of 257); also when the table is cut off
+// by the end of the file (stb_image reads the missing counts as 0 and still overflows).
+TEST(FuzzFindings, JpegHuffmanTableWithTooManyCodesIsRefused) {
+    for (const char* name : {"jpeg-huffman-272-codes.jpg", "jpeg-huffman-table-cut-short.jpg"}) {
+        const fs::path file = finding(name);
+        const std::string message = texture_error(file);
+        EXPECT_EQ(message.rfind(file.string() + ": corrupt JPEG (a Huffman table declares ", 0), 0u) << message;
+        prism::test::expect_clean_failure(scene_with_texture(file).string(), name);
+    }
+}
+
+// fuzz_image: a progressive JPEG whose AC scan decodes with an AC table no DHT segment defined. stb_image 2.27
+// keeps its tables in uninitialised memory and indexed out of bounds with whatever was there (UBSan:
+// stbi__jpeg_huff_decode, index 1633110942 of 256; what this file does to bare stb depends on that memory).
+TEST(FuzzFindings, JpegScanWithAnUndefinedHuffmanTableIsRefused) {
+    const fs::path file = finding("jpeg-scan-uses-undefined-huffman-table.jpg");
+    EXPECT_EQ(texture_error(file),
+              file.string() + ": corrupt JPEG (a scan decodes with a Huffman table no DHT segment defined)");
+    prism::test::expect_clean_failure(scene_with_texture(file).string(), "no DHT segment defined");
+}
+
+TEST(FuzzFindings, EveryImageInTheSharedScenesPassesTheGuard) {
+    // The guard walks every JPEG marker segment: real files (progressive, EXIF, restart markers) must pass it, and
+    // no real texture may be over the size limit.
+    size_t checked = 0;
+    std::error_code error;
+    for (fs::recursive_directory_iterator it(prism::test::scenes_dir(), error), end; !error && it != end;
+         it.increment(error)) {
+        std::string extension = it->path().extension().string();
+        for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        if (extension != ".png" && extension != ".jpg" && extension != ".jpeg" && extension != ".hdr") continue;
+        std::ifstream file(it->path(), std::ios::binary);
+        const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+        EXPECT_NO_THROW(prism::check_encoded_image(bytes, it->path().string())) << it->path();
+        ++checked;
+    }
+    if (checked == 0) GTEST_SKIP() << "no images under " << prism::test::scenes_dir();
+    EXPECT_GT(checked, 50u);
 }
