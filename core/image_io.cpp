@@ -40,8 +40,11 @@ std::vector<uint8_t> read_whole_file(const std::filesystem::path& path) {
 
 std::string stb_reason() {
     const char* reason = stbi_failure_reason();
-    return reason ? reason : "unreadable image";
+    // Some failures come with an empty reason (stb names an unknown critical PNG chunk by its type, and a type
+    // starting with a NUL byte reads as ""); the report must still say something.
+    return reason && *reason ? reason : "unreadable image";
 }
+
 struct StbFree {
     void operator()(void* pixels) const { stbi_image_free(pixels); }
 };

@@ -85,6 +85,14 @@ TEST(FuzzFindings, JpegScanWithAnUndefinedHuffmanTableIsRefused) {
     prism::test::expect_clean_failure(scene_with_texture(file).string(), "no DHT segment defined");
 }
 
+// fuzz_image: stb_image names an unknown critical PNG chunk by its type; a type of four NUL bytes made the
+// reason "" and the report "<file>: " with no cause.
+TEST(FuzzFindings, ImageFailureWithoutAReasonStillGivesOne) {
+    const fs::path file = finding("png-chunk-type-nul.png");
+    EXPECT_EQ(texture_error(file), file.string() + ": unreadable image");
+    prism::test::expect_clean_failure(scene_with_texture(file).string(), "png-chunk-type-nul.png: unreadable image");
+}
+
 TEST(FuzzFindings, EveryImageInTheSharedScenesPassesTheGuard) {
     // The guard walks every JPEG marker segment: real files (progressive, EXIF, restart markers) must pass it, and
     // no real texture may be over the size limit.
