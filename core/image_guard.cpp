@@ -24,6 +24,15 @@ const char* unsupported_format(std::span<const uint8_t> bytes) {
     return nullptr;
 }
 
+// stb_image takes a file for a JPEG when it starts with 0xff, any number of 0xff fill bytes, then SOI (0xd8):
+// the index of that 0xd8, or 0 when the file is no JPEG to stb.
+size_t jpeg_start_of_image(std::span<const uint8_t> bytes) {
+    if (bytes.empty() || bytes[0] != 0xff) return 0;
+    size_t at = 1;
+    while (at < bytes.size() && bytes[at] == 0xff) ++at;
+    return at < bytes.size() && bytes[at] == 0xd8 ? at : 0;
+}
+
 // JPEG: walks the marker segments the way stb_image does (declared lengths; over the entropy-coded data between
 // scans to the next marker) and checks the Huffman tables, for two faults of stb_image 2.27 that upstream 2.28
 // fixed. Bytes past the end read as 0, as stb_image reads them.
@@ -38,7 +47,7 @@ void check_jpeg(std::span<const uint8_t> bytes, const std::string& name) {
     auto corrupt = [&](const std::string& cause) { return file_error(name, "corrupt JPEG (" + cause + ")"); };
     bool progressive = false;
     bool defined[2][4] = {};   // [DC, AC][table id]
-    size_t at = 2;             // after SOI
+    size_t at = jpeg_start_of_image(bytes) + 1;
     while (at + 1 < bytes.size()) {
         if (bytes[at] != 0xff) {   // entropy-coded data, or junk stb skips the same way
             ++at;
@@ -88,7 +97,7 @@ void check_encoded_image(std::span<const uint8_t> bytes, const std::string& name
     if (const char* format = unsupported_format(bytes))
         throw file_error(name, std::string("unsupported image format ") + format +
                                    " (textures: PNG, JPEG, BMP, TGA or Radiance HDR)");
-    if (bytes.size() >= 2 && bytes[0] == 0xff && bytes[1] == 0xd8) check_jpeg(bytes, name);
+    if (jpeg_start_of_image(bytes) != 0) check_jpeg(bytes, name);
     if (bytes.size() > size_t(INT_MAX)) throw file_error(name, "image file too large");
     int width = 0, height = 0, channels = 0;
     // stbi_info reads headers only; images it cannot size fail in the decoder with stb's own reason.

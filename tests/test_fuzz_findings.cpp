@@ -75,6 +75,14 @@ TEST(FuzzFindings, JpegHuffmanTableWithTooManyCodesIsRefused) {
     }
 }
 
+// fuzz_image, past the first guard: stb_image takes a file starting with any number of 0xff fill bytes before
+// SOI for a JPEG; the guard only looked for 0xff 0xd8 at the start, and this one went through to the same overflow.
+TEST(FuzzFindings, JpegWithFillBytesBeforeSoiIsGuardedToo) {
+    const fs::path file = finding("jpeg-fill-bytes-before-soi.jpg");
+    EXPECT_EQ(texture_error(file),
+              file.string() + ": corrupt JPEG (a Huffman table declares 272 codes; at most 256 exist)");
+}
+
 // fuzz_image: a progressive JPEG whose AC scan decodes with an AC table no DHT segment defined. stb_image 2.27
 // keeps its tables in uninitialised memory and indexed out of bounds with whatever was there (UBSan:
 // stbi__jpeg_huff_decode, index 1633110942 of 256; what this file does to bare stb depends on that memory).
