@@ -31,6 +31,7 @@ struct ViewOptions {
     std::string backend = "auto";
     RenderSettings settings;
     uint32_t frames = 0;      // 0: until Esc or the window closes
+    double seconds = 0.0;     // > 0: also stop after this much wall-clock time (bench/soak_viewer.sh)
     std::string screenshot;   // with --frames: the last frame, read back from the window
     bool no_vsync = false;
     std::string keys;         // scripted key presses, "FRAME:KEY,..."
@@ -108,9 +109,14 @@ public:
 
     void run() {
         auto last_present = std::chrono::steady_clock::now();
+        const auto started = last_present;
         size_t next_key = 0;
+        uint32_t rendered = 0;
         for (uint32_t frame = 0; options_.frames == 0 || frame < options_.frames; ++frame) {
             if (window_.should_close()) break;
+            if (options_.seconds > 0.0 &&
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() >= options_.seconds)
+                break;
             viewer::Input input = window_.poll();
             auto now = std::chrono::steady_clock::now();
             float seconds = std::chrono::duration<float>(now - last_present).count();
@@ -140,8 +146,11 @@ public:
             last_present = now;
             fps_ = fps_ == 0.0 ? 1.0 / frame_seconds : 0.9 * fps_ + 0.1 / frame_seconds;
             window_.set_title(hud());
+            ++rendered;
         }
-        if (options_.frames != 0) {
+        if (options_.frames != 0 || options_.seconds > 0.0) {
+            const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+            std::printf("  rendered %u frames in %.1f s\n", rendered, elapsed);
             std::printf("  last frame (%s):\n%s", hud().c_str(), frame_summary(last_frame_, settings_).c_str());
         }
     }
@@ -271,6 +280,10 @@ void add_view_command(CLI::App& app) {
     command->add_option("--depth", options->settings.max_depth, "ray generations traced (+/- change it)")
         ->capture_default_str();
     command->add_option("--frames", options->frames, "render this many frames and exit (0: until Esc)")
+        ->capture_default_str();
+    command->add_option("--seconds", options->seconds,
+                        "stop after this many seconds of wall-clock time (0: no limit; with --frames, whichever ends first)")
+        ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
     command->add_option("--screenshot", options->screenshot,
                         "with --frames: save the last frame as read back from the window (.png)");
