@@ -101,6 +101,16 @@ TEST(FuzzFindings, ImageFailureWithoutAReasonStillGivesOne) {
     prism::test::expect_clean_failure(scene_with_texture(file).string(), "png-chunk-type-nul.png: unreadable image");
 }
 
+// fuzz_glb: an image stored in a bufferView that reaches past its buffer. tinygltf 2.7 passes the view to the
+// image callback unchecked, and copying it read past the buffer (ASan: heap-buffer-overflow in
+// keep_encoded_image). The callback now checks the view against the buffer.
+TEST(FuzzFindings, GlbImageBufferViewPastItsBufferIsRefused) {
+    const fs::path file = finding("glb-image-view-past-buffer.glb");
+    EXPECT_EQ(load_error(file), file.string() + ": image 0: bufferView 0 (offset 8, 100000 bytes) lies outside its "
+                                                "buffer (16 bytes)");
+    prism::test::expect_clean_failure(file.string(), "lies outside its buffer");
+}
+
 TEST(FuzzFindings, EveryImageInTheSharedScenesPassesTheGuard) {
     // The guard walks every JPEG marker segment: real files (progressive, EXIF, restart markers) must pass it, and
     // no real texture may be over the size limit.
