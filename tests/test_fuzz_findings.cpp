@@ -101,6 +101,16 @@ TEST(FuzzFindings, ImageFailureWithoutAReasonStillGivesOne) {
     prism::test::expect_clean_failure(scene_with_texture(file).string(), "png-chunk-type-nul.png: unreadable image");
 }
 
+// fuzz_image: stb_image grows its IDAT buffer to a chunk's declared length before reading it, so a 2 KB PNG made
+// it allocate 1.5 GB (libFuzzer: out-of-memory, malloc(1559650380)). A chunk longer than the rest of the file is
+// now refused before stb sees it.
+TEST(FuzzFindings, PngChunkLongerThanTheFileIsRefused) {
+    const fs::path file = finding("png-idat-claims-2gib.png");
+    EXPECT_EQ(texture_error(file),
+              file.string() + ": corrupt PNG (a chunk declares 2147483632 bytes; 10 are left in the file)");
+    prism::test::expect_clean_failure(scene_with_texture(file).string(), "png-idat-claims-2gib.png: corrupt PNG");
+}
+
 // fuzz_glb: an image stored in a bufferView that reaches past its buffer. tinygltf 2.7 passes the view to the
 // image callback unchecked, and copying it read past the buffer (ASan: heap-buffer-overflow in
 // keep_encoded_image). The callback now checks the view against the buffer.
