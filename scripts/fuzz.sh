@@ -40,7 +40,7 @@ trap 'rm -rf "$work"' EXIT
 scratch_tmp=$work
 if [ -d /dev/shm ] && [ -w /dev/shm ]; then scratch_tmp=/dev/shm; fi
 corpora=${PRISM_FUZZ_CORPUS:-$work/corpus}
-rm -rf "$out"
+rm -rf "$out/logs" "$out/crashes" "$out/fuzz-summary.json"
 mkdir -p "$out/logs" "$out/crashes"
 # Seeds are derived from the shared scenes at run time (fuzz/fuzz_seeds.cpp); nothing of them is committed.
 "$bin/fuzz_seeds" "$scenes" "$repo" "$work/seeds"
