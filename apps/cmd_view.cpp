@@ -35,6 +35,7 @@ struct ViewOptions {
     std::string backend = "auto";
     RenderSettings settings;
     uint32_t frames = 0;      // 0: until Esc or the window closes
+    double seconds = 0.0;     // > 0: also stop after this much wall-clock time (bench/soak_viewer.sh)
     std::string screenshot;   // with --frames: the last frame, read back from the window
     bool no_vsync = false;
     std::string keys;         // scripted key presses, "FRAME:KEY,..."
@@ -119,9 +120,13 @@ public:
 
     void run() {
         auto last_present = std::chrono::steady_clock::now();
+        started_ = last_present;
         size_t next_key = 0;
         for (uint32_t frame = 0; options_.frames == 0 || frame < options_.frames; ++frame) {
             if (window_.should_close()) break;
+            if (options_.seconds > 0.0 &&
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count() >= options_.seconds)
+                break;
             viewer::Input input = window_.poll();
             auto now = std::chrono::steady_clock::now();
             float seconds = std::chrono::duration<float>(now - last_present).count();
@@ -170,6 +175,7 @@ public:
             last_present = now;
             fps_ = fps_ == 0.0 ? 1.0 / frame_seconds : 0.9 * fps_ + 0.1 / frame_seconds;
             window_.set_title(hud());
+            ++frames_rendered_;
         }
         finish();
     }
@@ -177,7 +183,11 @@ public:
 private:
     // Whatever ends the session (--frames, Esc, the window closing): the last frame, the timing summary, --stats.
     void finish() {
-        if (options_.frames != 0 && stats_.frames() != 0)
+        if (options_.frames != 0 || options_.seconds > 0.0) {
+            double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+            std::printf("  rendered %u frames in %.1f s\n", frames_rendered_, elapsed);
+        }
+        if ((options_.frames != 0 || options_.seconds > 0.0) && stats_.frames() != 0)
             std::printf("  last frame (%s):\n%s", hud().c_str(), frame_summary(last_frame_, settings_).c_str());
         if (stats_.frames() != 0)
             std::printf("  %s; %s\n", stats_.summary_line().c_str(), display_->path().describe().c_str());
@@ -323,6 +333,8 @@ private:
     std::unique_ptr<RenderEngine> engine_;
     std::unique_ptr<viewer::FrameDisplay> display_;
     FrameResult last_frame_;
+    std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();   // the first frame
+    uint32_t frames_rendered_ = 0;
     double fps_ = 0.0;
     viewer::FrameTimings stats_;
     int backend_switches_ = 0;
@@ -361,6 +373,10 @@ void add_view_command(CLI::App& app) {
     command->add_option("--depth", options->settings.max_depth, "ray generations traced (+/- change it)")
         ->capture_default_str();
     command->add_option("--frames", options->frames, "render this many frames and exit (0: until Esc)")
+        ->capture_default_str();
+    command->add_option("--seconds", options->seconds,
+                        "stop after this many seconds of wall-clock time (0: no limit; with --frames, whichever ends first)")
+        ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
     command->add_option("--screenshot", options->screenshot,
                         "with --frames: save the last frame as read back from the window (.png)");

@@ -125,6 +125,25 @@ TEST(Viewer, ScreenshotNeedsFrames) {
     EXPECT_NE(result.output.find("--screenshot needs --frames"), std::string::npos) << result.output;
 }
 
+// --seconds (bench/soak_viewer.sh's option) ends an unscripted session by itself and reports the frames it drew.
+// No timing is asserted: only that it stops, cleanly, having rendered something.
+TEST(Viewer, SecondsEndsTheSessionAndCountsFrames) {
+    REQUIRE_XVFB();
+    prism::test::CommandResult result = view("--backend cpu --seconds 0.5");
+    EXPECT_EQ(result.exit_code, 0) << result.output;
+    const size_t at = result.output.find("  rendered ");
+    ASSERT_NE(at, std::string::npos) << result.output;
+    EXPECT_GT(std::stoul(result.output.substr(at + 11)), 0u) << result.output;
+    EXPECT_NE(result.output.find("last frame"), std::string::npos) << result.output;
+}
+
+TEST(Viewer, SecondsMustNotBeNegative) {
+    prism::test::CommandResult result = view("--seconds -1");
+    EXPECT_NE(result.exit_code, 0) << result.output;
+    EXPECT_LT(result.exit_code, 128) << result.output;
+    EXPECT_NE(result.output.find("--seconds"), std::string::npos) << result.output;
+}
+
 struct ViewerBackend {
     std::string spec;     // as given to --backend
     std::string api;

@@ -19,6 +19,7 @@
 
 #include "backends/opencl/opencl_gl_interop.h"
 #include "backends/opencl/opencl_internal.h"
+#include "core/pocl_cache.h"
 #include "core/error.h"
 #include "core/device_memory_limit.h"
 #include "core/launch_config.h"
@@ -139,6 +140,7 @@ struct DeviceEntry {
 
 // Every device of every platform, in the ICD loader's order. `why_none` says why the list is empty.
 std::vector<DeviceEntry> enumerate_devices(std::string& why_none) {
+    ensure_pocl_cache_dir();   // before PoCL initialises: it needs a usable cache folder
     std::vector<DeviceEntry> devices;
     cl_uint platform_count = 0;
     cl_int err = clGetPlatformIDs(0, nullptr, &platform_count);
