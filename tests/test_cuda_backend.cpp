@@ -27,22 +27,7 @@ namespace {
         if (!prism::test::backend_available("cuda", &reason_)) GTEST_SKIP() << reason_;        \
     } while (0)
 
-// Sets an environment variable for one scope.
-class ScopedEnv {
-public:
-    ScopedEnv(const char* name, const std::string& value) : name_(name) {
-        if (const char* old = std::getenv(name)) old_ = old;
-        setenv(name, value.c_str(), 1);
-    }
-    ~ScopedEnv() {
-        if (old_) setenv(name_, old_->c_str(), 1);
-        else unsetenv(name_);
-    }
-
-private:
-    const char* name_;
-    std::optional<std::string> old_;
-};
+using prism::test::ScopedEnv;
 
 std::string resolve(const std::string& spec) {
     return spec.rfind("builtin:", 0) == 0 ? spec : prism::test::scene(spec).string();

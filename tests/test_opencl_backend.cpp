@@ -37,23 +37,7 @@ bool pocl_available(std::string* reason) {
     return prism::test::device_present("opencl", spec.substr(spec.find(':') + 1), reason);
 }
 
-// Sets an environment variable for one scope.
-class ScopedEnv {
-public:
-    ScopedEnv(const char* name, const std::string& value) : name_(name) {
-        if (const char* old = std::getenv(name)) old_ = old, had_ = true;
-        setenv(name, value.c_str(), 1);
-    }
-    ~ScopedEnv() {
-        if (had_) setenv(name_, old_.c_str(), 1);
-        else unsetenv(name_);
-    }
-
-private:
-    const char* name_;
-    std::string old_;
-    bool had_ = false;
-};
+using prism::test::ScopedEnv;
 
 std::string error_of(const std::function<void()>& f) {
     try {

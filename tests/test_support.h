@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <functional>
 #include <cstdint>
+#include <cstdlib>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,5 +53,24 @@ CommandResult run_prism(const std::string& arguments, const std::string& launche
 // `prism render --scene scene_file` (cpu backend, a small image) fails as the project rule says bad input must:
 // one line "prism: error: ..." mentioning `must_mention`, exit code 1..127, no output file nor temporary left.
 void expect_clean_failure(const std::string& scene_file, const std::string& must_mention);
+
+// Sets an environment variable for one scope (backends read theirs when created), then restores it.
+class ScopedEnv {
+public:
+    ScopedEnv(const char* name, const std::string& value) : name_(name) {
+        if (const char* old = std::getenv(name)) old_ = old;
+        setenv(name, value.c_str(), 1);
+    }
+    ~ScopedEnv() {
+        if (old_) setenv(name_, old_->c_str(), 1);
+        else unsetenv(name_);
+    }
+    ScopedEnv(const ScopedEnv&) = delete;
+    ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+private:
+    const char* name_;
+    std::optional<std::string> old_;
+};
 
 }  // namespace prism::test

@@ -323,23 +323,7 @@ TEST_F(Vulkan, WritesReadsAndZeroesRoundTrip) {
 }
 
 // ---- Addressing and indirect launches ----------------------------------------------------------------------------
-// Sets an environment variable for one scope (the backend reads it when created).
-class ScopedEnv {
-public:
-    ScopedEnv(const char* name, const char* value) : name_(name) {
-        if (const char* old = std::getenv(name)) old_ = old, had_ = true;
-        setenv(name, value, 1);
-    }
-    ~ScopedEnv() {
-        if (had_) setenv(name_, old_.c_str(), 1);
-        else unsetenv(name_);
-    }
-
-private:
-    const char* name_;
-    std::string old_;
-    bool had_ = false;
-};
+using prism::test::ScopedEnv;
 
 prism::FrameResult render_with(const std::string& spec, const prism::DeviceScene& device, const prism::Camera& camera,
                                const prism::RenderSettings& settings, prism::VulkanLaunchMode* mode = nullptr) {
