@@ -121,6 +121,38 @@ TEST(FuzzFindings, GlbImageBufferViewPastItsBufferIsRefused) {
     prism::test::expect_clean_failure(file.string(), "lies outside its buffer");
 }
 
+// fuzz_image (a timeout): stb_image reads TGA, BMP, HDR and JPEG pixels past the end of the file as zeros, so 33
+// bytes of RLE TGA "decoded" to 3072x12832 pixels of nothing (over 10 s under the sanitizers, 0.6 s and 270 MB
+// without). A file too short for the pixels its header declares is now truncated, in every format stb zero-fills;
+// the BMP, JPEG and HDR inputs are made by hand for the same fault.
+TEST(FuzzFindings, ImagesTooShortForTheirDeclaredSizeAreTruncated) {
+    const std::pair<const char*, const char*> cases[] = {
+        {"tga-rle-33-bytes-declares-39m-pixels.tga",
+         "truncated TGA (3072x12832 pixels need at least 923904 bytes of pixel data; the file has 15)"},
+        {"bmp-header-only-declares-4096x4096.bmp",
+         "truncated BMP (4096x4096 pixels need at least 50331648 bytes of pixel data; the file has 0)"},
+        {"jpeg-declares-8192x8192-in-156-bytes.jpg",
+         "truncated JPEG (8192x8192 pixels need at least 131072 bytes; the file has 156)"},
+    };
+    for (const auto& [name, cause] : cases) {
+        const fs::path file = finding(name);
+        EXPECT_EQ(texture_error(file), file.string() + ": " + cause);
+        prism::test::expect_clean_failure(scene_with_texture(file).string(), name);
+    }
+}
+
+// Found by reading stb_image 2.27 against its upstream fixes while fixing the above (CVE-2021-42715), not by the
+// fuzzer yet: an HDR whose run-length data ends inside a scanline makes stb read zero-length runs for ever, so a
+// 49-byte environment map hung `prism render`. The guard walks the runs as stb does and stops at the end.
+TEST(FuzzFindings, HdrRunLengthDataEndingInsideAScanlineIsTruncated) {
+    const fs::path file = finding("hdr-rle-ends-inside-a-scanline.hdr");
+    EXPECT_EQ(texture_error(file), file.string() + ": truncated HDR (8x1 pixels need at least 12 bytes of pixel "
+                                                   "data; the file has 4)");
+    const fs::path scene = prism::test::temp_dir("fuzz-findings") / "hdr-sky.json";
+    std::ofstream(scene) << R"({"environment": {"equirect": ")" << file.string() << R"("}})";
+    prism::test::expect_clean_failure(scene.string(), "truncated HDR");
+}
+
 TEST(FuzzFindings, EveryImageInTheSharedScenesPassesTheGuard) {
     // The guard walks every JPEG marker segment: real files (progressive, EXIF, restart markers) must pass it, and
     // no real texture may be over the size limit.

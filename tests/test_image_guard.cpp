@@ -3,10 +3,14 @@
 #include "core/image_guard.h"
 
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <stb_image_write.h>
 
 #include "core/error.h"
 #include "core/image_io.h"
@@ -61,4 +65,30 @@ TEST(ImageGuard, TexturesOverTheLimitFailWithoutDecoding) {
     const std::string message = prism::test::error_message(
         [&] { (void)prism::load_texture_from_memory(claim, "/x/huge.png"); });
     EXPECT_EQ(message.rfind("/x/huge.png: image is 16384x8192 pixels", 0), 0u) << message;
+}
+
+// The truncation checks must pass complete files: TGA (stb writes run-length TGA), BMP and HDR as stb writes them
+// load. BMP and HDR data cut by a few bytes is refused (their size is exact: rows, or the run-length walk); a
+// run-length TGA only when shorter than its most compact encoding could be (here: the header alone).
+TEST(ImageGuard, CompleteTgaBmpAndHdrPassAndCutOnesDoNot) {
+    const int width = 16, height = 8;
+    std::vector<uint8_t> rgba(width * height * 4);
+    for (size_t i = 0; i < rgba.size(); ++i) rgba[i] = static_cast<uint8_t>(i * 37);
+    std::vector<float> rgb(width * height * 3, 0.25f);
+    const std::filesystem::path dir = prism::test::temp_dir("image_guard");
+    ASSERT_TRUE(stbi_write_tga((dir / "a.tga").c_str(), width, height, 4, rgba.data()));
+    ASSERT_TRUE(stbi_write_bmp((dir / "a.bmp").c_str(), width, height, 4, rgba.data()));
+    ASSERT_TRUE(stbi_write_hdr((dir / "a.hdr").c_str(), width, height, 3, rgb.data()));
+    for (const char* name : {"a.tga", "a.bmp", "a.hdr"}) {
+        const prism::Texture texture = prism::load_texture(dir / name);
+        EXPECT_EQ(texture.width, width) << name;
+        EXPECT_EQ(texture.height, height) << name;
+    }
+    for (const auto& [name, keep] : {std::pair<const char*, long>{"a.tga", 18}, {"a.bmp", -5}, {"a.hdr", -5}}) {
+        std::ifstream in(dir / name, std::ios::binary);
+        std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        bytes.resize(keep > 0 ? size_t(keep) : bytes.size() - size_t(-keep));
+        const std::string message = guard_error(bytes);
+        EXPECT_EQ(message.rfind("/x/t.img: truncated ", 0), 0u) << name << ": " << message;
+    }
 }
