@@ -88,12 +88,15 @@ struct FirstFrame {
 nlohmann::json bench_frames(RenderEngine& engine, const Scene& scene, const BenchOptions& options,
                             FirstFrame& first) {
     for (uint32_t i = 0; i < options.warmup; ++i) engine.render(scene.camera, options.settings);
-    std::vector<double> frame_ms;
+    std::vector<double> frame_ms, enqueue_ms, wait_ms, readback_ms;
     StageMedians stages;
     FrameResult last;
     for (uint32_t i = 0; i < options.runs; ++i) {
         last = engine.render(scene.camera, options.settings);
         frame_ms.push_back(last.stats.frame_ms);
+        enqueue_ms.push_back(last.stats.enqueue_ms);
+        wait_ms.push_back(last.stats.device_wait_ms);
+        readback_ms.push_back(last.stats.readback_ms);
         stages.add(last.stats);
     }
     const FrameStats& s = last.stats;
@@ -138,6 +141,8 @@ nlohmann::json bench_frames(RenderEngine& engine, const Scene& scene, const Benc
             {"frame_ms_max", *std::max_element(frame_ms.begin(), frame_ms.end())},
             {"fps", 1000.0 / frame},
             {"stage_ms", stage_ms},
+            {"host_ms", {{"enqueue", median(enqueue_ms)}, {"device_wait", median(wait_ms)},
+                         {"readback", median(readback_ms)}}},
             {"total_rays", s.total_rays()},
             {"mrays_per_s_end_to_end", mrays(s.total_rays(), frame)},
             {"primary_mrays_per_s", mrays(primary, stages.at(Stage::Intersect, 0))},

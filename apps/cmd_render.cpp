@@ -46,14 +46,16 @@ void run_render(const RenderOptions& options) {
                 loaded.device.sah_cost, upload_ms);
     std::fflush(stdout);
 
+    std::string extension = std::filesystem::path(options.out).extension().string();
+    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    RenderSettings settings = options.settings;
+    settings.read_radiance = extension == ".hdr";
     bool terminal = isatty(STDERR_FILENO);
-    FrameResult frame = engine.render(loaded.scene.camera, options.settings,
+    FrameResult frame = engine.render(loaded.scene.camera, settings,
                                       terminal ? std::function<void(double)>(print_progress) : nullptr);
     if (terminal) std::fprintf(stderr, "\r%*s\r", 44, "");
     std::printf("%s", frame_summary(frame, options.settings).c_str());
 
-    std::string extension = std::filesystem::path(options.out).extension().string();
-    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     if (extension == ".hdr") write_hdr(options.out, int(frame.width), int(frame.height), frame.radiance);
     else write_png(options.out, int(frame.width), int(frame.height), frame.image);
     if (!options.stats.empty()) {

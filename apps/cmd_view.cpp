@@ -4,12 +4,15 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include "apps/commands.h"
 #include "apps/frame_report.h"
 #include "apps/scene_options.h"
+#include "core/build_info.h"
 #include "core/error.h"
 #include "core/image_io.h"
+#include "core/output_file.h"
 #include "core/render_engine.h"
 
 #ifdef PRISM_HAVE_VIEWER
@@ -19,6 +22,7 @@
 
 #include "viewer/camera_controls.h"
 #include "viewer/frame_display.h"
+#include "viewer/frame_timing.h"
 #include "viewer/key_script.h"
 #include "viewer/window.h"
 #endif
@@ -31,9 +35,12 @@ struct ViewOptions {
     std::string backend = "auto";
     RenderSettings settings;
     uint32_t frames = 0;      // 0: until Esc or the window closes
+    double seconds = 0.0;     // > 0: also stop after this much wall-clock time (bench/soak_viewer.sh)
     std::string screenshot;   // with --frames: the last frame, read back from the window
     bool no_vsync = false;
     std::string keys;         // scripted key presses, "FRAME:KEY,..."
+    std::string display = "auto";   // auto, interop, host-copy, none (viewer/frame_display.h)
+    std::string stats;        // --stats: the timing summary as JSON
 };
 
 #ifdef PRISM_HAVE_VIEWER
@@ -89,13 +96,18 @@ public:
     explicit ViewSession(const ViewOptions& options)
         : options_(options),
           settings_(options.settings),
+          mode_(viewer::parse_display_mode(options.display)),
           script_(viewer::parse_key_script(options.keys)),
           window_("Prism", int(settings_.width), int(settings_.height), !options.no_vsync),
           loaded_(load_and_build(options.scene, options.backend)),
           controls_(loaded_.scene.camera),
           moving_(loaded_) {
-        engine_ = std::make_unique<RenderEngine>(options.backend, loaded_.device);
-        display_ = viewer::create_frame_display(engine_->info());
+        // Only the interop modes tell the backend about the GL context: with host-copy (and none) it is created
+        // exactly as `prism render` creates it.
+        if (mode_ == viewer::DisplayMode::Auto || mode_ == viewer::DisplayMode::Interop)
+            gl_ = window_.gl_context_handles();
+        engine_ = make_engine(options.backend);
+        display_ = make_display(*engine_);
         BackendInfo info = engine_->info();
         std::printf("prism view: %s (%zu triangles, %zu instances) on %s [%s]\n", options.scene.scene.c_str(),
                     loaded_.device.traced_triangles, loaded_.device.instances.size(), info.name.c_str(),
@@ -108,9 +120,13 @@ public:
 
     void run() {
         auto last_present = std::chrono::steady_clock::now();
+        started_ = last_present;
         size_t next_key = 0;
         for (uint32_t frame = 0; options_.frames == 0 || frame < options_.frames; ++frame) {
             if (window_.should_close()) break;
+            if (options_.seconds > 0.0 &&
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count() >= options_.seconds)
+                break;
             viewer::Input input = window_.poll();
             auto now = std::chrono::steady_clock::now();
             float seconds = std::chrono::duration<float>(now - last_present).count();
@@ -118,7 +134,7 @@ public:
                 input.actions.push_back(script_[next_key++].action);
             bool screenshot = false;
             for (Action action : input.actions) {
-                if (action == Action::Quit) return;
+                if (action == Action::Quit) return finish();
                 screenshot |= action == Action::Screenshot;
                 apply(action);
             }
@@ -127,26 +143,96 @@ public:
             if (input.fly != glm::vec3(0.0f)) controls_.fly(input.fly * std::min(seconds, 0.1f) * 0.5f);
             if (moving_on_) engine_->update_instances(loaded_.device, moving_.advance(), false);
 
+            using Clock = std::chrono::steady_clock;
+            auto ms = [](Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); };
+            viewer::FrameTiming timing;
+            auto start = Clock::now();
             last_frame_ = engine_->render(controls_.camera(), settings_);
-            display_->update(last_frame_);
-            display_->draw(window_.framebuffer_width(), window_.framebuffer_height());
+            auto rendered = Clock::now();
+            timing.render_ms = ms(rendered - start);
+            bool shows = display_->path().kind != viewer::DisplayPath::Kind::None;
+            if (shows) {
+                display_->update(last_frame_);
+                display_->draw(window_.framebuffer_width(), window_.framebuffer_height());
+                // Measuring: GL's work for the display (the upload from the shared buffer, the draw) counts
+                // here, not in whatever would otherwise wait for it later. Rendering waits for the device anyway,
+                // so this costs the viewer next to no overlap.
+                if (!options_.stats.empty()) window_.finish_gl();
+            }
+            auto drawn = Clock::now();
             bool last = options_.frames != 0 && frame + 1 == options_.frames;
             if (screenshot) save_screenshot(screenshot_path(frame));
             if (last && !options_.screenshot.empty()) save_screenshot(options_.screenshot);
-            window_.swap();
+            auto swap_start = Clock::now();
+            if (shows) window_.swap();
 
-            now = std::chrono::steady_clock::now();
+            now = Clock::now();
+            timing.display_ms = ms(drawn - rendered);   // a screenshot's read-back is in neither
+            timing.present_ms = ms(now - swap_start);
+            timing.frame_ms = ms(now - last_present);
+            stats_.add(timing);
             double frame_seconds = std::chrono::duration<double>(now - last_present).count();
             last_present = now;
             fps_ = fps_ == 0.0 ? 1.0 / frame_seconds : 0.9 * fps_ + 0.1 / frame_seconds;
             window_.set_title(hud());
+            ++frames_rendered_;
         }
-        if (options_.frames != 0) {
-            std::printf("  last frame (%s):\n%s", hud().c_str(), frame_summary(last_frame_, settings_).c_str());
-        }
+        finish();
     }
 
 private:
+    // Whatever ends the session (--frames, Esc, the window closing): the last frame, the timing summary, --stats.
+    void finish() {
+        if (options_.frames != 0 || options_.seconds > 0.0) {
+            double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+            std::printf("  rendered %u frames in %.1f s\n", frames_rendered_, elapsed);
+        }
+        if ((options_.frames != 0 || options_.seconds > 0.0) && stats_.frames() != 0)
+            std::printf("  last frame (%s):\n%s", hud().c_str(), frame_summary(last_frame_, settings_).c_str());
+        if (stats_.frames() != 0)
+            std::printf("  %s; %s\n", stats_.summary_line().c_str(), display_->path().describe().c_str());
+        if (!options_.stats.empty()) write_stats();
+        std::fflush(stdout);
+    }
+
+    std::unique_ptr<RenderEngine> make_engine(const std::string& spec) {
+        return std::make_unique<RenderEngine>(spec, loaded_.device, gl_ ? &*gl_ : nullptr);
+    }
+
+    // The display path for `engine` and the read-back it needs. Throws prism::Error with --display interop when
+    // the engine has no interop (or it fails to set up).
+    std::unique_ptr<viewer::FrameDisplay> make_display(RenderEngine& engine) {
+        GlInteropOffer offer = engine.gl_interop();
+        viewer::DisplayPath path = viewer::choose_display_path(mode_, engine.info(), offer);
+        auto display = viewer::open_frame_display(mode_, path, offer.interop, settings_.width, settings_.height);
+        viewer::set_read_back(display->path(), settings_);
+        return display;
+    }
+
+    void write_stats() {
+        BackendInfo info = engine_->info();
+        const viewer::DisplayPath& path = display_->path();
+        nlohmann::json json = stats_.json();
+        json["tool"] = "prism view";
+        json["commit"] = build_commit();
+        json["scene"] = options_.scene.scene;
+        json["width"] = settings_.width;
+        json["height"] = settings_.height;
+        json["max_depth"] = settings_.max_depth;
+        json["vsync"] = !options_.no_vsync;
+        json["backend"] = {{"name", info.name}, {"device", info.device}, {"driver", info.driver},
+                           {"api_version", info.api_version}};
+        json["backend_switches"] = backend_switches_;
+        json["gl"] = window_.context_description();
+        json["display"] = {{"requested", viewer::display_mode_name(mode_)},
+                           {"path", path.kind_name()},
+                           {"name", path.name},
+                           {"detail", path.detail},
+                           {"hud", path.describe()}};
+        write_file_atomically(options_.stats, json.dump(2) + "\n");
+        std::printf("  wrote %s (timing summary)\n", options_.stats.c_str());
+    }
+
     void apply(Action action) {
         const float step = 0.05f;   // scripted fly keys: 5% of the eye-target distance per press
         switch (action) {
@@ -180,15 +266,19 @@ private:
         if (parse_backend_spec(options_.backend).api == api) spec = options_.backend;
         std::string current = engine_->info().name;
         if (current == api) return;
+        RenderSettings previous = settings_;
         try {
-            auto next = std::make_unique<RenderEngine>(spec, loaded_.device);
-            auto next_display = viewer::create_frame_display(next->info());
-            engine_ = std::move(next);
+            auto next = make_engine(spec);
+            auto next_display = make_display(*next);
+            // The old display goes first: it may hold the old backend's shared buffer.
             display_ = std::move(next_display);
+            engine_ = std::move(next);
         } catch (const Error& e) {
+            settings_ = previous;   // make_display set the read-back for a display that is not used
             std::printf("  backend %s unavailable (%s); keeping %s\n", api.c_str(), e.what(), current.c_str());
             return;
         }
+        ++backend_switches_;
         BackendInfo info = engine_->info();
         std::printf("  switched to %s [%s], %s\n", info.name.c_str(), info.device.c_str(),
                     display_->path().describe().c_str());
@@ -200,6 +290,10 @@ private:
     }
 
     void save_screenshot(const std::string& path) {
+        if (display_->path().kind == viewer::DisplayPath::Kind::None) {
+            std::printf("  no screenshot: --display none shows nothing\n");
+            return;
+        }
         std::vector<uint32_t> pixels = window_.read_pixels();
         write_png(path, window_.framebuffer_width(), window_.framebuffer_height(), pixels);
         std::printf("  wrote %s (window read-back, %dx%d)\n", path.c_str(), window_.framebuffer_width(),
@@ -228,8 +322,10 @@ private:
 
     ViewOptions options_;
     RenderSettings settings_;
+    viewer::DisplayMode mode_;
     std::vector<viewer::ScriptedKey> script_;
     viewer::Window window_;   // first: no display fails fast, and the GL context outlives the FrameDisplay
+    std::optional<GlContextHandles> gl_;   // given to backends in the interop modes
     LoadedScene loaded_;
     viewer::CameraControls controls_;
     MovingObject moving_;
@@ -237,13 +333,19 @@ private:
     std::unique_ptr<RenderEngine> engine_;
     std::unique_ptr<viewer::FrameDisplay> display_;
     FrameResult last_frame_;
+    std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();   // the first frame
+    uint32_t frames_rendered_ = 0;
     double fps_ = 0.0;
+    viewer::FrameTimings stats_;
+    int backend_switches_ = 0;
 };
 
 void run_view(const ViewOptions& options) {
     if (options.frames == 0 && !options.screenshot.empty())
         throw Error("view: --screenshot needs --frames (P saves screenshots in an interactive session)");
     if (!options.screenshot.empty()) check_output_extension(options.screenshot);
+    if (!options.screenshot.empty() && viewer::parse_display_mode(options.display) == viewer::DisplayMode::None)
+        throw Error("view: --screenshot needs a display (--display none shows nothing)");
     ViewSession session(options);
     session.run();
 }
@@ -272,11 +374,21 @@ void add_view_command(CLI::App& app) {
         ->capture_default_str();
     command->add_option("--frames", options->frames, "render this many frames and exit (0: until Esc)")
         ->capture_default_str();
+    command->add_option("--seconds", options->seconds,
+                        "stop after this many seconds of wall-clock time (0: no limit; with --frames, whichever ends first)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
     command->add_option("--screenshot", options->screenshot,
                         "with --frames: save the last frame as read back from the window (.png)");
     command->add_flag("--no-vsync", options->no_vsync, "present without waiting for vertical sync");
     command->add_option("--keys", options->keys,
                         "scripted key presses FRAME:KEY,... (keys 1-5 + - P R M Esc W A S D Q E), e.g. 0:M,3:2");
+    command->add_option("--display", options->display,
+                        "how frames reach the window: auto (GPU buffer interop where the backend and GL allow it, "
+                        "else host copy), interop (required), host-copy, none (render only)")
+        ->capture_default_str();
+    command->add_option("--stats", options->stats,
+                        "write the timing summary (median render/display/frame ms, fps, display path) as JSON");
     command->callback([options] { run_view(*options); });
 }
 

@@ -45,6 +45,11 @@ std::string frame_summary(const FrameResult& frame, const RenderSettings& settin
             out += line;
         }
     }
+    if (s.frame_ms > 0.0 && (s.enqueue_ms > 0.0 || s.readback_ms > 0.0)) {
+        std::snprintf(line, sizeof line, "  host: enqueue %.2f ms, wait for device %.2f ms, read back %.2f ms\n",
+                      s.enqueue_ms, s.device_wait_ms, s.readback_ms);
+        out += line;
+    }
     return out;
 }
 
@@ -64,6 +69,7 @@ nlohmann::json frame_json(const FrameResult& frame, const RenderSettings& settin
             {"height", frame.height},
             {"max_depth", settings.max_depth},
             {"frame_ms", s.frame_ms},
+            {"host_ms", {{"enqueue", s.enqueue_ms}, {"device_wait", s.device_wait_ms}, {"readback", s.readback_ms}}},
             {"rays_per_depth", s.rays_per_depth},
             {"shadow_rays_per_depth", s.shadow_rays_per_depth},
             {"total_rays", s.total_rays()},

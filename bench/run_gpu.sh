@@ -4,6 +4,9 @@
 #   PRISM_BUILD: build folder with apps/prism and tests/prism_tests (default build-gpu)
 #   PRISM_DATA:  scenes folder laid out like ../shared/scenes (default .device-data/scenes)
 #   PRISM_TAG:   suffix of the result files (default: the GPU's name)
+#   PRISM_SKIP_TESTS / PRISM_SKIP_SEED_TABLE / PRISM_SKIP_BANDWIDTH=1 skip a part; PRISM_CPU_BENCH=0 skips the
+#   host-CPU table; PRISM_VULKAN_AB=1 adds Vulkan's fixed-grid and device-address variants.
+#   PRISM_VIEW_BENCH=1: also bench/view_gpu.sh (the viewer's display paths; needs .gpu-xvfb/ carried along)
 set -uo pipefail
 build=${PRISM_BUILD:-build-gpu}
 data=${PRISM_DATA:-.device-data/scenes}
@@ -47,6 +50,19 @@ step "seed table at 1920x1080, depth 8"
 $prism bench --data-dir "$data" --backends "$backends" --width 1920 --height 1080 --depth 8 --runs 10 --warmup 2 \
   --json "$out/seed-table-$tag-1080p.json"
 fi
+if [ "${PRISM_VULKAN_AB:-0}" = 1 ]; then
+  # What Vulkan's launch choices cost (docs/vulkan.md): the fixed grid instead of indirect dispatch, and buffer
+  # device addresses instead of descriptors, each against the default run of the table above.
+  step "Vulkan at 1920x1080 with the fixed grid (PRISM_VULKAN_DISPATCH=fixed)"
+  PRISM_VULKAN_DISPATCH=fixed $prism bench --data-dir "$data" --backends vulkan:nvidia --width 1920 --height 1080 \
+    --depth 8 --runs 10 --warmup 2 --json "$out/vulkan-$tag-fixed-dispatch-1080p.json"
+  step "Vulkan at the seed's setting with the fixed grid (PRISM_VULKAN_DISPATCH=fixed)"
+  PRISM_VULKAN_DISPATCH=fixed $prism bench --data-dir "$data" --backends vulkan:nvidia --seed-setting --depth 8 \
+    --runs 10 --warmup 2 --json "$out/vulkan-$tag-fixed-dispatch-seed-setting.json"
+  step "Vulkan at 1920x1080 through buffer device addresses (PRISM_VULKAN_ADDRESSING=addresses)"
+  PRISM_VULKAN_ADDRESSING=addresses $prism bench --data-dir "$data" --backends vulkan:nvidia --width 1920 \
+    --height 1080 --depth 8 --runs 10 --warmup 2 --json "$out/vulkan-$tag-addresses-1080p.json"
+fi
 if [ "${PRISM_CPU_BENCH:-1}" = 1 ]; then
   step "the same on the host CPU (cpu backend)"
   $prism bench --data-dir "$data" --backends cpu,cpu-ref --width 1920 --height 1080 --depth 8 --runs 3 --warmup 1 \
@@ -55,5 +71,10 @@ fi
 if [ "${PRISM_SKIP_BANDWIDTH:-0}" != 1 ]; then
   step "bandwidth"
   $prism bandwidth --json "$out/bandwidth-$tag.json" --plot "$out/bandwidth-$tag.png" 2>&1 | tee "$out/bandwidth-$tag.txt"
+fi
+if [ "${PRISM_VIEW_BENCH:-0}" = 1 ]; then
+  # Needs .gpu-xvfb/ (bench/pack_xvfb.sh) carried along; PRISM_VIEW_* select scene, size, frames, backends.
+  step "prism view: display by interop, by host copy, and the render alone (bench/view_gpu.sh)"
+  PRISM_BUILD=$build PRISM_DATA=$data OUT=$out PRISM_TAG=$tag bash bench/view_gpu.sh
 fi
 step done

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/gl_interop.h"
 #include "kernels/types.h"
 
 namespace prism {
@@ -61,6 +62,10 @@ public:
     // queue. Asynchronous: finish() waits and returns the timings of the stages enqueued since the last finish.
     virtual void enqueue(Stage stage, uint32_t depth) = 0;
     virtual std::vector<StageTiming> finish() = 0;
+
+    // Display interop with the viewer's GL context (core/gl_interop.h). Only a backend created with
+    // GlContextHandles offers one; otherwise, or when its driver cannot share with that context, the reason.
+    virtual GlInteropOffer gl_interop() { return {nullptr, "no GL interop for this backend"}; }
 };
 
 // Backend names as users write them: "cpu", "cuda", "opencl:pocl", "vulkan:nvidia". The part after the colon
@@ -78,10 +83,14 @@ struct BackendAvailability {
     std::vector<std::string> devices;
 };
 
-// Each enabled backend registers one of these (backends/backend_list.cpp).
+// Each enabled backend registers one of these (backends/backend_list.cpp). `gl`, when not null, asks for GL
+// interop with that context (the viewer): the backend sets up what its API needs at creation (the OpenCL context
+// must be created with the GL context) and says through gl_interop() whether it could. Failing to share is not
+// an error: the viewer falls back to the host copy.
 struct BackendFactory {
     std::string name;
-    std::function<std::unique_ptr<Backend>(const std::string& device_filter)> create;   // throws prism::Error
+    std::function<std::unique_ptr<Backend>(const std::string& device_filter, const GlContextHandles* gl)>
+        create;   // throws prism::Error
     std::function<BackendAvailability()> probe;
 };
 
@@ -89,6 +98,6 @@ void register_backend(BackendFactory factory);
 const std::vector<BackendFactory>& registered_backends();
 // Creates the backend named by `spec` ("cpu-ref" is not a Backend: see reference_renderer.h). Unknown or
 // unavailable names throw prism::Error listing what is available.
-std::unique_ptr<Backend> create_backend(const std::string& spec);
+std::unique_ptr<Backend> create_backend(const std::string& spec, const GlContextHandles* gl = nullptr);
 
 }  // namespace prism

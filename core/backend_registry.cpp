@@ -57,12 +57,12 @@ void register_backend(BackendFactory factory) {
 
 const std::vector<BackendFactory>& registered_backends() { return registry(); }
 
-std::unique_ptr<Backend> create_backend(const std::string& text) {
+std::unique_ptr<Backend> create_backend(const std::string& text, const GlContextHandles* gl) {
     BackendSpec spec = parse_backend_spec(text);
     std::string known = "cpu-ref";
     for (const BackendFactory& factory : registry()) {
         known += ", " + factory.name;
-        if (factory.name == spec.api) return factory.create(spec.device_filter);
+        if (factory.name == spec.api) return factory.create(spec.device_filter, gl);
     }
     throw Error("unknown backend '" + text + "' (this build has: " + known + "; `prism info` says which run here)");
 }

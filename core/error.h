@@ -4,12 +4,18 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace prism {
 
+// `text` with every control character written as \xNN. Causes quote bytes from the file ("bad element count
+// '...'"); a CR, NUL or escape sequence among them would break the one-line report or rewrite the terminal.
+std::string one_line(std::string_view text);
+
 class Error : public std::runtime_error {
 public:
-    using std::runtime_error::runtime_error;
+    explicit Error(const std::string& message) : std::runtime_error(one_line(message)) {}
+    explicit Error(const char* message) : std::runtime_error(one_line(message)) {}
 };
 
 // "<file>: <cause>" or "<file>:<line>: <cause>" — the shape every loader error takes.

@@ -17,6 +17,7 @@
 #include <stb_image_write.h>
 
 #include "core/error.h"
+#include "core/image_guard.h"
 #include "core/rgbe.h"
 
 namespace prism {
@@ -39,7 +40,9 @@ std::vector<uint8_t> read_whole_file(const std::filesystem::path& path) {
 
 std::string stb_reason() {
     const char* reason = stbi_failure_reason();
-    return reason ? reason : "unreadable image";
+    // Some failures come with an empty reason (stb names an unknown critical PNG chunk by its type, and a type
+    // starting with a NUL byte reads as ""); the report must still say something.
+    return reason && *reason ? reason : "unreadable image";
 }
 
 struct StbFree {
@@ -82,6 +85,7 @@ void check_image_size(const std::filesystem::path& path, int width, int height, 
 Texture load_texture_from_memory(std::span<const uint8_t> bytes, const std::string& name, bool color_data) {
     if (bytes.empty()) throw file_error(name, "empty image file");
     if (bytes.size() > static_cast<size_t>(INT32_MAX)) throw file_error(name, "image file too large");
+    check_encoded_image(bytes, name);
     const int length = static_cast<int>(bytes.size());
     Texture texture;
     texture.name = name;

@@ -19,9 +19,26 @@ namespace prism {
 namespace {
 
 // Prism decodes images itself (load_texture_from_memory) so that image errors carry Prism's messages and only
-// the images a material uses are decoded; tinygltf just hands over the encoded bytes.
-bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
-                        const unsigned char* bytes, int size, void*) {
+// the images a material uses are decoded; tinygltf just hands over the encoded bytes. For an image stored in a
+// bufferView, tinygltf 2.7 passes &buffer[byteOffset] and byteLength without checking that the view lies inside
+// its buffer (fuzz_glb: this copy read past the buffer, ASan heap-buffer-overflow), so the view is checked here
+// against the model being loaded (`model`: its buffers and bufferViews are parsed before its images).
+bool keep_encoded_image(tinygltf::Image* image, const int index, std::string* error, std::string*, int, int,
+                        const unsigned char* bytes, int size, void* model) {
+    const auto& loading = *static_cast<const tinygltf::Model*>(model);
+    auto refuse = [&](const std::string& cause) {
+        if (error) *error += "image " + std::to_string(index) + ": " + cause + "\n";
+        return false;
+    };
+    if (size < 0) return refuse("byteLength out of range");
+    if (image->bufferView >= 0) {   // tinygltf has checked that the view and its buffer exist
+        const tinygltf::BufferView& view = loading.bufferViews.at(static_cast<size_t>(image->bufferView));
+        const size_t available = loading.buffers.at(static_cast<size_t>(view.buffer)).data.size();
+        if (view.byteOffset > available || view.byteLength > available - view.byteOffset)
+            return refuse("bufferView " + std::to_string(image->bufferView) + " (offset " +
+                          std::to_string(view.byteOffset) + ", " + std::to_string(view.byteLength) +
+                          " bytes) lies outside its buffer (" + std::to_string(available) + " bytes)");
+    }
     image->image.assign(bytes, bytes + size);
     return true;
 }
@@ -286,8 +303,8 @@ bool has_extension(const std::filesystem::path& path, const char* extension) {
 void load_gltf(const std::filesystem::path& path, Scene& scene) {
     std::string file = path.string();
     tinygltf::TinyGLTF loader;
-    loader.SetImageLoader(keep_encoded_image, nullptr);
     tinygltf::Model model;
+    loader.SetImageLoader(keep_encoded_image, &model);
     std::string error, warning;
     bool ok = false;
     try {

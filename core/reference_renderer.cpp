@@ -99,12 +99,14 @@ FrameResult ReferenceRenderer::render(const Camera& camera, const RenderSettings
         }
     });
     for (uint32_t i = 0; i < pixels; ++i) rt_stage_resolve(kg, i);
-    result.radiance.resize(size_t(pixels) * 4);
-    for (uint32_t i = 0; i < pixels; ++i) {
-        result.radiance[4 * i + 0] = radiance[i].x;
-        result.radiance[4 * i + 1] = radiance[i].y;
-        result.radiance[4 * i + 2] = radiance[i].z;
-        result.radiance[4 * i + 3] = radiance[i].w;
+    if (settings.read_radiance) {
+        result.radiance.resize(size_t(pixels) * 4);
+        for (uint32_t i = 0; i < pixels; ++i) {
+            result.radiance[4 * i + 0] = radiance[i].x;
+            result.radiance[4 * i + 1] = radiance[i].y;
+            result.radiance[4 * i + 2] = radiance[i].z;
+            result.radiance[4 * i + 3] = radiance[i].w;
+        }
     }
     for (uint32_t d = 0; d < frame.size.z; ++d) {
         uint64_t rays = 0, shadows = 0;

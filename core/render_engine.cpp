@@ -42,7 +42,7 @@ std::string bvh_layout_name(BvhLayout layout) {
     return "?";
 }
 
-RenderEngine::RenderEngine(const std::string& backend_name, const DeviceScene& scene)
+RenderEngine::RenderEngine(const std::string& backend_name, const DeviceScene& scene, const GlContextHandles* gl)
     : name_(resolve_backend_name(backend_name)), scene_(scene) {
     BackendSpec spec = parse_backend_spec(name_);
     if (spec.api == "cpu-ref") {
@@ -50,7 +50,7 @@ RenderEngine::RenderEngine(const std::string& backend_name, const DeviceScene& s
         if (!spec.device_filter.empty()) threads = static_cast<unsigned>(std::stoul(spec.device_filter));
         reference_ = std::make_unique<ReferenceRenderer>(scene, threads);
     } else {
-        backend_ = create_backend(name_);
+        backend_ = create_backend(name_, gl);
         renderer_ = std::make_unique<Renderer>(*backend_, scene);
     }
 }
@@ -65,6 +65,11 @@ BackendInfo RenderEngine::info() const {
     info.driver = "host";
     info.api_version = "C++20 (recursive reference)";
     return info;
+}
+
+GlInteropOffer RenderEngine::gl_interop() {
+    if (backend_) return backend_->gl_interop();
+    return {nullptr, "the frame is already in host memory"};
 }
 
 FrameResult RenderEngine::render(const Camera& camera, const RenderSettings& settings,

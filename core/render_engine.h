@@ -23,11 +23,14 @@ std::string bvh_layout_name(BvhLayout layout);
 
 class RenderEngine {
 public:
-    // Throws prism::Error for unknown or unavailable backends (listing what is available).
-    RenderEngine(const std::string& backend_name, const DeviceScene& scene);
+    // Throws prism::Error for unknown or unavailable backends (listing what is available). `gl`: the viewer's GL
+    // context, to share the display buffer with (see gl_interop()); null for no interop.
+    RenderEngine(const std::string& backend_name, const DeviceScene& scene, const GlContextHandles* gl = nullptr);
     ~RenderEngine();
 
     BackendInfo info() const;
+    // The backend's GL interop, or why there is none (cpu-ref and cpu: the frame is already in host memory).
+    GlInteropOffer gl_interop();
     FrameResult render(const Camera& camera, const RenderSettings& settings,
                        const std::function<void(double fraction)>& progress = {});
     std::vector<RayHit> trace(std::span<const RayQuery> rays, bool any_hit);

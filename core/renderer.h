@@ -19,10 +19,18 @@ struct RenderSettings {
     uint32_t max_depth = 8;          // ray generations traced: 1 = primary rays only
     float min_weight = 1e-4f;        // rays whose RGB weight is below this everywhere are not spawned
     float queue_factor = 2.0f;       // ray queue capacity per pixel; grown automatically when a frame overflows
+    // What render() copies back into FrameResult. The viewer needs only the image for its host copy, and nothing
+    // when the display copies the device's image array itself (GL interop). The linear radiance (16 bytes a pixel:
+    // 33 MB at 1080p) only .hdr output and the bit-exactness tests need, so frames and benchmarks skip it.
+    bool read_image = true;
+    bool read_radiance = false;
 };
 
 struct FrameStats {
     double frame_ms = 0.0;                    // wall time of the whole frame, upload of parameters to read-back
+    // Where the host's frame time went: recording/launching every stage, waiting for the device to finish them
+    // (the first read-back waits), then reading the image back. Device time per stage is in `stages`.
+    double enqueue_ms = 0.0, device_wait_ms = 0.0, readback_ms = 0.0;
     std::vector<StageTiming> stages;          // per stage and depth (device timers where the API has them)
     std::vector<uint32_t> rays_per_depth;     // closest-hit rays traced at each depth
     std::vector<uint32_t> shadow_rays_per_depth;
@@ -33,8 +41,8 @@ struct FrameStats {
 
 struct FrameResult {
     uint32_t width = 0, height = 0;
-    std::vector<uint32_t> image;    // RGBA8 sRGB, row 0 at the top
-    std::vector<float> radiance;    // linear RGBA
+    std::vector<uint32_t> image;    // RGBA8 sRGB, row 0 at the top (empty when settings.read_image was false)
+    std::vector<float> radiance;    // linear RGBA (empty unless settings.read_radiance)
     FrameStats stats;
 };
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # README command 2: install, build and run the whole test suite, then the AddressSanitizer + UBSan build of the
-# tests. CPU, OpenCL (PoCL) and Vulkan (lavapipe) tests run here; CUDA is compiled (sm_90) and its tests skip
-# visibly without a GPU.
+# tests, then the loaders' fuzzers for a minute each. CPU, OpenCL (PoCL) and Vulkan (lavapipe) tests run here; CUDA
+# is compiled (sm_90) and its tests skip visibly without a GPU.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/install-deps.sh
@@ -21,3 +21,8 @@ cmake --build --preset asan -j "$jobs" --target prism prism_tests
 # code by the sanitizer build's own tests, driver-internal ones are not ours to report.
 ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --preset asan -j 1
+
+# libFuzzer on every loader (clang, ASan + UBSan), seeded from ../shared/scenes; fails on any crash, hang or
+# broken error message. PRISM_FUZZ_SECONDS per target (60; two targets at a time on two cores: about 3 minutes).
+echo "== fuzzing the loaders (docs/reliability.md)"
+./scripts/fuzz.sh

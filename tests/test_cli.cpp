@@ -19,27 +19,7 @@ std::string read_bytes(const fs::path& path) {
     return std::string((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
 }
 
-size_t count_lines(const std::string& text) {
-    size_t lines = 0;
-    for (char c : text) lines += c == '\n';
-    return lines + (!text.empty() && text.back() != '\n');
-}
-
-// A failed render: one line, "prism: error: <file>...", exit 1..127, no output (nor a temporary) left behind.
-void expect_clean_failure(const std::string& scene_file, const std::string& must_mention) {
-    fs::path out = prism::test::temp_dir("cli") / (fs::path(scene_file).filename().string() + ".png");
-    fs::remove(out);
-    prism::test::CommandResult r =
-        run_prism("render --scene '" + scene_file + "' --backend cpu --width 32 --height 24 --out '" + out.string() + "'");
-    EXPECT_GE(r.exit_code, 1) << r.output;
-    EXPECT_LT(r.exit_code, 128) << r.output;
-    EXPECT_EQ(count_lines(r.output), 1u) << r.output;
-    EXPECT_NE(r.output.find("prism: error: "), std::string::npos) << r.output;
-    EXPECT_NE(r.output.find(must_mention), std::string::npos) << r.output;
-    EXPECT_FALSE(fs::exists(out));
-    for (const auto& entry : fs::directory_iterator(out.parent_path()))
-        EXPECT_EQ(entry.path().string().find(".tmp-"), std::string::npos) << entry.path();
-}
+using prism::test::expect_clean_failure;
 
 std::string random_bytes(size_t n, unsigned seed) {
     std::mt19937 rng(seed);

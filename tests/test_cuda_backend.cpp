@@ -231,10 +231,12 @@ TEST(CudaBackend, RendersAreBitIdentical) {
     LoadedScene s = load("builtin:sphere");
     prism::RenderSettings settings = small(160, 120, 8);
     prism::RenderEngine engine("cuda", s.device);
+    settings.read_radiance = true;
     prism::FrameResult a = engine.render(s.scene.camera, settings);
     prism::FrameResult b = engine.render(s.scene.camera, settings);
     prism::FrameResult c = prism::RenderEngine("cuda", s.device).render(s.scene.camera, settings);
     EXPECT_EQ(a.image, b.image);
+    ASSERT_FALSE(a.radiance.empty());
     EXPECT_EQ(a.radiance, b.radiance);
     EXPECT_EQ(a.image, c.image);
 }

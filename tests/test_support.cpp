@@ -114,4 +114,27 @@ CommandResult run_prism(const std::string& arguments, const std::string& launche
     return result;
 }
 
+namespace {
+size_t count_lines(const std::string& text) {
+    size_t lines = 0;
+    for (char c : text) lines += c == '\n';
+    return lines + (!text.empty() && text.back() != '\n');
+}
+}  // namespace
+
+void expect_clean_failure(const std::string& scene_file, const std::string& must_mention) {
+    std::filesystem::path out = temp_dir("cli") / (std::filesystem::path(scene_file).filename().string() + ".png");
+    std::filesystem::remove(out);
+    CommandResult r =
+        run_prism("render --scene '" + scene_file + "' --backend cpu --width 32 --height 24 --out '" + out.string() + "'");
+    EXPECT_GE(r.exit_code, 1) << r.output;
+    EXPECT_LT(r.exit_code, 128) << r.output;
+    EXPECT_EQ(count_lines(r.output), 1u) << r.output;
+    EXPECT_NE(r.output.find("prism: error: "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(must_mention), std::string::npos) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+    for (const auto& entry : std::filesystem::directory_iterator(out.parent_path()))
+        EXPECT_EQ(entry.path().string().find(".tmp-"), std::string::npos) << entry.path();
+}
+
 }  // namespace prism::test

@@ -50,7 +50,11 @@ struct CommandResult {
 // (e.g. "xvfb-run -a" for the viewer, "env -u DISPLAY").
 CommandResult run_prism(const std::string& arguments, const std::string& launcher = "");
 
-// Sets an environment variable for one scope.
+// `prism render --scene scene_file` (cpu backend, a small image) fails as the project rule says bad input must:
+// one line "prism: error: ..." mentioning `must_mention`, exit code 1..127, no output file nor temporary left.
+void expect_clean_failure(const std::string& scene_file, const std::string& must_mention);
+
+// Sets an environment variable for one scope (backends read theirs when created), then restores it.
 class ScopedEnv {
 public:
     ScopedEnv(const char* name, const std::string& value) : name_(name) {

@@ -294,9 +294,11 @@ TEST_F(Vulkan, TwoRendersAreBitIdentical) {
     settings.height = 72;
     settings.max_depth = 5;
     prism::RenderEngine engine(kDevice, device);
+    settings.read_radiance = true;
     prism::FrameResult a = engine.render(scene.camera, settings);
     prism::FrameResult b = engine.render(scene.camera, settings);
     EXPECT_EQ(a.image, b.image);
+    ASSERT_FALSE(a.radiance.empty());
     EXPECT_EQ(a.radiance, b.radiance);
 }
 
@@ -348,7 +350,95 @@ TEST_F(Vulkan, WritesReadsAndZeroesRoundTrip) {
     EXPECT_THROW(backend->read(prism::DeviceArray::texels, window, sizeof window, data.size() * 4 - 8), prism::Error);
 }
 
-TEST_F(Vulkan, BufferAboveMaxStorageBufferRangeNamesBufferAndLimit) {
+// ---- Addressing and indirect launches ----------------------------------------------------------------------------
+using prism::test::ScopedEnv;
+
+prism::FrameResult render_with(const std::string& spec, const prism::DeviceScene& device, const prism::Camera& camera,
+                               const prism::RenderSettings& settings, prism::VulkanLaunchMode* mode = nullptr) {
+    std::unique_ptr<prism::Backend> backend = prism::create_backend(spec);
+    prism::Renderer renderer(*backend, device);
+    prism::FrameResult frame = renderer.render(camera, settings);
+    if (mode) *mode = prism::vulkan_launch_mode(*backend);
+    return frame;
+}
+
+// A ray queue larger than maxStorageBufferRange (lavapipe: 128 MiB) switches the stages to buffer device
+// addresses by themselves, and the image still equals the oracle's.
+TEST_F(Vulkan, QueueAboveMaxStorageBufferRangeRendersThroughAddresses) {
+    prism::Scene scene;
+    prism::DeviceScene device = load("builtin:sphere", &scene);
+    prism::RenderSettings settings;
+    settings.width = 128;
+    settings.height = 96;
+    settings.max_depth = 3;
+    settings.queue_factor = 96.0f;   // 1.2 M rays: 151 MiB of ray queue, the largest array
+    prism::VulkanLaunchMode mode;
+    prism::FrameResult actual = render_with(kDevice, device, scene.camera, settings, &mode);
+    prism::FrameResult expected = prism::RenderEngine("cpu-ref", device).render(scene.camera, settings);
+    EXPECT_GE(prism::test::psnr_rgba8(expected.image, actual.image), 50.0);
+    size_t queue_bytes = size_t(actual.stats.queue_capacity) * 2 * sizeof(Ray);
+    if (on_lavapipe()) {
+        ASSERT_GT(queue_bytes, size_t(128) << 20) << "the queue must exceed lavapipe's maxStorageBufferRange";
+        EXPECT_TRUE(mode.addresses);
+    }
+    EXPECT_TRUE(mode.indirect);
+}
+
+// Each way of launching gives the same bits: descriptors or addresses, indirect or fixed-grid dispatch.
+TEST_F(Vulkan, AddressesAndFixedDispatchGiveIdenticalImages) {
+    prism::Scene scene;
+    prism::DeviceScene device = load("builtin:bunny", &scene);
+    prism::RenderSettings settings;
+    settings.width = 80;
+    settings.height = 60;
+    settings.max_depth = 5;
+    prism::VulkanLaunchMode mode;
+    prism::FrameResult base = render_with(kDevice, device, scene.camera, settings, &mode);
+    EXPECT_FALSE(mode.addresses);
+    EXPECT_TRUE(mode.indirect);
+    {
+        ScopedEnv addresses("PRISM_VULKAN_ADDRESSING", "addresses");
+        prism::FrameResult frame = render_with(kDevice, device, scene.camera, settings, &mode);
+        EXPECT_TRUE(mode.addresses);
+        EXPECT_EQ(base.image, frame.image);
+        EXPECT_EQ(base.stats.rays_per_depth, frame.stats.rays_per_depth);
+    }
+    {
+        ScopedEnv fixed("PRISM_VULKAN_DISPATCH", "fixed");
+        prism::FrameResult frame = render_with(kDevice, device, scene.camera, settings, &mode);
+        EXPECT_FALSE(mode.indirect);
+        EXPECT_EQ(base.image, frame.image);
+    }
+}
+
+TEST_F(Vulkan, UnknownLaunchSettingIsAnErrorNamingTheVariable) {
+    ScopedEnv bad("PRISM_VULKAN_ADDRESSING", "pointers");
+    try {
+        prism::create_backend(kDevice);
+        FAIL() << "an unknown PRISM_VULKAN_ADDRESSING should throw";
+    } catch (const prism::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("PRISM_VULKAN_ADDRESSING=pointers"), std::string::npos) << e.what();
+    }
+}
+
+// With descriptors forced, an array above maxStorageBufferRange is refused with the limit named.
+TEST_F(Vulkan, DescriptorsOnlyRefuseArraysAboveMaxStorageBufferRange) {
+    ScopedEnv descriptors("PRISM_VULKAN_ADDRESSING", "descriptors");
+    std::unique_ptr<prism::Backend> backend = prism::create_backend(kDevice);
+    size_t limit = backend->info().max_buffer;
+    try {
+        backend->allocate(prism::DeviceArray::rays, limit + 16);
+        FAIL() << "allocating past maxStorageBufferRange should throw";
+    } catch (const prism::Error& e) {
+        std::string message = e.what();
+        EXPECT_NE(message.find("'rays'"), std::string::npos) << message;
+        if (on_lavapipe()) {
+            EXPECT_NE(message.find("maxStorageBufferRange"), std::string::npos) << message;
+        }
+    }
+}
+
+TEST_F(Vulkan, BufferAboveTheLargestAllocationNamesBufferAndLimit) {
     std::unique_ptr<prism::Backend> backend = prism::create_backend(kDevice);
     size_t limit = backend->info().max_buffer;
     ASSERT_GT(limit, 0u);

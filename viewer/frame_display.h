@@ -1,39 +1,61 @@
 // How a rendered frame reaches the window. One implementation per display path:
-//   host copy  - glTexSubImage2D from FrameResult.image (every backend; what is implemented now);
-//   interop    - CUDA-GL (cudaGraphicsGLRegisterBuffer), OpenCL cl_khr_gl_sharing, Vulkan external memory
-//                (GL_EXT_memory_object_fd): the backend's display buffer shared with a GL texture, no host trip.
-// choose_display_path() says which path a backend gets and why; create_frame_display() builds it. An interop
-// path is one more FrameDisplay subclass plus a line in choose_display_path().
+//   host copy - glTexSubImage2D from FrameResult.image (every backend; the fallback);
+//   interop   - the backend's image array copied on the device into a GL pixel-unpack buffer it shares with GL
+//               (CUDA-GL, OpenCL-GL, Vulkan-GL: core/gl_interop.h, viewer/interop_display.h), then
+//               glTexSubImage2D from that buffer;
+//   none      - nothing is shown: `--display none` measures the render alone.
+// choose_display_path() decides from what the user asked and what the backend offers, and says why;
+// open_frame_display() builds it, falling back to the host copy when an interop path fails to set up.
 #pragma once
 
 #include <memory>
 #include <string>
 
 #include "core/backend.h"
+#include "core/gl_interop.h"
 #include "core/renderer.h"
 
 namespace prism::viewer {
 
+// --display: auto (interop where the backend and GL offer it, else host copy), interop (required), host-copy
+// (forced, e.g. to measure against interop), none (render only, not shown).
+enum class DisplayMode { Auto, Interop, HostCopy, None };
+DisplayMode parse_display_mode(const std::string& text);   // throws prism::Error naming the choices
+const char* display_mode_name(DisplayMode mode);            // "auto", "interop", "host-copy", "none"
+
 struct DisplayPath {
-    std::string name;     // "host copy"
-    std::string reason;   // why this path: "PoCL has no GL sharing", ...
-    // "interop: host copy (PoCL has no GL sharing)": what the HUD and the console show.
-    std::string describe() const { return "interop: " + name + " (" + reason + ")"; }
+    enum class Kind { HostCopy, Interop, None };
+    Kind kind = Kind::HostCopy;
+    std::string name;     // "host copy", "CUDA-GL", "OpenCL-GL", "Vulkan-GL", "none"
+    std::string detail;   // host copy: why not interop; interop: how device and GL are synchronised; none: why
+    // What the HUD and the console show: "interop: host copy (PoCL has no cl_khr_gl_sharing)",
+    // "interop: CUDA-GL (sync: map/unmap on the CUDA stream ...)", "display: none (--display none: render only)".
+    std::string describe() const;
+    const char* kind_name() const;   // "host-copy", "interop", "none" (the --stats JSON)
 };
 
-DisplayPath choose_display_path(const BackendInfo& backend);
+// Throws prism::Error for DisplayMode::Interop when `offer` has no interop ("view: --display interop: ...").
+DisplayPath choose_display_path(DisplayMode mode, const BackendInfo& backend, const GlInteropOffer& offer);
 
 class FrameDisplay {
 public:
     virtual ~FrameDisplay() = default;
     virtual const DisplayPath& path() const = 0;
-    // Makes `frame` the displayed image (the GL context must be current).
+    // Makes `frame` the displayed image (the GL context must be current). The interop paths take the pixels from
+    // the backend's device memory, not from frame.image.
     virtual void update(const FrameResult& frame) = 0;
     // Draws the displayed image over the whole viewport of the bound framebuffer.
     virtual void draw(int viewport_width, int viewport_height) = 0;
 };
 
-// Needs a current GL 3.3+ core context. Throws prism::Error when a shader fails to build.
-std::unique_ptr<FrameDisplay> create_frame_display(const BackendInfo& backend);
+// Builds the display for `path` (`interop`: the offer's, for an interop path) for frames of width x height.
+// When an interop path cannot be set up (the driver refuses to share the buffer), DisplayMode::Auto falls back
+// to the host copy, its reason naming the failure; DisplayMode::Interop throws prism::Error.
+// Needs a current GL 3.3+ core context.
+std::unique_ptr<FrameDisplay> open_frame_display(DisplayMode mode, DisplayPath path, GlInterop* interop,
+                                                 uint32_t width, uint32_t height);
+
+// The RenderSettings::read_image / read_radiance a path needs: the image for the host copy, nothing otherwise.
+void set_read_back(const DisplayPath& path, RenderSettings& settings);
 
 }  // namespace prism::viewer

@@ -8,6 +8,8 @@
 
 #include "core/error.h"
 #include "viewer/gl.h"
+#include "viewer/gl_external.h"
+#include "viewer/native_handles.h"
 
 namespace prism::viewer {
 namespace {
@@ -86,6 +88,7 @@ Input Window::poll() {
 
 void Window::set_title(const std::string& title) { glfwSetWindowTitle(window_, title.c_str()); }
 void Window::swap() { glfwSwapBuffers(window_); }
+void Window::finish_gl() { glFinish(); }
 
 int Window::framebuffer_width() const {
     int width = 0, height = 0;
@@ -115,6 +118,26 @@ std::vector<uint32_t> Window::read_pixels() const {
         std::memcpy(&top_down[size_t(y) * width], &bottom_up[size_t(height - 1 - y) * width], size_t(width) * 4);
     for (uint32_t& pixel : top_down) pixel |= 0xff000000u;
     return top_down;
+}
+
+GlContextHandles Window::gl_context_handles() const {
+    GlContextHandles gl;
+    NativeGlHandles native = native_gl_handles(window_);
+    gl.x11_display = native.x11_display;
+    gl.glx_context = native.glx_context;
+    gl.renderer = gl_string(GL_RENDERER);
+    GlExternalFunctions external = load_gl_external_functions();
+    gl.memory_object_fd = external.memory_object_fd;
+    gl.semaphore_fd = external.semaphore_fd;
+    if (external.memory_object_fd) {
+        GLint devices = 0;
+        glGetIntegerv(kGlNumDeviceUuids, &devices);
+        if (devices > 0) external.get_unsigned_bytei_v(kGlDeviceUuid, 0, gl.device_uuid.data());
+        external.get_unsigned_bytev(kGlDriverUuid, gl.driver_uuid.data());
+    }
+    while (glGetError() != GL_NO_ERROR) {
+    }
+    return gl;
 }
 
 void Window::on_key(GLFWwindow* window, int key, int, int action, int mods) {

@@ -8,6 +8,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/gl_interop.h"
 #include "viewer/key_script.h"
 
 struct GLFWwindow;
@@ -34,6 +35,9 @@ public:
     Input poll();
     void set_title(const std::string& title);
     void swap();
+    // Waits until GL has executed everything issued (glFinish): lets --stats charge GL's work to the step that
+    // issued it.
+    void finish_gl();
 
     int framebuffer_width() const;
     int framebuffer_height() const;
@@ -41,6 +45,9 @@ public:
     const std::string& context_description() const { return context_description_; }
     // The back buffer just drawn, as packed RGBA8 (r in the low byte), row 0 at the top, alpha forced opaque.
     std::vector<uint32_t> read_pixels() const;
+    // What a backend needs to share buffers with this window's GL context: GLX handles, GL_RENDERER, the
+    // external-memory extensions and GL's device/driver UUIDs (core/gl_interop.h).
+    GlContextHandles gl_context_handles() const;
 
 private:
     static void on_key(GLFWwindow* window, int key, int scancode, int action, int mods);

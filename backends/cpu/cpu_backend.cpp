@@ -113,6 +113,8 @@ public:
 
     std::vector<StageTiming> finish() override { return std::exchange(timings_, {}); }
 
+    GlInteropOffer gl_interop() override { return {nullptr, "the frame is already in host memory"}; }
+
 private:
     void check_range(DeviceArray array, size_t bytes, size_t offset) const {
         if (offset + bytes > sizes_[size_t(array)])
@@ -140,7 +142,8 @@ private:
 BackendFactory cpu_backend_factory() {
     BackendFactory factory;
     factory.name = "cpu";
-    factory.create = [](const std::string& filter) -> std::unique_ptr<Backend> {
+    // No GL interop: the frame is in host memory already, and the host copy is the texture upload it needs.
+    factory.create = [](const std::string& filter, const GlContextHandles*) -> std::unique_ptr<Backend> {
         // "cpu:N" selects N threads; anything else names no device.
         unsigned threads = 0;
         if (!filter.empty()) {

@@ -8,6 +8,9 @@
 #include <utility>
 
 #include "backends/cuda/cuda_device.h"
+#ifdef PRISM_CUDA_GL_INTEROP
+#include "backends/cuda/cuda_gl_interop.h"
+#endif
 #include "core/error.h"
 
 namespace prism {
@@ -45,12 +48,14 @@ cuda::DeviceDescription select_device(const std::string& filter) {
 
 class CudaBackend final : public Backend {
 public:
-    explicit CudaBackend(const cuda::DeviceDescription& device)
+    CudaBackend(const cuda::DeviceDescription& device, const GlContextHandles* gl)
         : context_(device), memory_limit_(cuda::device_memory_limit()) {
         blocks_ = cuda::kBlocksPerMultiprocessor * static_cast<unsigned>(std::max(device.multiprocessors, 1));
+        if (gl) set_up_gl_interop(*gl);
     }
 
     ~CudaBackend() override {
+        gl_.reset();   // unregister the GL buffer while the context is alive
         for (void* pointer : pointers_) {
             try {
                 context_.release(pointer);
@@ -133,7 +138,24 @@ public:
         return timings;
     }
 
+    GlInteropOffer gl_interop() override {
+        if (gl_) return {gl_.get(), ""};
+        return {nullptr, gl_reason_.empty() ? "GL interop was not requested" : gl_reason_};
+    }
+
 private:
+    void set_up_gl_interop([[maybe_unused]] const GlContextHandles& gl) {
+#ifdef PRISM_CUDA_GL_INTEROP
+        gl_reason_ = cuda::gl_context_check(context_, gl.renderer);
+        if (gl_reason_.empty())
+            gl_ = cuda::create_gl_interop(context_, [this] {
+                return static_cast<const void*>(pointers_[size_t(DeviceArray::image)]);
+            });
+#else
+        gl_reason_ = "CUDA-GL interop not built (no OpenGL headers at configure time)";
+#endif
+    }
+
     void check_range(DeviceArray array, size_t bytes, size_t offset) const {
         const size_t size = sizes_[size_t(array)];
         if (!pointers_[size_t(array)] || offset > size || bytes > size - offset)
@@ -150,6 +172,8 @@ private:
     std::array<size_t, device_array_count> allocated_sizes_{};
     size_t allocated_ = 0;
     std::vector<StageTiming> pending_;
+    std::unique_ptr<GlInterop> gl_;   // CUDA-GL, when the viewer asked and its GL context is on this device
+    std::string gl_reason_;           // why gl_ is null
 };
 
 }  // namespace
@@ -157,8 +181,8 @@ private:
 BackendFactory cuda_backend_factory() {
     BackendFactory factory;
     factory.name = "cuda";
-    factory.create = [](const std::string& filter) -> std::unique_ptr<Backend> {
-        return std::make_unique<CudaBackend>(select_device(filter));
+    factory.create = [](const std::string& filter, const GlContextHandles* gl) -> std::unique_ptr<Backend> {
+        return std::make_unique<CudaBackend>(select_device(filter), gl);
     };
     factory.probe = [] {
         BackendAvailability a;

@@ -47,10 +47,13 @@ public:
     // Waits for the stream and returns the device time of each launch since the last call, in launch order.
     std::vector<double> synchronize_and_collect_ms();
 
-private:
-    void check(int status, const std::string& what) const;
+    // For code next to this one that calls the runtime itself (cuda_gl_interop.cpp): the stream (a cudaStream_t),
+    // making this device current, and the error check that throws the message above.
+    void* stream() const { return stream_; }
     void bind() const;
+    void check(int status, const std::string& what) const;
 
+private:
     DeviceDescription device_;
     void* stream_ = nullptr;
     std::vector<void*> events_;   // pool: launch i uses events 2i and 2i+1

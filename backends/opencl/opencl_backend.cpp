@@ -17,7 +17,9 @@
 #include <sstream>
 #include <utility>
 
+#include "backends/opencl/opencl_gl_interop.h"
 #include "backends/opencl/opencl_internal.h"
+#include "core/pocl_cache.h"
 #include "core/error.h"
 #include "core/device_memory_limit.h"
 #include "core/launch_config.h"
@@ -138,6 +140,7 @@ struct DeviceEntry {
 
 // Every device of every platform, in the ICD loader's order. `why_none` says why the list is empty.
 std::vector<DeviceEntry> enumerate_devices(std::string& why_none) {
+    ensure_pocl_cache_dir();   // before PoCL initialises: it needs a usable cache folder
     std::vector<DeviceEntry> devices;
     cl_uint platform_count = 0;
     cl_int err = clGetPlatformIDs(0, nullptr, &platform_count);
@@ -207,15 +210,31 @@ void check(cl_int err, const char* what, const DeviceEntry& device) {
                     " (" + std::to_string(err) + ")");
 }
 
-// A context and an in-order, profiling queue on one device.
+// A context and an in-order, profiling queue on one device. With `gl`, the context is created together with the
+// viewer's GL context where the device can share with it (cl_khr_gl_sharing); otherwise, or when that fails, as
+// a plain context, with gl_reason() saying why.
 class ClDevice {
 public:
-    explicit ClDevice(const std::string& filter) : entry_(select_device(filter)) {
+    explicit ClDevice(const std::string& filter, const GlContextHandles* gl = nullptr) : entry_(select_device(filter)) {
         cl_int err = CL_SUCCESS;
-        cl_context_properties props[] = {CL_CONTEXT_PLATFORM, reinterpret_cast<cl_context_properties>(entry_.platform),
-                                         0};
-        context_ = clCreateContext(props, 1, &entry_.device, nullptr, nullptr, &err);
-        check(err, "clCreateContext", entry_);
+        if (gl) {
+            opencl_gl::ContextSharing sharing =
+                opencl_gl::context_properties(entry_.platform, entry_.device, entry_.platform_name, entry_.device_name, *gl);
+            gl_reason_ = sharing.reason;
+            if (!sharing.properties.empty()) {
+                context_ = clCreateContext(sharing.properties.data(), 1, &entry_.device, nullptr, nullptr, &err);
+                if (err != CL_SUCCESS) {
+                    gl_reason_ = std::string("clCreateContext with the GL context failed: ") + cl_error_name(err);
+                    context_ = nullptr;
+                }
+            }
+        }
+        if (!context_) {
+            cl_context_properties props[] = {CL_CONTEXT_PLATFORM,
+                                             reinterpret_cast<cl_context_properties>(entry_.platform), 0};
+            context_ = clCreateContext(props, 1, &entry_.device, nullptr, nullptr, &err);
+            check(err, "clCreateContext", entry_);
+        }
         queue_ = clCreateCommandQueue(context_, entry_.device, CL_QUEUE_PROFILING_ENABLE, &err);
         if (err != CL_SUCCESS) {
             clReleaseContext(context_);
@@ -232,9 +251,12 @@ public:
     const DeviceEntry& entry() const { return entry_; }
     cl_context context() const { return context_; }
     cl_command_queue queue() const { return queue_; }
+    bool shares_gl() const { return gl_reason_.empty(); }   // meaningful only when created with `gl`
+    const std::string& gl_reason() const { return gl_reason_; }
 
 private:
     DeviceEntry entry_;
+    std::string gl_reason_;   // why the context does not share with GL ("" when it does)
     cl_context context_ = nullptr;
     cl_command_queue queue_ = nullptr;
 };
@@ -394,7 +416,7 @@ constexpr std::array<const char*, stage_count> kKernelNames = {"prism_generate",
 
 class OpenClBackend final : public Backend {
 public:
-    explicit OpenClBackend(const std::string& filter) : dev_(filter) {
+    OpenClBackend(const std::string& filter, const GlContextHandles* gl) : dev_(filter, gl) {
         const DeviceEntry& d = dev_.entry();
         memory_budget_ = device_memory_budget(d, memory_note_);
         try {
@@ -426,6 +448,10 @@ public:
             // compiles per local size) do it now and not inside the first frame's timings (docs/fairness.md).
             for (size_t s = 0; s < stage_count; ++s) enqueue(Stage(s), 0);
             finish();
+            if (gl && dev_.shares_gl())
+                gl_ = opencl_gl::create_gl_interop(dev_.context(), dev_.queue(), d.device_name,
+                                                   [this] { return buffers_[size_t(DeviceArray::image)]; });
+            gl_reason_ = gl ? dev_.gl_reason() : "GL interop was not requested";
         } catch (...) {
             release();
             throw;
@@ -433,8 +459,11 @@ public:
     }
     ~OpenClBackend() override {
         if (dev_.queue()) clFinish(dev_.queue());
+        gl_.reset();
         release();
     }
+
+    GlInteropOffer gl_interop() override { return {gl_.get(), gl_ ? "" : gl_reason_}; }
 
     BackendInfo info() const override {
         const DeviceEntry& d = dev_.entry();
@@ -571,6 +600,8 @@ private:
     size_t local_size_ = kThreadsPerBlock;
     size_t global_size_ = 0;
     std::vector<Pending> pending_;
+    std::unique_ptr<GlInterop> gl_;   // OpenCL-GL, when the viewer asked and the context shares with its GL
+    std::string gl_reason_;           // why gl_ is null
 };
 
 }  // namespace
@@ -578,8 +609,8 @@ private:
 BackendFactory opencl_backend_factory() {
     BackendFactory factory;
     factory.name = "opencl";
-    factory.create = [](const std::string& filter) -> std::unique_ptr<Backend> {
-        return std::make_unique<OpenClBackend>(filter);
+    factory.create = [](const std::string& filter, const GlContextHandles* gl) -> std::unique_ptr<Backend> {
+        return std::make_unique<OpenClBackend>(filter, gl);
     };
     factory.probe = [] {
         BackendAvailability a;

@@ -1,27 +1,43 @@
 // The Vulkan backend: memory, launches and timers for the SPIR-V of shaders/ (kernels/ compiled as GLSL).
 //
-// Commands are recorded into one command buffer on one compute queue: enqueue() records a dispatch between two
-// timestamps, write() a copy from a host-visible staging buffer, zero() a vkCmdFillBuffer. A full memory barrier
-// (compute and transfer, both ways) precedes every command, which makes the queue behave in order like a CUDA
-// stream or an in-order OpenCL queue. Nothing is submitted until read() or finish() (or a full staging buffer or
-// query pool), which submit, wait on a fence and collect the timestamps.
+// Commands are recorded into one command buffer on one compute queue: enqueue() records a stage between two
+// timestamps — intersect, miss and shade as vkCmdDispatchIndirect, sized on the device from the queue counters
+// (kernels/launch_args.h) by generate and shadow, which run on the fixed grid and write every launch's arguments in
+// passing (shaders/launch_args.glsl), so a frame has no extra dispatch for it; write() a copy from a host-visible staging buffer, zero()
+// a vkCmdFillBuffer. A full memory barrier (compute, transfer and indirect reads) precedes every command, which
+// makes the queue behave in order like a CUDA stream or an in-order OpenCL queue. Nothing is submitted until
+// read() or finish() (or a full staging buffer or query pool), which submit, wait on a fence and collect the
+// timestamps.
 //
 // Memory: every device array is its own device-local storage buffer (binding = its line in kernels/data_arrays.h);
 // uploads go through a host-visible, coherent, preferably uncached staging buffer; read-backs through a
 // host-visible, preferably cached one. Both are at most 64 MiB; larger transfers go in pieces.
+//
+// Addressing: the stages are built twice (shaders/common.glsl). With descriptors, each array is bound as a storage
+// buffer, which can cover at most maxStorageBufferRange (lavapipe: 128 MiB; NVIDIA: 4 GiB). Once any array is
+// larger, the backend switches to the variant that reaches every array through its buffer device address (a table
+// of addresses at RT_VK_BINDING_ADDRESSES), so a 1080p frame or a large scene also runs on lavapipe.
+// PRISM_VULKAN_ADDRESSING=descriptors|addresses forces one variant (tests, benchmarks); PRISM_VULKAN_DISPATCH=fixed
+// launches the fixed grid directly instead of indirectly (for measuring what indirect dispatch costs).
 #include "backends/vulkan/vulkan_backend.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <initializer_list>
 #include <map>
 #include <utility>
 
 #include "backends/vulkan/vulkan_context.h"
+#include "backends/vulkan/vulkan_gl_interop.h"
 #include "core/error.h"
+#include "shaders/vulkan_bindings.h"
 #include "spirv/vulkan_shaders.h"
+#include "spirv/vulkan_shaders_address.h"
+#include "kernels/launch_args.h"   // as C++ (core defines RT_CPU): slots of the argument buffer
 
 namespace prism {
 namespace {
@@ -29,6 +45,26 @@ namespace {
 constexpr uint32_t kWorkGroupSize = 128;                 // local_size_x of shaders/common.glsl
 constexpr VkDeviceSize kTransferChunk = 64ull << 20;     // staging and read-back buffers grow up to this
 constexpr uint32_t kQueryCapacity = 2 * 512;             // timestamps per submission (two per dispatch)
+static_assert(RT_LAUNCH_SLOTS <= kWorkGroupSize, "shaders/launch_args.comp fills one slot per invocation of one group");
+static_assert(RT_VK_BINDING_LAUNCH_ARGS == device_array_count, "shaders/vulkan_bindings.h: after the data arrays");
+static_assert(RT_VK_BINDING_ADDRESSES == device_array_count + 1, "shaders/vulkan_bindings.h: after launch args");
+
+struct StagePush {   // shaders/common.glsl
+    uint32_t depth;
+    uint32_t groups;
+};
+
+// "" when unset; otherwise one of `allowed`, else a one-line error naming the variable.
+std::string env_choice(const char* name, std::initializer_list<const char*> allowed) {
+    const char* value = std::getenv(name);
+    if (!value || !*value) return "";
+    std::string text = value, list;
+    for (const char* a : allowed) {
+        if (text == a) return text;
+        list += list.empty() ? a : std::string(", ") + a;
+    }
+    throw Error(std::string("vulkan: ") + name + "=" + text + " is not one of " + list);
+}
 
 std::string mib(uint64_t bytes) {
     char text[32];
@@ -55,11 +91,11 @@ struct PendingTiming {
     uint32_t query;   // start; end is query + 1
 };
 
-class VulkanBackend final : public Backend {
+class VulkanBackend final : public Backend, private vk::ImageCopier {
 public:
-    explicit VulkanBackend(const std::string& filter) : instance_(vk::validation_requested()) {
+    VulkanBackend(const std::string& filter, const GlContextHandles* gl) : instance_(vk::validation_requested()) {
         try {
-            create(filter);
+            create(filter, gl);
         } catch (...) {
             destroy();
             throw;
@@ -72,8 +108,13 @@ public:
         info.name = "vulkan";
         info.device = physical_.properties.deviceName;
         info.driver = std::string(physical_.driver.driverName) + " " + physical_.driver.driverInfo + "; grid " +
-                      std::to_string(grid_.groups) + " x " + std::to_string(kWorkGroupSize) + " (8 x " +
-                      std::to_string(grid_.compute_units) + " " + grid_.source + ")";
+                      std::to_string(grid_.groups) + " x " + std::to_string(kWorkGroupSize) + " (" +
+                      std::to_string(grid_.compute_units) + " " + grid_.source + "), " +
+                      (indirect_ ? "indirect dispatch" : "fixed dispatch") + ", " +
+                      (forced_addressing_ == "addresses" ? "buffer device addresses"
+                       : forced_addressing_ == "descriptors" || !address_supported_
+                           ? "descriptors"
+                           : "descriptors (addresses above maxStorageBufferRange)");
         info.api_version = "Vulkan " + vk::api_version_string(physical_.properties.apiVersion);
         info.device_memory = device_heap_bytes_;
         info.max_buffer = max_buffer_;
@@ -83,12 +124,16 @@ public:
     void allocate(DeviceArray array, size_t bytes) override {
         Buffer& buffer = arrays_[size_t(array)];
         if (buffer.buffer && buffer.bytes == bytes) return;
+        launch_args_fresh_ = false;
         const char* name = device_array_name(array);
         const std::string device = physical_.properties.deviceName;
-        if (bytes > physical_.properties.limits.maxStorageBufferRange)
+        if (bytes > physical_.properties.limits.maxStorageBufferRange &&
+            (!address_supported_ || forced_addressing_ == "descriptors"))
             throw Error(std::string("vulkan: buffer '") + name + "' needs " + mib(bytes) +
                         " but maxStorageBufferRange of " + device + " is " +
-                        mib(physical_.properties.limits.maxStorageBufferRange));
+                        mib(physical_.properties.limits.maxStorageBufferRange) +
+                        (address_supported_ ? " (PRISM_VULKAN_ADDRESSING=descriptors)"
+                                            : " and it has no bufferDeviceAddress"));
         if (bytes > max_allocation_)
             throw Error(std::string("vulkan: buffer '") + name + "' needs " + mib(bytes) +
                         " but maxMemoryAllocationSize of " + device + " is " + mib(max_allocation_));
@@ -97,16 +142,24 @@ public:
                         device + " is " + mib(device_heap_bytes_));
         flush();   // commands already recorded may use the old buffer
         release(buffer);
-        buffer = create_buffer(name, round_up(std::max<size_t>(bytes, 16), 16),
-                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-                                   VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+        buffer = create_buffer(name, round_up(std::max<size_t>(bytes, 16), 16), array_usage_,
                                VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT, false);
         buffer.bytes = bytes;
         bind(array, buffer);
     }
 
+    // True when the stages run in address mode (see the top of this file).
+    bool addressing() const {
+        if (forced_addressing_ == "addresses") return true;
+        if (forced_addressing_ == "descriptors" || !address_supported_) return false;
+        for (const Buffer& b : arrays_)
+            if (b.capacity > physical_.properties.limits.maxStorageBufferRange) return true;
+        return false;
+    }
+
     void write(DeviceArray array, const void* data, size_t bytes, size_t offset) override {
         check_range(array, bytes, offset);
+        if (array == DeviceArray::counters || array == DeviceArray::frame) launch_args_fresh_ = false;
         const char* source = static_cast<const char*>(data);
         while (bytes > 0) {
             if (staging_.capacity < kTransferChunk && staging_used_ + bytes > staging_.capacity) {
@@ -172,24 +225,39 @@ public:
     void zero(DeviceArray array) override {
         Buffer& buffer = arrays_[size_t(array)];
         if (!buffer.buffer) return;
+        if (array == DeviceArray::counters || array == DeviceArray::frame) launch_args_fresh_ = false;
         begin_command();
         vkCmdFillBuffer(command_, buffer.buffer, 0, VK_WHOLE_SIZE, 0u);
     }
 
     void enqueue(Stage stage, uint32_t depth) override {
         if (timestamps_ && queries_used_ + 2 > kQueryCapacity) flush();
+        bool address = addressing();
+        // Intersect, miss and shade launch indirectly, sized by the arguments that generate and shadow (on the
+        // fixed grid) write in passing; a launch_args dispatch fills them only where neither ran since the counts
+        // changed (ray queries).
+        bool indirect = indirect_ && (stage == Stage::Intersect || stage == Stage::Miss || stage == Stage::Shade);
+        if (indirect && !launch_args_fresh_) {
+            begin_command();
+            dispatch(pipeline(launch_args_pipelines_, launch_args_address_pipelines_, 0, "launch_args", address), 1, 0);
+            launch_args_fresh_ = true;
+        }
         begin_command();
         uint32_t query = queries_used_;
-        if (timestamps_) {
-            vkCmdResetQueryPool(command_, query_pool_, query, 2);
-            vkCmdWriteTimestamp(command_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, query_pool_, query);
-        }
-        dispatch(pipelines_[size_t(stage)], grid_.groups, depth);
+        if (timestamps_) vkCmdWriteTimestamp(command_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, query_pool_, query);
+        VkPipeline stage_pipeline = pipeline(pipelines_, address_pipelines_, size_t(stage), stage_name(stage), address);
+        if (indirect)
+            dispatch_indirect(stage_pipeline,
+                              VkDeviceSize(rt_launch_slot(RT_LAUNCH_RAYS, depth)) * sizeof(uint4), depth);
+        else
+            dispatch(stage_pipeline, grid_.groups, depth);
         if (timestamps_) {
             vkCmdWriteTimestamp(command_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, query_pool_, query + 1);
             queries_used_ += 2;
         }
         pending_.push_back(PendingTiming{stage, depth, query});
+        if (stage == Stage::Generate || stage == Stage::Shadow) launch_args_fresh_ = true;   // they refreshed them
+        if (stage == Stage::Shade) launch_args_fresh_ = false;   // it appended rays and shadow rays
     }
 
     std::vector<StageTiming> finish() override {
@@ -197,16 +265,50 @@ public:
         return std::exchange(timings_, {});
     }
 
+    GlInteropOffer gl_interop() override { return {gl_.get(), gl_ ? "" : gl_reason_}; }
+
     void dispatch_module(std::span<const uint32_t> spirv, uint32_t groups, uint32_t push) {
         auto found = extra_pipelines_.find(spirv.data());
         if (found == extra_pipelines_.end())
             found = extra_pipelines_.emplace(spirv.data(), create_pipeline(spirv, "module")).first;
         begin_command();
         dispatch(found->second, groups, push);
+        launch_args_fresh_ = false;   // a module may write anything, the counters included
     }
 
+    // For the tests: the variant the next stage would run with, and whether launches are indirect.
+    bool uses_addresses() const { return addressing(); }
+    bool uses_indirect_dispatch() const { return indirect_; }
+
 private:
-    void create(const std::string& filter) {
+    // vk::ImageCopier, for the Vulkan-GL path: the image array into the exported buffer, which is handed to and
+    // taken back from GL by queue family ownership transfers (VK_QUEUE_FAMILY_EXTERNAL), as the spec asks for
+    // memory another API uses.
+    void copy_image_to(VkBuffer target, VkDeviceSize bytes, bool acquire, VkSemaphore wait,
+                       VkSemaphore signal) override {
+        begin_command();
+        VkBufferMemoryBarrier ownership{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER};
+        ownership.buffer = target;
+        ownership.size = VK_WHOLE_SIZE;
+        if (acquire) {
+            ownership.srcQueueFamilyIndex = VK_QUEUE_FAMILY_EXTERNAL;
+            ownership.dstQueueFamilyIndex = physical_.compute_family;
+            ownership.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+            vkCmdPipelineBarrier(command_, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
+                                 nullptr, 1, &ownership, 0, nullptr);
+        }
+        VkBufferCopy region{0, 0, bytes};
+        vkCmdCopyBuffer(command_, arrays_[size_t(DeviceArray::image)].buffer, target, 1, &region);
+        ownership.srcQueueFamilyIndex = physical_.compute_family;
+        ownership.dstQueueFamilyIndex = VK_QUEUE_FAMILY_EXTERNAL;
+        ownership.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        ownership.dstAccessMask = 0;
+        vkCmdPipelineBarrier(command_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0, 0,
+                             nullptr, 1, &ownership, 0, nullptr);
+        flush(wait, signal);
+    }
+
+    void create(const std::string& filter, const GlContextHandles* gl) {
         physical_ = instance_.select(filter);
         grid_ = vk::choose_grid(physical_);
         vkGetPhysicalDeviceMemoryProperties(physical_.handle, &memory_);
@@ -218,17 +320,48 @@ private:
         for (uint32_t h = 0; h < memory_.memoryHeapCount; ++h)
             if (memory_.memoryHeaps[h].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
                 device_heap_bytes_ = std::max<size_t>(device_heap_bytes_, memory_.memoryHeaps[h].size);
-        max_buffer_ = std::min<size_t>({physical_.properties.limits.maxStorageBufferRange, max_allocation_,
-                                        device_heap_bytes_});
+
+        // Buffer device addresses (and the 64-bit integers that hold them) let arrays exceed maxStorageBufferRange.
+        VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+        VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+        features.pNext = &features12;
+        vkGetPhysicalDeviceFeatures2(physical_.handle, &features);
+        address_supported_ = features12.bufferDeviceAddress && features.features.shaderInt64;
+        forced_addressing_ = env_choice("PRISM_VULKAN_ADDRESSING", {"auto", "descriptors", "addresses"});
+        if (forced_addressing_ == "auto") forced_addressing_.clear();
+        if (forced_addressing_ == "addresses" && !address_supported_)
+            throw Error(std::string("vulkan: PRISM_VULKAN_ADDRESSING=addresses but ") + physical_.properties.deviceName +
+                        " lacks bufferDeviceAddress or shaderInt64");
+        indirect_ = env_choice("PRISM_VULKAN_DISPATCH", {"indirect", "fixed"}) != "fixed";
+        max_buffer_ = std::min<size_t>(max_allocation_, device_heap_bytes_);
+        if (!address_supported_ || forced_addressing_ == "descriptors")
+            max_buffer_ = std::min<size_t>(max_buffer_, physical_.properties.limits.maxStorageBufferRange);
+        array_usage_ = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                      VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                      (address_supported_ ? VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT : 0);
 
         float priority = 1.0f;
         VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
         queue_info.queueFamilyIndex = physical_.compute_family;
         queue_info.queueCount = 1;
         queue_info.pQueuePriorities = &priority;
+        VkPhysicalDeviceVulkan12Features enable12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+        enable12.bufferDeviceAddress = address_supported_;
+        VkPhysicalDeviceFeatures2 enable{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+        enable.features.shaderInt64 = address_supported_;
+        enable.pNext = &enable12;
+        // Vulkan-GL needs its extensions enabled at device creation; without them the backend runs as before.
+        vk::GlSharingPlan gl_plan;
+        if (gl) gl_plan = vk::plan_gl_sharing(physical_, *gl);
+        gl_reason_ = gl ? gl_plan.reason : "GL interop was not requested";
         VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+        device_info.pNext = &enable;
         device_info.queueCreateInfoCount = 1;
         device_info.pQueueCreateInfos = &queue_info;
+        if (gl && gl_plan.reason.empty()) {
+            device_info.enabledExtensionCount = uint32_t(gl_plan.extensions.size());
+            device_info.ppEnabledExtensionNames = gl_plan.extensions.data();
+        }
         vk::check(vkCreateDevice(physical_.handle, &device_info, nullptr, &device_), "vkCreateDevice");
         vkGetDeviceQueue(device_, physical_.compute_family, 0, &queue_);
 
@@ -263,6 +396,10 @@ private:
     bindings.push_back({slot, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
 #include "kernels/data_arrays.h"
 #undef RT_DATA_ARRAY
+        bindings.push_back({RT_VK_BINDING_LAUNCH_ARGS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT,
+                            nullptr});
+        bindings.push_back({RT_VK_BINDING_ADDRESSES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT,
+                            nullptr});
         VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
         set_info.bindingCount = uint32_t(bindings.size());
         set_info.pBindings = bindings.data();
@@ -279,35 +416,54 @@ private:
         set_alloc.pSetLayouts = &set_layout_;
         vk::check(vkAllocateDescriptorSets(device_, &set_alloc, &descriptor_set_), "vkAllocateDescriptorSets");
 
-        VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(uint32_t)};
+        VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(StagePush)};
         VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
         layout_info.setLayoutCount = 1;
         layout_info.pSetLayouts = &set_layout_;
         layout_info.pushConstantRangeCount = 1;
         layout_info.pPushConstantRanges = &push;
         vk::check(vkCreatePipelineLayout(device_, &layout_info, nullptr, &pipeline_layout_), "vkCreatePipelineLayout");
-        for (size_t s = 0; s < stage_count; ++s) {
-            const char* name = stage_name(Stage(s));
-            std::span<const uint32_t> spirv = spirv::vulkan_shaders(name);
-            if (spirv.empty()) throw Error(std::string("vulkan: no embedded SPIR-V for stage '") + name + "'");
-            pipelines_[s] = create_pipeline(spirv, name);
-        }
+        // Descriptor-mode pipelines now (the common case); address-mode ones when first needed.
+        for (size_t s = 0; s < stage_count; ++s) pipeline(pipelines_, address_pipelines_, s, stage_name(Stage(s)), false);
+        if (indirect_) pipeline(launch_args_pipelines_, launch_args_address_pipelines_, 0, "launch_args", false);
 
         // Until an array is allocated its binding points at a small placeholder, so every set is valid.
-        placeholder_ = create_buffer("placeholder", 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                                     VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, 0, false);
+        placeholder_ = create_buffer("placeholder", 16, array_usage_, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, 0, false);
         for (size_t a = 0; a < device_array_count; ++a) bind(DeviceArray(a), placeholder_);
+        launch_args_ = create_buffer("launch_args", RT_LAUNCH_SLOTS * sizeof(uint4), array_usage_,
+                                     VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, 0, false);
+        bind_extra(RT_VK_BINDING_LAUNCH_ARGS, launch_args_);
+        addresses_ = create_buffer("addresses", device_array_count * sizeof(uint64_t), array_usage_,
+                                   VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, 0, false);
+        bind_extra(RT_VK_BINDING_ADDRESSES, addresses_);
+        if (gl && gl_plan.reason.empty()) gl_ = vk::create_gl_interop(device_, physical_, memory_, *this, gl_plan);
+    }
+
+    // The pipeline of one entry point in the variant asked for, created on first use.
+    VkPipeline pipeline(std::array<VkPipeline, stage_count>& descriptor_set, std::array<VkPipeline, stage_count>& address,
+                        size_t index, const char* name, bool use_addresses) {
+        VkPipeline& slot = use_addresses ? address[index] : descriptor_set[index];
+        if (slot) return slot;
+        std::span<const uint32_t> spirv =
+            use_addresses ? spirv::vulkan_shaders_address(name) : spirv::vulkan_shaders(name);
+        if (spirv.empty()) throw Error(std::string("vulkan: no embedded SPIR-V for '") + name + "'");
+        slot = create_pipeline(spirv, name);
+        return slot;
     }
 
     void destroy() {
         if (!device_) return;
+        gl_.reset();   // its buffer and semaphores belong to this device
         vkDeviceWaitIdle(device_);
         for (Buffer& b : arrays_) release(b);
         release(placeholder_);
+        release(launch_args_);
+        release(addresses_);
         release(staging_);
         release(readback_);
-        for (VkPipeline p : pipelines_)
-            if (p) vkDestroyPipeline(device_, p, nullptr);
+        for (auto* set : {&pipelines_, &address_pipelines_, &launch_args_pipelines_, &launch_args_address_pipelines_})
+            for (VkPipeline p : *set)
+                if (p) vkDestroyPipeline(device_, p, nullptr);
         for (auto& [key, p] : extra_pipelines_) vkDestroyPipeline(device_, p, nullptr);
         if (pipeline_layout_) vkDestroyPipelineLayout(device_, pipeline_layout_, nullptr);
         if (descriptor_pool_) vkDestroyDescriptorPool(device_, descriptor_pool_, nullptr);
@@ -358,7 +514,10 @@ private:
             throw Error(std::string("vulkan: no suitable memory type for buffer '") + name + "' on " +
                         physical_.properties.deviceName);
         }
+        VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+        flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
         VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+        if (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) alloc.pNext = &flags;
         alloc.allocationSize = requirements.size;
         alloc.memoryTypeIndex = type;
         VkResult result = vkAllocateMemory(device_, &alloc, nullptr, &b.memory);
@@ -379,11 +538,25 @@ private:
         b = Buffer{};
     }
 
+    // Points the array's descriptor (its first maxStorageBufferRange bytes: a larger array is only reached in
+    // address mode) and its entry in the address table at `buffer`.
     void bind(DeviceArray array, const Buffer& buffer) {
-        VkDescriptorBufferInfo info{buffer.buffer, 0, buffer.capacity};
+        bind_extra(uint32_t(array), buffer);
+        if (address_supported_) {
+            VkBufferDeviceAddressInfo info{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+            info.buffer = buffer.buffer;
+            address_table_[size_t(array)] = vkGetBufferDeviceAddress(device_, &info);
+            addresses_dirty_ = true;
+        }
+    }
+
+    void bind_extra(uint32_t binding, const Buffer& buffer) {
+        VkDescriptorBufferInfo info{buffer.buffer, 0,
+                                    std::min<VkDeviceSize>(buffer.capacity,
+                                                           physical_.properties.limits.maxStorageBufferRange)};
         VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
         write.dstSet = descriptor_set_;
-        write.dstBinding = uint32_t(array);
+        write.dstBinding = binding;
         write.descriptorCount = 1;
         write.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         write.pBufferInfo = &info;
@@ -396,38 +569,71 @@ private:
             throw Error(std::string("vulkan: access past the end of array '") + device_array_name(array) + "'");
     }
 
-    // Starts recording if needed, then orders the next command after every earlier one (compute and transfer).
+    // Starts recording if needed, then orders the next command after every earlier one (compute, transfer and
+    // the indirect-argument reads of vkCmdDispatchIndirect).
     void begin_command() {
         if (!recording_) {
             VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
             begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
             vk::check(vkBeginCommandBuffer(command_, &begin), "vkBeginCommandBuffer");
             recording_ = true;
+            if (timestamps_) vkCmdResetQueryPool(command_, query_pool_, 0, kQueryCapacity);   // once per submission
         }
+        if (addresses_dirty_) {   // the address table follows every (re)allocation, in stream order
+            addresses_dirty_ = false;
+            full_barrier();
+            vkCmdUpdateBuffer(command_, addresses_.buffer, 0, sizeof address_table_, address_table_.data());
+        }
+        full_barrier();
+    }
+
+    void full_barrier() {
         VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
         barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
         barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
-                                VK_ACCESS_TRANSFER_WRITE_BIT;
-        VkPipelineStageFlags stages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
-        vkCmdPipelineBarrier(command_, stages, stages, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+                                VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT;
+        VkPipelineStageFlags source = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+        VkPipelineStageFlags target = source | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT;
+        vkCmdPipelineBarrier(command_, source, target, 0, 1, &barrier, 0, nullptr, 0, nullptr);
     }
 
-    void dispatch(VkPipeline pipeline, uint32_t groups, uint32_t push) {
+    void bind_for_dispatch(VkPipeline pipeline, uint32_t depth) {
+        StagePush push{depth, grid_.groups};
         vkCmdBindPipeline(command_, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
         vkCmdBindDescriptorSets(command_, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_, 0, 1, &descriptor_set_, 0,
                                 nullptr);
         vkCmdPushConstants(command_, pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
+    }
+
+    void dispatch(VkPipeline pipeline, uint32_t groups, uint32_t depth) {
+        bind_for_dispatch(pipeline, depth);
         vkCmdDispatch(command_, groups, 1, 1);
     }
 
-    // Submits what was recorded, waits, and turns the timestamps into stage timings.
-    void flush() {
+    void dispatch_indirect(VkPipeline pipeline, VkDeviceSize offset, uint32_t depth) {
+        bind_for_dispatch(pipeline, depth);
+        vkCmdDispatchIndirect(command_, launch_args_.buffer, offset);
+    }
+
+    // Submits what was recorded, waits, and turns the timestamps into stage timings. `wait`/`signal`: semaphores
+    // shared with GL (the Vulkan-GL path), or none.
+    void flush(VkSemaphore wait = VK_NULL_HANDLE, VkSemaphore signal = VK_NULL_HANDLE) {
         if (!recording_) return;
         recording_ = false;
         vk::check(vkEndCommandBuffer(command_), "vkEndCommandBuffer");
         VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
         submit.commandBufferCount = 1;
         submit.pCommandBuffers = &command_;
+        VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
+        if (wait) {
+            submit.waitSemaphoreCount = 1;
+            submit.pWaitSemaphores = &wait;
+            submit.pWaitDstStageMask = &wait_stage;
+        }
+        if (signal) {
+            submit.signalSemaphoreCount = 1;
+            submit.pSignalSemaphores = &signal;
+        }
         vk::check(vkQueueSubmit(queue_, 1, &submit, fence_), "vkQueueSubmit");
         VkResult waited = vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX);
         if (waited == VK_ERROR_DEVICE_LOST)
@@ -483,14 +689,31 @@ private:
     VkDescriptorPool descriptor_pool_ = VK_NULL_HANDLE;
     VkDescriptorSet descriptor_set_ = VK_NULL_HANDLE;
     VkPipelineLayout pipeline_layout_ = VK_NULL_HANDLE;
-    std::array<VkPipeline, stage_count> pipelines_{};
+    std::array<VkPipeline, stage_count> pipelines_{};           // descriptor mode
+    std::array<VkPipeline, stage_count> address_pipelines_{};   // address mode
+    std::array<VkPipeline, stage_count> launch_args_pipelines_{};           // [0] only
+    std::array<VkPipeline, stage_count> launch_args_address_pipelines_{};   // [0] only
+    bool address_supported_ = false;
+    std::string forced_addressing_;   // PRISM_VULKAN_ADDRESSING: "", "descriptors" or "addresses"
+    bool indirect_ = true;            // PRISM_VULKAN_DISPATCH != fixed
+    VkBufferUsageFlags array_usage_ = 0;
     std::map<const uint32_t*, VkPipeline> extra_pipelines_;
 
     std::array<Buffer, device_array_count> arrays_{};
     Buffer placeholder_;
+    Buffer launch_args_;   // RT_LAUNCH_SLOTS x uint4: vkCmdDispatchIndirect arguments
+    Buffer addresses_;     // device_array_count x uint64: the address table of address mode
+    std::array<uint64_t, device_array_count> address_table_{};
+    bool addresses_dirty_ = false;
+    // Whether launch_args_ holds the counts of the counters as they are (cleared by anything that changes them:
+    // host writes to counters or frame, a reallocation, a shade stage).
+    bool launch_args_fresh_ = false;
     Buffer staging_;
     VkDeviceSize staging_used_ = 0;
     Buffer readback_;
+
+    std::unique_ptr<GlInterop> gl_;   // Vulkan-GL, when the viewer asked and GL can import this device's memory
+    std::string gl_reason_;           // why gl_ is null
 };
 
 }  // namespace
@@ -503,11 +726,17 @@ void vulkan_dispatch_module(Backend& backend, std::span<const uint32_t> spirv, u
     vulkan->dispatch_module(spirv, groups, push);
 }
 
+VulkanLaunchMode vulkan_launch_mode(const Backend& backend) {
+    auto* vulkan = dynamic_cast<const VulkanBackend*>(&backend);
+    if (!vulkan) throw Error("vulkan_launch_mode: not a Vulkan backend");
+    return VulkanLaunchMode{vulkan->uses_addresses(), vulkan->uses_indirect_dispatch()};
+}
+
 BackendFactory vulkan_backend_factory() {
     BackendFactory factory;
     factory.name = "vulkan";
-    factory.create = [](const std::string& filter) -> std::unique_ptr<Backend> {
-        return std::make_unique<VulkanBackend>(filter);
+    factory.create = [](const std::string& filter, const GlContextHandles* gl) -> std::unique_ptr<Backend> {
+        return std::make_unique<VulkanBackend>(filter, gl);
     };
     factory.probe = [] {
         BackendAvailability a;

@@ -28,4 +28,13 @@ std::span<const uint32_t> vulkan_embedded_spirv(std::string_view name);
 // Vulkan backend, ordered with its other commands. Throws prism::Error if `backend` is not a Vulkan backend.
 void vulkan_dispatch_module(Backend& backend, std::span<const uint32_t> spirv, uint32_t groups, uint32_t push = 0);
 
+// How a Vulkan backend runs its stages at this moment: through buffer device addresses (an array is larger than
+// maxStorageBufferRange, or PRISM_VULKAN_ADDRESSING=addresses) or descriptors, and sized by indirect dispatch or
+// as the fixed grid (PRISM_VULKAN_DISPATCH=fixed). Throws prism::Error if `backend` is not a Vulkan backend.
+struct VulkanLaunchMode {
+    bool addresses = false;
+    bool indirect = false;
+};
+VulkanLaunchMode vulkan_launch_mode(const Backend& backend);
+
 }  // namespace prism

@@ -30,16 +30,6 @@ std::string lower(std::string text) {
     return text;
 }
 
-bool has_device_extension(VkPhysicalDevice device, const char* name) {
-    uint32_t count = 0;
-    vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr);
-    std::vector<VkExtensionProperties> extensions(count);
-    vkEnumerateDeviceExtensionProperties(device, nullptr, &count, extensions.data());
-    for (const VkExtensionProperties& e : extensions)
-        if (std::strcmp(e.extensionName, name) == 0) return true;
-    return false;
-}
-
 VKAPI_ATTR VkBool32 VKAPI_CALL debug_callback(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                               VkDebugUtilsMessageTypeFlagsEXT, const VkDebugUtilsMessengerCallbackDataEXT* data,
                                               void*) {
@@ -63,6 +53,16 @@ void vulkan_clear_debug_messages() {
 }
 
 namespace vk {
+
+bool has_device_extension(VkPhysicalDevice device, const char* name) {
+    uint32_t count = 0;
+    vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr);
+    std::vector<VkExtensionProperties> extensions(count);
+    vkEnumerateDeviceExtensionProperties(device, nullptr, &count, extensions.data());
+    for (const VkExtensionProperties& e : extensions)
+        if (std::strcmp(e.extensionName, name) == 0) return true;
+    return false;
+}
 
 void record_message(const std::string& message) {
     std::lock_guard lock(message_mutex());

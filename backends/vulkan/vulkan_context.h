@@ -19,6 +19,8 @@ void record_message(const std::string& message);
 
 bool validation_requested();   // PRISM_VULKAN_VALIDATION=1
 
+bool has_device_extension(VkPhysicalDevice device, const char* name);
+
 struct DeviceCandidate {
     VkPhysicalDevice handle = VK_NULL_HANDLE;
     VkPhysicalDeviceProperties properties{};
@@ -54,9 +56,10 @@ uint32_t find_memory_type(const VkPhysicalDeviceMemoryProperties& memory, uint32
                           VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred,
                           VkMemoryPropertyFlags avoided);
 
-// Work-groups per dispatch: 8 x the device's compute units (SMs on NVIDIA through VK_NV_shader_sm_builtins, CUs on
+// Work-groups per dispatch: kWorkGroupsPerComputeUnit (core/launch_config.h) x the device's compute units (SMs on
+// NVIDIA through VK_NV_shader_sm_builtins, CUs on
 // AMD through VK_AMD_shader_core_properties, host threads for a CPU device, else a per-type default), bounded by
-// maxComputeWorkGroupCount[0]. The same 8 x compute units rule as the CUDA and OpenCL backends.
+// maxComputeWorkGroupCount[0]. The same rule as the CUDA and OpenCL backends.
 struct GridChoice {
     uint32_t groups = 0;
     uint32_t compute_units = 0;

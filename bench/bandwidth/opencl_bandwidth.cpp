@@ -15,6 +15,7 @@
 #include "bench/bandwidth/sizes.h"
 #include "bench/bandwidth/sweep.h"
 #include "core/error.h"
+#include "core/pocl_cache.h"
 #include "kernels/bandwidth_copy.h"
 
 // bandwidth_copy.cl with its includes inlined at build time (cmake/PrismEmbedText.cmake).
@@ -268,6 +269,7 @@ private:
 
 ApiResult measure_opencl(const Plan& plan) {
     ApiResult api{"opencl", "", {}};
+    ensure_pocl_cache_dir();   // before PoCL initialises: it needs a usable cache folder
     cl_uint platform_count = 0;
     cl_int status = clGetPlatformIDs(0, nullptr, &platform_count);
     if (status != CL_SUCCESS || platform_count == 0) {

@@ -1,0 +1,118 @@
+#include "backends/opencl/opencl_gl_interop.h"
+
+#include <CL/cl_gl.h>
+
+#include <algorithm>
+#include <utility>
+
+#include "core/error.h"
+
+namespace prism::opencl_gl {
+namespace {
+
+std::string device_extensions(cl_device_id device) {
+    size_t size = 0;
+    if (clGetDeviceInfo(device, CL_DEVICE_EXTENSIONS, 0, nullptr, &size) != CL_SUCCESS || size == 0) return "";
+    std::string text(size, '\0');
+    clGetDeviceInfo(device, CL_DEVICE_EXTENSIONS, size, text.data(), nullptr);
+    return " " + text + " ";
+}
+
+void check(cl_int err, const char* what, const std::string& device) {
+    if (err != CL_SUCCESS)
+        throw Error(std::string("opencl: ") + what + " failed on " + device + " (error " + std::to_string(err) + ")");
+}
+
+class OpenClGlInterop final : public GlInterop {
+public:
+    OpenClGlInterop(cl_context context, cl_command_queue queue, std::string device, std::function<cl_mem()> image)
+        : context_(context), queue_(queue), device_(std::move(device)), image_(std::move(image)) {}
+    ~OpenClGlInterop() override {
+        if (shared_) clReleaseMemObject(shared_);
+    }
+
+    std::string name() const override { return "OpenCL-GL"; }
+    std::string sync() const override { return "GL fence, acquire/release, clFinish"; }
+    bool device_owns_memory() const override { return false; }
+    // cl_khr_gl_sharing leaves it to the application to finish GL's use of the buffer before the acquire.
+    bool needs_gl_idle_before_copy() const override { return true; }
+
+    void attach_gl_buffer(uint32_t gl_buffer, size_t bytes) override {
+        if (shared_) clReleaseMemObject(std::exchange(shared_, nullptr));
+        cl_int err = CL_SUCCESS;
+        shared_ = clCreateFromGLBuffer(context_, CL_MEM_WRITE_ONLY, gl_buffer, &err);
+        check(err, "clCreateFromGLBuffer", device_);
+        bytes_ = bytes;
+    }
+
+    void copy_image(size_t bytes) override {
+        if (!shared_) throw Error("opencl: OpenCL-GL copy before a GL buffer was attached");
+        if (bytes > bytes_)
+            throw Error("opencl: frame of " + std::to_string(bytes) + " bytes does not fit the GL buffer of " +
+                        std::to_string(bytes_));
+        check(clEnqueueAcquireGLObjects(queue_, 1, &shared_, 0, nullptr, nullptr), "clEnqueueAcquireGLObjects",
+              device_);
+        cl_int copied = clEnqueueCopyBuffer(queue_, image_(), shared_, 0, 0, bytes, 0, nullptr, nullptr);
+        // Released even after a failed copy, so GL can use the buffer again.
+        cl_int released = clEnqueueReleaseGLObjects(queue_, 1, &shared_, 0, nullptr, nullptr);
+        check(copied, "clEnqueueCopyBuffer into the GL buffer", device_);
+        check(released, "clEnqueueReleaseGLObjects", device_);
+        // Without cl_khr_gl_event the portable guarantee that GL sees the copy is that it has finished.
+        check(clFinish(queue_), "clFinish", device_);
+    }
+
+private:
+    cl_context context_;
+    cl_command_queue queue_;
+    std::string device_;
+    std::function<cl_mem()> image_;
+    cl_mem shared_ = nullptr;
+    size_t bytes_ = 0;
+};
+
+}  // namespace
+
+ContextSharing context_properties(cl_platform_id platform, cl_device_id device, const std::string& platform_name,
+                                  const std::string& device_name, const GlContextHandles& gl) {
+    ContextSharing sharing;
+    if (device_extensions(device).find(" cl_khr_gl_sharing ") == std::string::npos) {
+        sharing.reason = platform_name + " has no cl_khr_gl_sharing";
+        return sharing;
+    }
+    if (!gl.glx_context || !gl.x11_display) {
+        sharing.reason = "the window's GL context is not a GLX context (cl_khr_gl_sharing needs one here)";
+        return sharing;
+    }
+    std::vector<cl_context_properties> properties = {
+        CL_GL_CONTEXT_KHR,   cl_context_properties(gl.glx_context),
+        CL_GLX_DISPLAY_KHR,  cl_context_properties(gl.x11_display),
+        CL_CONTEXT_PLATFORM, cl_context_properties(platform),
+        0};
+    // Which devices can share with this GL context: with several GPUs, GL may run on another one.
+    auto devices_for_gl = reinterpret_cast<clGetGLContextInfoKHR_fn>(
+        clGetExtensionFunctionAddressForPlatform(platform, "clGetGLContextInfoKHR"));
+    if (devices_for_gl) {
+        cl_device_id devices[16] = {};
+        size_t size = 0;
+        cl_int err = devices_for_gl(properties.data(), CL_DEVICES_FOR_GL_CONTEXT_KHR, sizeof devices, devices, &size);
+        if (err != CL_SUCCESS) {
+            sharing.reason = "clGetGLContextInfoKHR found no device for GL on " + gl.renderer + " (error " +
+                             std::to_string(err) + ")";
+            return sharing;
+        }
+        cl_device_id* end = devices + std::min<size_t>(size / sizeof(cl_device_id), 16);
+        if (std::find(devices, end, device) == end) {
+            sharing.reason = "GL runs on " + gl.renderer + ", not on " + device_name;
+            return sharing;
+        }
+    }
+    sharing.properties = std::move(properties);
+    return sharing;
+}
+
+std::unique_ptr<GlInterop> create_gl_interop(cl_context context, cl_command_queue queue, std::string device_name,
+                                             std::function<cl_mem()> image) {
+    return std::make_unique<OpenClGlInterop>(context, queue, std::move(device_name), std::move(image));
+}
+
+}  // namespace prism::opencl_gl

@@ -1,0 +1,139 @@
+#!/usr/bin/env bash
+# `prism view` on the GPU machine: for each GPU backend, the dragon at 1920x1080 shown by buffer interop, by host
+# copy, and not shown at all (the render alone), each run's --stats, and one summary JSON with the interop overhead
+# against the render alone (docs/viewer.md, "Measuring on the H100"). Run from the repository root there, after
+# `source .gpu-runtime/env.sh`; bench/run_gpu.sh calls it when PRISM_VIEW_BENCH=1. Needs .gpu-xvfb/
+# (bench/pack_xvfb.sh) carried along: the machine has no X server.
+#   PRISM_BUILD          build folder with apps/prism (default build-gpu)
+#   PRISM_DATA           scenes folder (default .device-data/scenes)
+#   OUT                  results folder (default bench/results/gpu): view-<tag>.json, view/<tag>-*.json and logs
+#   PRISM_TAG            suffix of the result files (default: the GPU's name)
+#   PRISM_VIEW_BACKENDS  default cuda,opencl:nvidia,vulkan:nvidia
+#   PRISM_VIEW_SCENE     default builtin:dragon;  PRISM_VIEW_SIZE default 1920x1080;  PRISM_VIEW_FRAMES default 200
+#   PRISM_VIEW_DEPTH     default 8;  PRISM_VIEW_TIMEOUT: seconds allowed per run (default 240)
+#   PRISM_VIEW_ANY_GL=1  run even when GL is not NVIDIA's (to check this script on a machine without a GPU:
+#                        PRISM_VIEW_ANY_GL=1 PRISM_VIEW_BACKENDS=vulkan:llvmpipe PRISM_VIEW_SIZE=160x90 ...)
+set -uo pipefail
+build=${PRISM_BUILD:-build-gpu}
+data=${PRISM_DATA:-.device-data/scenes}
+out=${OUT:-bench/results/gpu}
+scene=${PRISM_VIEW_SCENE:-builtin:dragon}
+size=${PRISM_VIEW_SIZE:-1920x1080}
+width=${size%x*}
+height=${size#*x}
+frames=${PRISM_VIEW_FRAMES:-200}
+depth=${PRISM_VIEW_DEPTH:-8}
+run_limit=${PRISM_VIEW_TIMEOUT:-240}   # seconds per prism view run
+backends=${PRISM_VIEW_BACKENDS:-cuda,opencl:nvidia,vulkan:nvidia}
+prism=$PWD/$build/apps/prism
+target_ms=0.2   # issue 7: interop may add at most this much to a frame over the render alone
+mkdir -p "$out/view"
+export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-$(mktemp -d)} XDG_CACHE_HOME=${XDG_CACHE_HOME:-$(mktemp -d)}
+chmod 700 "$XDG_RUNTIME_DIR"
+tag=${PRISM_TAG:-$(nvidia-smi --query-gpu=name --format=csv,noheader 2>/dev/null | head -1 | tr ' ' '-' | tr -cd 'A-Za-z0-9-')}
+tag=${tag:-gpu}
+[ -x "$prism" ] || { echo "view_gpu: no $prism (PRISM_BUILD?)" >&2; exit 1; }
+[ -x .gpu-xvfb/start.sh ] || { echo "view_gpu: no .gpu-xvfb/ (run bench/pack_xvfb.sh where it was built)" >&2; exit 1; }
+
+# The carried Xvfb (GLX through its stub driver) with NVIDIA's GLX on the client side: GL then runs on the GPU.
+xvfb=$(.gpu-xvfb/start.sh) || exit 1
+eval "$xvfb"
+trap 'kill "$PRISM_XVFB_PID" 2>/dev/null' EXIT
+export DISPLAY __GLX_VENDOR_LIBRARY_NAME=nvidia
+echo "== Xvfb on $DISPLAY (pid $PRISM_XVFB_PID)"
+
+# Display timings mean nothing on llvmpipe: make sure GL is NVIDIA's before spending the time.
+probe=$("$prism" view --data-dir "$data" --scene builtin:sphere --backend cpu --width 64 --height 64 --frames 1 2>&1)
+gl=$(printf '%s\n' "$probe" | sed -n 's/^  window [0-9x]*, //p' | head -1)
+echo "== GL: ${gl:-none} "
+if ! printf '%s' "$gl" | grep -qi nvidia && [ "${PRISM_VIEW_ANY_GL:-0}" != 1 ]; then
+  echo "view_gpu: GL is not NVIDIA's (${gl:-no window}):" >&2
+  printf '%s\n' "$probe" | tail -3 >&2
+  exit 1
+fi
+
+# A top-level number of a --stats file (nlohmann::json dump(2): top-level keys are indented by two spaces), and a
+# string of its "display" object, still JSON-escaped as written. No jq or python needed on the machine.
+field() { sed -n "s/^  \"$2\": \\([-0-9.e+]*\\),\\{0,1\\}$/\\1/p" "$1" | head -1; }
+display_text() { sed -n "/^  \"display\": {/,/^  }/ s/^    \"$2\": \"\\(.*\\)\",\\{0,1\\}$/\\1/p" "$1" | head -1; }
+json_escape() { sed 's/\\/\\\\/g; s/"/\\"/g' | tr -d '\n'; }
+
+# One mode's medians and, against the render alone (--display none), what showing the frame adds: with the
+# present (the buffer swap: under Xvfb a copy of the window into the X server, which a real display server does
+# not make) and without it.
+mode_json() {
+  local m=$1
+  if [ -n "${error[$m]:-}" ] || [ -z "${frame[$m]:-}" ]; then
+    printf '{"error": "%s"}' "${error[$m]:-not run}"
+    return
+  fi
+  awk -v f="${frame[$m]}" -v p="${present[$m]}" -v r="${render[$m]}" -v d="${display[$m]}" \
+      -v base="${frame[none]:-}" -v name="${path[$m]}" -v detail="${detail[$m]}" 'BEGIN {
+    printf "{\"path\": \"%s\", \"detail\": \"%s\", \"fps\": %.3f, \"median_frame_ms\": %.4f, ", name, detail, 1000 / f, f
+    printf "\"median_render_ms\": %.4f, \"median_display_ms\": %.4f, \"median_present_ms\": %.4f", r, d, p
+    if (base != "") printf ", \"overhead_ms\": %.4f, \"overhead_without_present_ms\": %.4f", f - base, f - p - base
+    printf "}" }'
+}
+
+summary=$out/view-$tag.json
+entries=()
+runs=()
+for backend in ${backends//,/ }; do
+  name=${backend//:/-}
+  declare -A frame=() present=() render=() display=() path=() detail=() error=()
+  for mode in none interop host-copy; do
+    stats=$out/view/$tag-$name-$mode.json
+    log=$out/view/$tag-$name-$mode.log
+    echo "== $backend, --display $mode ($frames frames at ${width}x${height}, $(date -u +%H:%M:%S))"
+    rm -f "$stats"
+    # A time limit per run: a driver that hangs in one mode (a sync never signalled) must not take the session.
+    timeout -k 10 "$run_limit" "$prism" view --data-dir "$data" --scene "$scene" --backend "$backend" \
+      --width "$width" --height "$height" --depth "$depth" --frames "$frames" --no-vsync --display "$mode" \
+      --stats "$stats" >"$log" 2>&1
+    status=$?
+    [ $status -eq 124 ] || [ $status -eq 137 ] && echo "prism view: killed after ${run_limit} s" >>"$log"
+    grep -E "^  (interop|display): |^  timing: " "$log" | sed 's/^/   /'
+    if [ $status -ne 0 ] || [ ! -s "$stats" ]; then
+      error[$mode]=$(tail -1 "$log" | json_escape)
+      echo "   failed: ${error[$mode]}"
+      continue
+    fi
+    error[$mode]=""
+    frame[$mode]=$(field "$stats" median_frame_ms)
+    present[$mode]=$(field "$stats" median_present_ms)
+    render[$mode]=$(field "$stats" median_render_ms)
+    display[$mode]=$(field "$stats" median_display_ms)
+    path[$mode]=$(display_text "$stats" name)
+    detail[$mode]=$(display_text "$stats" detail)
+    runs+=("\"$name-$mode\": $(cat "$stats")")
+  done
+
+  # The interop overhead is measured inside the interop run: its display step (the device copy into the shared
+  # buffer, GL's upload from it and the draw, until GL has finished) is all that interop adds to the frame, as
+  # its render reads nothing back, like the render alone. The difference between the two runs' frame times says
+  # the same with the noise of two runs in it (overhead_without_present_ms above).
+  overhead=null
+  verdict=null
+  if [ -z "${error[interop]:-}" ] && [ -n "${display[interop]:-}" ]; then
+    overhead=${display[interop]}
+    verdict=$(awk -v d="$overhead" -v t=$target_ms 'BEGIN { print (d <= t) ? "true" : "false" }')
+  fi
+  entries+=("\"$backend\": {\"render_only\": $(mode_json none), \"interop\": $(mode_json interop), \"host_copy\": $(mode_json host-copy), \"interop_overhead_ms\": $overhead, \"interop_meets_target\": $verdict}")
+done
+
+device=$(nvidia-smi --query-gpu=name --format=csv,noheader 2>/dev/null | head -1)
+driver=$(nvidia-smi --query-gpu=driver_version --format=csv,noheader 2>/dev/null | head -1)
+{
+  printf '{\n  "tool": "bench/view_gpu.sh",\n  "date": "%s",\n' "$(date -u +%Y-%m-%dT%H:%M:%SZ)"
+  printf '  "device": "%s",\n  "driver": "%s",\n  "gl": "%s",\n' "$device" "$driver" "$(printf '%s' "$gl" | json_escape)"
+  printf '  "scene": "%s",\n  "width": %s,\n  "height": %s,\n  "depth": %s,\n  "frames": %s,\n' \
+    "$scene" "$width" "$height" "$depth" "$frames"
+  printf '  "target_interop_overhead_ms": %s,\n' "$target_ms"
+  printf '  "method": "medians over the frames after warm-up (prism view --stats). interop_overhead_ms: median display_ms of the interop run, i.e. device copy into the shared GL buffer + glTexSubImage2D from it + draw, ended by glFinish; the render reads nothing back, as with --display none. interop_meets_target: interop_overhead_ms <= target. Per mode, overhead_ms: median frame time minus that of --display none (render alone, nothing read back or shown; a different run, so run-to-run noise included); overhead_without_present_ms: the same without the buffer swap, which under Xvfb copies the window into the X server",\n'
+  printf '  "backends": {\n'
+  for i in "${!entries[@]}"; do printf '    %s%s\n' "${entries[$i]}" "$([ $i -lt $((${#entries[@]} - 1)) ] && echo ,)"; done
+  printf '  },\n  "runs": {\n'
+  for i in "${!runs[@]}"; do printf '    %s%s\n' "${runs[$i]}" "$([ $i -lt $((${#runs[@]} - 1)) ] && echo ,)"; done
+  printf '  }\n}\n'
+} > "$summary"
+echo "== wrote $summary"

@@ -1,0 +1,251 @@
+// `prism view` display paths (docs/viewer.md): which path --display gives and why (units), the timing summary, and
+// under Xvfb: the fallback to the host copy where a backend cannot share with GL (cpu, PoCL), the Vulkan-GL path
+// from lavapipe into llvmpipe's GL where Mesa offers it (the window read-back must equal `prism render`), forcing
+// either path, --display none, and --stats.
+#ifdef PRISM_HAVE_VIEWER
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/gl_interop.h"
+#include "tests/test_support.h"
+#include "tests/viewer_test_support.h"
+#include "viewer/frame_display.h"
+#include "viewer/frame_timing.h"
+
+namespace {
+
+using prism::viewer::DisplayMode;
+using prism::viewer::DisplayPath;
+using prism::test::psnr_against_render;
+using prism::test::view;
+
+// --- units -------------------------------------------------------------------------------------------------
+
+class FakeInterop final : public prism::GlInterop {
+public:
+    std::string name() const override { return "Fake-GL"; }
+    std::string sync() const override { return "fake fence"; }
+    bool device_owns_memory() const override { return false; }
+    void copy_image(size_t) override {}
+    bool needs_gl_idle_before_copy() const override { return false; }
+};
+
+const prism::BackendInfo kPocl{"opencl", "pthread-haswell-AMD EPYC", "", "", 0, 0};
+
+TEST(ViewerDisplayPath, AutoTakesTheInteropTheBackendOffers) {
+    FakeInterop interop;
+    DisplayPath path = prism::viewer::choose_display_path(DisplayMode::Auto, kPocl, {&interop, ""});
+    EXPECT_EQ(path.kind, DisplayPath::Kind::Interop);
+    EXPECT_EQ(path.describe(), "interop: Fake-GL (sync: fake fence)");
+    EXPECT_STREQ(path.kind_name(), "interop");
+    prism::RenderSettings settings;
+    prism::viewer::set_read_back(path, settings);
+    EXPECT_FALSE(settings.read_image);   // the display copies the device's image itself
+    EXPECT_FALSE(settings.read_radiance);
+}
+
+TEST(ViewerDisplayPath, AutoFallsBackToHostCopyAndSaysWhy) {
+    DisplayPath path = prism::viewer::choose_display_path(
+        DisplayMode::Auto, kPocl, {nullptr, "Portable Computing Language has no cl_khr_gl_sharing"});
+    EXPECT_EQ(path.describe(), "interop: host copy (Portable Computing Language has no cl_khr_gl_sharing)");
+    EXPECT_STREQ(path.kind_name(), "host-copy");
+    prism::RenderSettings settings;
+    prism::viewer::set_read_back(path, settings);
+    EXPECT_TRUE(settings.read_image);
+    EXPECT_FALSE(settings.read_radiance);
+}
+
+TEST(ViewerDisplayPath, HostCopyAndNoneAreForcedEvenWithInterop) {
+    FakeInterop interop;
+    EXPECT_EQ(prism::viewer::choose_display_path(DisplayMode::HostCopy, kPocl, {&interop, ""}).describe(),
+              "interop: host copy (--display host-copy)");
+    DisplayPath none = prism::viewer::choose_display_path(DisplayMode::None, kPocl, {&interop, ""});
+    EXPECT_EQ(none.kind, DisplayPath::Kind::None);
+    prism::RenderSettings settings;
+    prism::viewer::set_read_back(none, settings);
+    EXPECT_FALSE(settings.read_image);   // render alone: nothing leaves the device
+}
+
+TEST(ViewerDisplayPath, ForcedInteropWithoutOneIsAnError) {
+    std::string message = prism::test::error_message([] {
+        prism::viewer::choose_display_path(DisplayMode::Interop, kPocl, {nullptr, "no cl_khr_gl_sharing"});
+    });
+    EXPECT_EQ(message, "view: --display interop: no GL interop for opencl [pthread-haswell-AMD EPYC] "
+                       "(no cl_khr_gl_sharing)");
+}
+
+TEST(ViewerDisplayPath, ParsesTheModes) {
+    EXPECT_EQ(prism::viewer::parse_display_mode("auto"), DisplayMode::Auto);
+    EXPECT_EQ(prism::viewer::parse_display_mode("interop"), DisplayMode::Interop);
+    EXPECT_EQ(prism::viewer::parse_display_mode("host-copy"), DisplayMode::HostCopy);
+    EXPECT_EQ(prism::viewer::parse_display_mode("none"), DisplayMode::None);
+    EXPECT_EQ(prism::test::error_message([] { prism::viewer::parse_display_mode("hostcopy"); }),
+              "view: --display 'hostcopy' is not one of auto, interop, host-copy, none");
+}
+
+TEST(ViewerFrameTimings, MediansSkipTheWarmUp) {
+    prism::viewer::FrameTimings timings;
+    // Warm-up frames are slow (first launches); they must not move the medians.
+    for (int i = 0; i < 5; ++i) timings.add({1000.0, 100.0, 10.0, 1110.0});
+    for (int i = 0; i < 15; ++i) timings.add({10.0 + i, 1.0, 0.5, 12.0 + i});
+    EXPECT_EQ(timings.warmup(), 5u);
+    prism::viewer::FrameTimings::Summary s = timings.summary();
+    EXPECT_EQ(s.measured, 15u);
+    EXPECT_DOUBLE_EQ(s.render_ms, 17.0);
+    EXPECT_DOUBLE_EQ(s.display_ms, 1.0);
+    EXPECT_DOUBLE_EQ(s.present_ms, 0.5);
+    EXPECT_DOUBLE_EQ(s.frame_ms, 19.0);
+    EXPECT_NEAR(s.fps, 1000.0 / 19.0, 1e-9);
+    nlohmann::json json = timings.json();
+    EXPECT_EQ(json["per_frame"]["frame_ms"].size(), 20u);
+    EXPECT_EQ(json["warmup_frames"], 5);
+
+    prism::viewer::FrameTimings two;   // short runs keep most frames: 1 of 4 is warm-up
+    for (double ms : {50.0, 4.0, 6.0, 8.0}) two.add({ms, 0.0, 0.0, ms});
+    EXPECT_EQ(two.warmup(), 1u);
+    EXPECT_DOUBLE_EQ(two.summary().frame_ms, 6.0);
+}
+
+// --- under Xvfb ----------------------------------------------------------------------------------------------
+
+nlohmann::json read_json(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    if (!in) return {};
+    return nlohmann::json::parse(in, nullptr, false);
+}
+
+#define REQUIRE_BACKEND(api, device)                                                   \
+    do {                                                                               \
+        std::string reason;                                                            \
+        if (!prism::test::backend_device_available(api, device, &reason))              \
+            GTEST_SKIP() << api << " on '" << device << "' unavailable: " << reason;   \
+    } while (0)
+
+TEST(ViewerInterop, CpuShowsItsHostFrameAndReportsTimings) {
+    REQUIRE_XVFB();
+    auto dir = prism::test::temp_dir("viewer-interop-cpu");
+    std::filesystem::path stats = dir / "stats.json";
+    prism::test::CommandResult result = view("--backend cpu --frames 4 --stats '" + stats.string() + "'");
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_NE(result.output.find("interop: host copy (the frame is already in host memory)"), std::string::npos)
+        << result.output;
+    EXPECT_NE(result.output.find("timing: 3 frames after 1 warm-up, median render "), std::string::npos)
+        << result.output;
+    nlohmann::json json = read_json(stats);
+    ASSERT_TRUE(json.is_object()) << stats;
+    EXPECT_EQ(json["display"]["requested"], "auto");
+    EXPECT_EQ(json["display"]["path"], "host-copy");
+    EXPECT_EQ(json["display"]["detail"], "the frame is already in host memory");
+    EXPECT_EQ(json["backend"]["name"], "cpu");
+    EXPECT_EQ(json["frames"], 4);
+    EXPECT_EQ(json["per_frame"]["render_ms"].size(), 4u);
+    double render = json["median_render_ms"], display = json["median_display_ms"], frame = json["median_frame_ms"];
+    EXPECT_GT(render, 0.0);
+    EXPECT_GT(display, 0.0);
+    EXPECT_GT(double(json["median_present_ms"]), 0.0);
+    EXPECT_GE(frame, render);   // a frame holds its render and its display
+    EXPECT_NEAR(double(json["fps"]), 1000.0 / frame, 1e-6);
+    EXPECT_EQ(json["width"], 320);
+}
+
+TEST(ViewerInterop, PoclFallsBackToHostCopy) {
+    REQUIRE_XVFB();
+    REQUIRE_BACKEND("opencl", "portable computing language");
+    auto dir = prism::test::temp_dir("viewer-interop-pocl");
+    std::filesystem::path stats = dir / "stats.json", shot = dir / "pocl.png";
+    prism::test::CommandResult result = view("--backend opencl:pocl --frames 2 --screenshot '" + shot.string() +
+                                             "' --stats '" + stats.string() + "'");
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_NE(result.output.find("interop: host copy (Portable Computing Language has no cl_khr_gl_sharing)"),
+              std::string::npos)
+        << result.output;
+    nlohmann::json json = read_json(stats);
+    EXPECT_EQ(json["display"]["path"], "host-copy");
+    EXPECT_GE(psnr_against_render(shot, "opencl:pocl"), 45.0);
+}
+
+TEST(ViewerInterop, ForcedInteropWithoutItFailsInOneLine) {
+    REQUIRE_XVFB();
+    prism::test::CommandResult result = view("--backend cpu --frames 2 --display interop");
+    EXPECT_EQ(result.exit_code, 1) << result.output;
+    EXPECT_EQ(result.output.rfind("prism: error: view: --display interop: no GL interop for cpu [", 0), 0u)
+        << result.output;
+    EXPECT_NE(result.output.find("(the frame is already in host memory)\n"), std::string::npos) << result.output;
+    EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
+}
+
+TEST(ViewerInterop, BadDisplayModeAndScreenshotWithoutDisplayFailInOneLine) {
+    prism::test::CommandResult bad = prism::test::run_prism("view " + prism::test::kScene + " --display hostcopy");
+    EXPECT_EQ(bad.exit_code, 1) << bad.output;
+    EXPECT_NE(bad.output.find("--display 'hostcopy' is not one of auto, interop, host-copy, none"), std::string::npos)
+        << bad.output;
+    prism::test::CommandResult none =
+        prism::test::run_prism("view " + prism::test::kScene + " --display none --frames 1 --screenshot x.png");
+    EXPECT_EQ(none.exit_code, 1) << none.output;
+    EXPECT_EQ(none.output, "prism: error: view: --screenshot needs a display (--display none shows nothing)\n");
+}
+
+TEST(ViewerInterop, DisplayNoneRendersWithoutShowing) {
+    REQUIRE_XVFB();
+    auto dir = prism::test::temp_dir("viewer-interop-none");
+    std::filesystem::path stats = dir / "stats.json";
+    prism::test::CommandResult result =
+        view("--backend cpu --frames 3 --display none --stats '" + stats.string() + "'");
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_NE(result.output.find("display: none (--display none: frames are rendered, not shown)"), std::string::npos)
+        << result.output;
+    nlohmann::json json = read_json(stats);
+    EXPECT_EQ(json["display"]["path"], "none");
+    EXPECT_GT(double(json["median_render_ms"]), 0.0);
+    EXPECT_LT(double(json["median_display_ms"]), 1.0);   // no upload, no draw, no swap: nothing but a clock read
+    EXPECT_LT(double(json["median_present_ms"]), 1.0);
+}
+
+// Mesa offers GL_EXT_memory_object_fd in llvmpipe's GL and VK_KHR_external_memory_fd in lavapipe, with the same
+// device and driver UUIDs: the Vulkan-GL path runs for real here, with fence waits (no GL_EXT_semaphore_fd).
+// Skips only when this Mesa lacks one of those (the reason says which); any other failure is a failure.
+TEST(ViewerInterop, LavapipeSharesItsFrameWithLlvmpipe) {
+    REQUIRE_XVFB();
+    REQUIRE_BACKEND("vulkan", "llvmpipe");
+    auto dir = prism::test::temp_dir("viewer-interop-vulkan");
+    std::filesystem::path stats = dir / "stats.json", shot = dir / "vulkan-gl.png";
+    prism::test::CommandResult result = view("--backend vulkan:llvmpipe --frames 3 --display interop --screenshot '" +
+                                             shot.string() + "' --stats '" + stats.string() + "'");
+    for (const char* missing : {"has no GL_EXT_memory_object_fd", "has no VK_KHR_external_memory_fd",
+                                "runs on another device or driver"})
+        if (result.exit_code == 1 && result.output.find(missing) != std::string::npos)
+            GTEST_SKIP() << "this Mesa cannot share lavapipe memory with llvmpipe: " << result.output;
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_NE(result.output.find("interop: Vulkan-GL (sync: fence waits, no shared semaphores ("), std::string::npos)
+        << result.output;
+    nlohmann::json json = read_json(stats);
+    EXPECT_EQ(json["display"]["requested"], "interop");
+    EXPECT_EQ(json["display"]["path"], "interop");
+    EXPECT_EQ(json["display"]["name"], "Vulkan-GL");
+    // The window shows what the device copied into GL's buffer: the frame `prism render` writes.
+    EXPECT_GE(psnr_against_render(shot, "vulkan:llvmpipe"), 45.0);
+}
+
+TEST(ViewerInterop, HostCopyCanBeForcedOnLavapipe) {
+    REQUIRE_XVFB();
+    REQUIRE_BACKEND("vulkan", "llvmpipe");
+    auto dir = prism::test::temp_dir("viewer-interop-vulkan-host");
+    std::filesystem::path shot = dir / "host.png";
+    prism::test::CommandResult result =
+        view("--backend vulkan:llvmpipe --frames 2 --display host-copy --screenshot '" + shot.string() + "'");
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_NE(result.output.find("interop: host copy (--display host-copy)"), std::string::npos) << result.output;
+    EXPECT_GE(psnr_against_render(shot, "vulkan:llvmpipe"), 45.0);
+}
+
+}  // namespace
+
+#endif  // PRISM_HAVE_VIEWER

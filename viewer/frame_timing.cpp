@@ -1,0 +1,73 @@
+#include "viewer/frame_timing.h"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace prism::viewer {
+namespace {
+
+double median(std::vector<double> values) {
+    if (values.empty()) return 0.0;
+    size_t middle = values.size() / 2;
+    std::nth_element(values.begin(), values.begin() + long(middle), values.end());
+    double upper = values[middle];
+    if (values.size() % 2) return upper;
+    double lower = *std::max_element(values.begin(), values.begin() + long(middle));
+    return 0.5 * (lower + upper);
+}
+
+}  // namespace
+
+size_t FrameTimings::warmup() const { return std::min<size_t>(5, frames_.size() / 4); }
+
+FrameTimings::Summary FrameTimings::summary() const {
+    Summary s;
+    s.frames = frames_.size();
+    std::vector<double> render, display, present, frame;
+    for (size_t i = warmup(); i < frames_.size(); ++i) {
+        render.push_back(frames_[i].render_ms);
+        display.push_back(frames_[i].display_ms);
+        present.push_back(frames_[i].present_ms);
+        frame.push_back(frames_[i].frame_ms);
+    }
+    s.measured = frame.size();
+    s.render_ms = median(render);
+    s.display_ms = median(display);
+    s.present_ms = median(present);
+    s.frame_ms = median(frame);
+    s.fps = s.frame_ms > 0.0 ? 1000.0 / s.frame_ms : 0.0;
+    return s;
+}
+
+std::string FrameTimings::summary_line() const {
+    Summary s = summary();
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "timing: %zu frames after %zu warm-up, median render %.2f ms, display %.2f ms, present %.2f ms, "
+                  "frame %.2f ms (%.1f fps)",
+                  s.measured, warmup(), s.render_ms, s.display_ms, s.present_ms, s.frame_ms, s.fps);
+    return line;
+}
+
+nlohmann::json FrameTimings::json() const {
+    Summary s = summary();
+    nlohmann::json render = nlohmann::json::array(), display = nlohmann::json::array(),
+                   present = nlohmann::json::array(), frame = nlohmann::json::array();
+    for (const FrameTiming& t : frames_) {
+        render.push_back(t.render_ms);
+        display.push_back(t.display_ms);
+        present.push_back(t.present_ms);
+        frame.push_back(t.frame_ms);
+    }
+    return {{"frames", s.frames},
+            {"warmup_frames", warmup()},
+            {"measured_frames", s.measured},
+            {"median_render_ms", s.render_ms},
+            {"median_display_ms", s.display_ms},
+            {"median_present_ms", s.present_ms},
+            {"median_frame_ms", s.frame_ms},
+            {"fps", s.fps},
+            {"per_frame", {{"render_ms", render}, {"display_ms", display}, {"present_ms", present}, {"frame_ms", frame}}}};
+}
+
+}  // namespace prism::viewer

@@ -1,0 +1,118 @@
+#include "viewer/texture_quad.h"
+
+#include <algorithm>
+#include <string>
+
+#include "core/error.h"
+
+namespace prism::viewer {
+namespace {
+
+// One triangle covering the viewport, its corners from gl_VertexID: no vertex buffer at all. The frame's row 0
+// is the top, GL's texture row 0 the bottom, hence the flipped v.
+const char* vertex_source = R"(#version 330 core
+out vec2 uv;
+void main() {
+    vec2 corner = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
+    uv = vec2(corner.x, 1.0 - corner.y);
+    gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);
+}
+)";
+
+const char* fragment_source = R"(#version 330 core
+in vec2 uv;
+uniform sampler2D frame;
+out vec4 color;
+void main() { color = vec4(texture(frame, uv).rgb, 1.0); }
+)";
+
+GLuint compile(GLenum type, const char* source) {
+    GLuint shader = glCreateShader(type);
+    glShaderSource(shader, 1, &source, nullptr);
+    glCompileShader(shader);
+    GLint ok = GL_FALSE;
+    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[1024] = {};
+        glGetShaderInfoLog(shader, sizeof log, nullptr, log);
+        glDeleteShader(shader);
+        std::string line = log;
+        line.erase(std::remove(line.begin(), line.end(), '\n'), line.end());
+        throw Error("view: display shader failed to compile: " + line);
+    }
+    return shader;
+}
+
+}  // namespace
+
+TextureQuad::TextureQuad() {
+    GLuint vertex = compile(GL_VERTEX_SHADER, vertex_source);
+    GLuint fragment = compile(GL_FRAGMENT_SHADER, fragment_source);
+    program_ = glCreateProgram();
+    glAttachShader(program_, vertex);
+    glAttachShader(program_, fragment);
+    glLinkProgram(program_);
+    glDeleteShader(vertex);
+    glDeleteShader(fragment);
+    GLint ok = GL_FALSE;
+    glGetProgramiv(program_, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        glDeleteProgram(program_);
+        throw Error("view: display shader failed to link");
+    }
+    glGenVertexArrays(1, &vertex_array_);   // core profile: drawing needs a bound VAO, even an empty one
+    glGenTextures(1, &texture_);
+    glBindTexture(GL_TEXTURE_2D, texture_);
+    // Nearest: the frame is shown 1:1, and a screenshot must return the frame's own pixels.
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+}
+
+TextureQuad::~TextureQuad() {
+    glDeleteTextures(1, &texture_);
+    glDeleteVertexArrays(1, &vertex_array_);
+    glDeleteProgram(program_);
+}
+
+void TextureQuad::resize(uint32_t width, uint32_t height) {
+    glBindTexture(GL_TEXTURE_2D, texture_);
+    if (width == width_ && height == height_) return;
+    width_ = width;
+    height_ = height;
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, GLsizei(width_), GLsizei(height_), 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+}
+
+void TextureQuad::upload_from_host(uint32_t width, uint32_t height, const void* pixels) {
+    resize(width, height);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    // Packed words with r in the low byte are R,G,B,A bytes in memory on the little-endian hosts we run on.
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, GLsizei(width_), GLsizei(height_), GL_RGBA, GL_UNSIGNED_BYTE, pixels);
+}
+
+void TextureQuad::upload_from_buffer(uint32_t width, uint32_t height, GLuint buffer) {
+    resize(width, height);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, buffer);
+    // With a pixel-unpack buffer bound, the pointer is an offset into it: the copy stays on the device.
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, GLsizei(width_), GLsizei(height_), GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+}
+
+void TextureQuad::draw(int viewport_width, int viewport_height) {
+    glViewport(0, 0, viewport_width, viewport_height);
+    glDisable(GL_FRAMEBUFFER_SRGB);   // the frame is already sRGB-encoded: pass the bytes through
+    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    if (width_ == 0) return;
+    glUseProgram(program_);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, texture_);
+    glUniform1i(glGetUniformLocation(program_, "frame"), 0);
+    glBindVertexArray(vertex_array_);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+}  // namespace prism::viewer
