@@ -226,9 +226,10 @@ RT_FUNC uint rt_wide_child(BvhWideNode node, uint k) { return rt_lane8_u(node.ch
 // stack entry is a child reference as the node stores it (a node index, or a leaf with its range); a popped entry
 // beyond the closest hit so far is skipped. At the top level a leaf is an instance: entering it pushes the leave
 // marker, as in the stack layout.
-// A scene whose top level holds one instance starts inside it (frame flag RT_FLAG_ONE_INSTANCE), and an instance
-// with the identity transform keeps the world ray: the traversal then costs what a one-level BVH costs.
-RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit) {
+// A scene whose top level holds one instance starts inside it (one_instance: frame flag RT_FLAG_ONE_INSTANCE), and
+// an instance with the identity transform keeps the world ray: the traversal then costs what a one-level BVH costs.
+RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit,
+                          bool one_instance) {
     Hit best = rt_no_hit();
     best.tuv.x = tmax;
     TraversalRay world = rt_traversal_ray(origin, direction, tmin);
@@ -239,7 +240,7 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
     uint sp = 0u;
 
     uint current = 0u;
-    if ((RT_FETCH(kg, frame, 0u).scene.z & RT_FLAG_ONE_INSTANCE) != 0u) {
+    if (one_instance) {
         // The top level holds one instance: start inside it (its mesh root's boxes are tested anyway).
         instance = 0u;
         Instance inst = RT_FETCH(kg, instances, 0u);
@@ -340,8 +341,12 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
 }
 
 RT_FUNC Hit rt_trace(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit) {
-    uint bvh_layout = RT_FETCH(kg, frame, 0u).scene.y;
-    if (bvh_layout == RT_BVH_LAYOUT_WIDE) return rt_trace_wide(kg, origin, direction, tmin, tmax, any_hit);
+    // The frame is loaded whole: Mesa 22.3's lavapipe, in the Vulkan backend's buffer-address mode, read
+    // RT_FETCH(kg, frame, 0u).scene.y as scene.x (the instance count) after the stage had loaded the frame.
+    FrameParams frame = RT_FETCH(kg, frame, 0u);
+    uint bvh_layout = frame.scene.y;
+    if (bvh_layout == RT_BVH_LAYOUT_WIDE)
+        return rt_trace_wide(kg, origin, direction, tmin, tmax, any_hit, (frame.scene.z & RT_FLAG_ONE_INSTANCE) != 0u);
     if (bvh_layout == RT_BVH_LAYOUT_ESCAPE) return rt_trace_escape(kg, origin, direction, tmin, tmax, any_hit);
     return rt_trace_stack(kg, origin, direction, tmin, tmax, any_hit);
 }

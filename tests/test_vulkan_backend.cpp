@@ -384,6 +384,29 @@ TEST_F(Vulkan, QueueAboveMaxStorageBufferRangeRendersThroughAddresses) {
     EXPECT_TRUE(mode.indirect);
 }
 
+// Address mode traces every node layout, in scenes of one and of two instances (lavapipe once read the frame's
+// layout field as its instance count there: two instances took the wide path, one the escape path).
+TEST_F(Vulkan, AddressModeTracesEveryLayout) {
+    if (!on_lavapipe()) GTEST_SKIP() << "checks lavapipe's buffer-address mode";
+    ScopedEnv addresses("PRISM_VULKAN_ADDRESSING", "addresses");
+    for (const char* spec : {"builtin:sphere", "stanford/bunny.ply"})
+        for (prism::BvhLayout layout : {prism::BvhLayout::Stack, prism::BvhLayout::Escape, prism::BvhLayout::Wide}) {
+            SCOPED_TRACE(std::string(spec) + ", " + prism::bvh_layout_name(layout));
+            prism::Scene scene;
+            prism::DeviceScene device = load(spec, &scene, layout);
+            prism::RenderSettings settings;
+            settings.width = 64;
+            settings.height = 48;
+            settings.max_depth = 3;
+            prism::VulkanLaunchMode mode;
+            prism::FrameResult actual = render_with(kDevice, device, scene.camera, settings, &mode);
+            EXPECT_TRUE(mode.addresses);
+            prism::FrameResult expected = prism::RenderEngine("cpu-ref", device).render(scene.camera, settings);
+            EXPECT_GE(prism::test::psnr_rgba8(expected.image, actual.image), 50.0);
+            prism::test::expect_ray_counts_near(expected.stats, actual.stats);
+        }
+}
+
 // Each way of launching gives the same bits: descriptors or addresses, indirect or fixed-grid dispatch.
 TEST_F(Vulkan, AddressesAndFixedDispatchGiveIdenticalImages) {
     prism::Scene scene;
