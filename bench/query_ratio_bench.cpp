@@ -49,13 +49,14 @@ int main(int argc, char** argv) {
     int rounds = 5;
     unsigned threads = 1;
     std::string layout = "wide";
-    uint32_t leaf = 0;
+    uint32_t leaf = 0, wide_leaf = 0;
     app.add_option("scenes", scenes, "models (.ply, .ply.gz, ...)")->required();
     app.add_option("--rounds", rounds, "timed rounds after one warm-up")->capture_default_str();
     app.add_option("--threads", threads, "threads for both (1: thread CPU time; more: wall time)")
         ->capture_default_str();
     app.add_option("--bvh-layout", layout, "stack, escape or wide")->capture_default_str();
     app.add_option("--bvh-leaf", leaf, "max_leaf_size of the BVH build (0: the default)");
+    app.add_option("--wide-leaf", wide_leaf, "wide_leaf_size of the BVH build (0: the default)");
     CLI11_PARSE(app, argc, argv);
     try {
         register_builtin_backends();
@@ -65,6 +66,7 @@ int main(int argc, char** argv) {
             BvhBuildOptions options;
             options.layout = resolve_bvh_layout(layout, "cpu");
             if (leaf) options.max_leaf_size = leaf;
+            if (wide_leaf) options.wide_leaf_size = wide_leaf;
             DeviceScene device = build_device_scene(scene, options);
             oracle::EmbreeScene embree(scene, threads);
             oracle::OracleRays rays = oracle::make_oracle_rays(scene, embree, 500000, 1000000, 7);
