@@ -235,8 +235,8 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
     TraversalRay world = rt_traversal_ray(origin, direction, tmin);
     TraversalRay ray = world;
     uint instance = RT_NONE;
-    uint stack_node[RT_BVH_WIDE_STACK_SIZE];
-    float stack_t[RT_BVH_WIDE_STACK_SIZE];
+    // An entry is (child reference, entry distance's bits): the sort below moves one 8-byte pair per step.
+    uint2 stack[RT_BVH_WIDE_STACK_SIZE];
     uint sp = 0u;
 
     uint current = 0u;
@@ -271,9 +271,9 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
                     if (mask == 0u) {
                         // Two: go on with the nearer, push the farther.
                         if (sp < rt_uint(RT_BVH_WIDE_STACK_SIZE)) {
-                            stack_node[sp] = t0 <= t1 ? e1 : e0;
-                            rt_wide_prefetch(kg, stack_node[sp]);
-                            stack_t[sp] = rt_max(t0, t1);
+                            stack[sp].x = t0 <= t1 ? e1 : e0;
+                            stack[sp].y = rt_as_uint(rt_max(t0, t1));
+                            rt_wide_prefetch(kg, stack[sp].x);
                             sp += 1u;
                         }
                         current = t0 <= t1 ? e0 : e1;
@@ -287,18 +287,17 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
                             if (sp >= rt_uint(RT_BVH_WIDE_STACK_SIZE)) continue;
                             float t = rt_lane8(hits.t, k);
                             uint slot = sp;
-                            while (slot > first_pushed && stack_t[slot - 1u] < t) {
-                                stack_node[slot] = stack_node[slot - 1u];
-                                stack_t[slot] = stack_t[slot - 1u];
+                            while (slot > first_pushed && rt_as_float(stack[slot - 1u].y) < t) {
+                                stack[slot] = stack[slot - 1u];
                                 slot -= 1u;
                             }
-                            stack_node[slot] = rt_wide_child(node, k);
-                            rt_wide_prefetch(kg, stack_node[slot]);
-                            stack_t[slot] = t;
+                            stack[slot].x = rt_wide_child(node, k);
+                            stack[slot].y = rt_as_uint(t);
+                            rt_wide_prefetch(kg, stack[slot].x);
                             sp += 1u;
                         }
                         sp -= 1u;
-                        current = stack_node[sp];
+                        current = stack[sp].x;
                     }
                 }
             }
@@ -311,7 +310,8 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
                 ray = rt_wide_ray_to_object(inst, world);
                 current = inst.info.x;
                 if (sp < rt_uint(RT_BVH_WIDE_STACK_SIZE)) {
-                    stack_node[sp] = RT_STACK_LEAVE_INSTANCE;
+                    stack[sp].x = RT_STACK_LEAVE_INSTANCE;
+                    stack[sp].y = 0u;
                     sp += 1u;
                 }
                 descend = true;
@@ -326,12 +326,12 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
         going = false;
         while (sp > 0u && !going) {
             sp -= 1u;
-            uint popped = stack_node[sp];
-            if (popped == RT_STACK_LEAVE_INSTANCE) {
+            uint2 popped = stack[sp];
+            if (popped.x == RT_STACK_LEAVE_INSTANCE) {
                 ray = world;
                 instance = RT_NONE;
-            } else if (stack_t[sp] < best.tuv.x) {
-                current = popped;
+            } else if (rt_as_float(popped.y) < best.tuv.x) {
+                current = popped.x;
                 going = true;
             }
         }
