@@ -277,8 +277,30 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
                             sp += 1u;
                         }
                         current = t0 <= t1 ? e0 : e1;
+                    } else if ((mask & (mask - 1u)) == 0u && sp + 3u <= rt_uint(RT_BVH_WIDE_STACK_SIZE)) {
+                        // Three (the usual case of "more than two"): each goes straight to its rank, the number of
+                        // the others that belong below it — farther, or as far and earlier in lane order, the order
+                        // the sort below gives ties, so equal hits keep their winner. Compares instead of the
+                        // sort's data-dependent branches, which mispredict on diffuse rays.
+                        uint k2 = rt_lowest_bit(mask);
+                        uint e2 = rt_wide_child(node, k2);
+                        float t2 = rt_lane8(hits.t, k2);
+                        uint r0 = sp + (t1 > t0 ? 1u : 0u) + (t2 > t0 ? 1u : 0u);
+                        uint r1 = sp + (t0 >= t1 ? 1u : 0u) + (t2 > t1 ? 1u : 0u);
+                        uint r2 = sp + (t0 >= t2 ? 1u : 0u) + (t1 >= t2 ? 1u : 0u);
+                        stack[r0].x = e0;
+                        stack[r0].y = rt_as_uint(t0);
+                        stack[r1].x = e1;
+                        stack[r1].y = rt_as_uint(t1);
+                        stack[r2].x = e2;
+                        stack[r2].y = rt_as_uint(t2);
+                        rt_wide_prefetch(kg, e0);
+                        rt_wide_prefetch(kg, e1);
+                        rt_wide_prefetch(kg, e2);
+                        sp += 2u;
+                        current = stack[sp].x;
                     } else {
-                        // Three or more: push all, sorted so the nearest is on top, and take it.
+                        // Four or more: push all, sorted so the nearest is on top, and take it.
                         uint first_pushed = sp;
                         mask |= (1u << k0) | (1u << k1);
                         while (mask != 0u) {
@@ -309,7 +331,9 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
                 Instance inst = RT_FETCH(kg, instances, instance);
                 ray = rt_wide_ray_to_object(inst, world);
                 current = inst.info.x;
-                if (sp < rt_uint(RT_BVH_WIDE_STACK_SIZE)) {
+                // The leave marker restores the world ray for the entries below it; with none, the walk ends
+                // with this instance and needs no marker (a ray that enters one instance only).
+                if (sp > 0u && sp < rt_uint(RT_BVH_WIDE_STACK_SIZE)) {
                     stack[sp].x = RT_STACK_LEAVE_INSTANCE;
                     stack[sp].y = 0u;
                     sp += 1u;
