@@ -48,18 +48,21 @@ std::string blocked(const std::string& name) {
     return (blocker / "cache").string();
 }
 
-// The image with every cache writable (fresh folders), once per backend.
+// The image with every cache writable (fresh folders), once per backend. The folders and the image are named
+// for the test too: ctest runs each test in its own process, two at a time with -j2, and a shared folder was
+// removed by one test while the other's render was writing into it.
 const Render& reference(const std::string& backend) {
     static std::map<std::string, Render> done;
     auto found = done.find(backend);
     if (found != done.end()) return found->second;
-    const fs::path root = prism::test::temp_dir("cache-dirs-writable-" + backend.substr(0, backend.find(':')));
+    const std::string name = backend.substr(0, backend.find(':')) + "-" +
+                             ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    const fs::path root = prism::test::temp_dir("cache-dirs-writable-" + name);
     fs::remove_all(root);
     const std::string writable = "POCL_CACHE_DIR='" + (root / "pocl").string() + "' PRISM_CACHE_DIR='" +
                                  (root / "prism").string() + "' MESA_SHADER_CACHE_DIR='" + (root / "mesa").string() +
                                  "' XDG_CACHE_HOME='" + (root / "xdg").string() + "'";
-    return done.emplace(backend, render(backend, writable, "reference-" + backend.substr(0, backend.find(':'))))
-        .first->second;
+    return done.emplace(backend, render(backend, writable, "reference-" + name)).first->second;
 }
 
 void expect_same_image(const std::string& backend, const std::string& assignments, const std::string& name) {
