@@ -48,13 +48,13 @@ std::string blocked(const std::string& name) {
     return (blocker / "cache").string();
 }
 
-// The image with every cache writable (fresh folders), once per backend.
+// The image with every cache writable, once per backend and process. The folders are kept between test processes
+// (ctest runs each test alone), so only the first reference render compiles kernels and shaders from scratch.
 const Render& reference(const std::string& backend) {
     static std::map<std::string, Render> done;
     auto found = done.find(backend);
     if (found != done.end()) return found->second;
     const fs::path root = prism::test::temp_dir("cache-dirs-writable-" + backend.substr(0, backend.find(':')));
-    fs::remove_all(root);
     const std::string writable = "POCL_CACHE_DIR='" + (root / "pocl").string() + "' PRISM_CACHE_DIR='" +
                                  (root / "prism").string() + "' MESA_SHADER_CACHE_DIR='" + (root / "mesa").string() +
                                  "' XDG_CACHE_HOME='" + (root / "xdg").string() + "'";
