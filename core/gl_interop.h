@@ -17,6 +17,8 @@ namespace prism {
 struct GlContextHandles {
     uintptr_t x11_display = 0;   // Display* of the window (OpenCL: CL_GLX_DISPLAY_KHR); 0 when not X11
     uintptr_t glx_context = 0;   // GLXContext (OpenCL: CL_GL_CONTEXT_KHR); 0 when not GLX
+    uintptr_t egl_display = 0;   // EGLDisplay of an offscreen context (OpenCL: CL_EGL_DISPLAY_KHR); 0 when not EGL
+    uintptr_t egl_context = 0;   // EGLContext (OpenCL: CL_GL_CONTEXT_KHR); 0 when not EGL
     std::string renderer;        // GL_RENDERER, for messages
     bool memory_object_fd = false;   // GL_EXT_memory_object_fd: GL can use an exported opaque fd as buffer memory
     bool semaphore_fd = false;       // GL_EXT_semaphore_fd: GL can wait on and signal exported semaphores
