@@ -23,6 +23,7 @@
 #include "viewer/camera_controls.h"
 #include "viewer/frame_display.h"
 #include "viewer/frame_timing.h"
+#include "viewer/gl_timer.h"
 #include "viewer/key_script.h"
 #include "viewer/window.h"
 #endif
@@ -154,12 +155,13 @@ public:
             timing.render_ms = ms(rendered - start);
             bool shows = display_->path().kind != viewer::DisplayPath::Kind::None;
             if (shows) {
+                // GL runs the display asynchronously, as a viewer should: its GPU time comes from a timer query a
+                // few frames later (a glFinish here would add its own latency to every frame).
+                gl_timer_.begin(stats_.frames());
                 display_->update(last_frame_);
                 display_->draw(window_->framebuffer_width(), window_->framebuffer_height());
-                // Measuring: GL's work for the display (the upload from the shared buffer, the draw) counts
-                // here, not in whatever would otherwise wait for it later. Rendering waits for the device anyway,
-                // so this costs the viewer next to no overlap.
-                if (!options_.stats.empty()) window_->finish_gl();
+                gl_timer_.end();
+                for (auto [index, ms] : gl_timer_.collect(false)) stats_.set_gpu_display(index, ms);
             }
             auto drawn = Clock::now();
             bool last = options_.frames != 0 && frame + 1 == options_.frames;
@@ -189,6 +191,7 @@ private:
             double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
             std::printf("  rendered %u frames in %.1f s\n", frames_rendered_, elapsed);
         }
+        for (auto [index, ms] : gl_timer_.collect(true)) stats_.set_gpu_display(index, ms);
         if ((options_.frames != 0 || options_.seconds > 0.0) && stats_.frames() != 0)
             std::printf("  last frame (%s):\n%s", hud().c_str(), frame_summary(last_frame_, settings_).c_str());
         if (stats_.frames() != 0)
@@ -341,6 +344,7 @@ private:
     uint32_t frames_rendered_ = 0;
     double fps_ = 0.0;
     viewer::FrameTimings stats_;
+    viewer::GlTimer gl_timer_;
     int backend_switches_ = 0;
 };
 

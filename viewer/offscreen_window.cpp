@@ -153,6 +153,9 @@ void OffscreenWindow::release() {
     context_ = nullptr;
 }
 
+// No buffer to present: submit the frame's GL commands, as a swap would, so they run while the next frame renders.
+void OffscreenWindow::swap() { glFlush(); }
+
 void OffscreenWindow::native_handles(GlContextHandles& gl) const {
     gl.egl_display = reinterpret_cast<uintptr_t>(display_);
     gl.egl_context = reinterpret_cast<uintptr_t>(context_);

@@ -22,7 +22,7 @@ public:
     bool should_close() const override { return false; }
     Input poll() override { return {}; }
     void set_title(const std::string&) override {}
-    void swap() override {}
+    void swap() override;
     int framebuffer_width() const override { return width_; }
     int framebuffer_height() const override { return height_; }
 

@@ -18,8 +18,6 @@ const char* gl_string(GLenum name) {
 
 }  // namespace
 
-void Window::finish_gl() { glFinish(); }
-
 void Window::describe_context(const std::string& via) {
     context_description_ = std::string("OpenGL ") + gl_string(GL_VERSION) + " on " + gl_string(GL_RENDERER);
     if (!via.empty()) context_description_ += " via " + via;

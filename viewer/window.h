@@ -31,11 +31,8 @@ public:
     virtual bool should_close() const = 0;
     virtual Input poll() = 0;
     virtual void set_title(const std::string& title) = 0;
-    // Shows the frame drawn (a buffer swap; nothing offscreen).
+    // Shows the frame drawn (a buffer swap; offscreen, a glFlush that submits the frame's GL commands).
     virtual void swap() = 0;
-    // Waits until GL has executed everything issued (glFinish): lets --stats charge GL's work to the step that
-    // issued it.
-    void finish_gl();
 
     virtual int framebuffer_width() const = 0;
     virtual int framebuffer_height() const = 0;
