@@ -1,6 +1,6 @@
 // Buffer interop between a backend and the viewer's OpenGL context (docs/viewer.md, "Display paths"): the frame's
-// RGBA8 image goes from the backend's `image` array into a GL pixel-unpack buffer on the device, with no trip
-// through host memory. Handles travel as plain integers: core and the backends include no GL or X11 header, and
+// RGBA8 image goes from the backend's `image` array into a GL buffer on the device, with no trip through host
+// memory, and GL draws it from there. Handles travel as plain integers: core and the backends include no GL or X11 header, and
 // the viewer no GPU API header. The GPU API side of each path lives in backends/<api>/<api>_gl_interop.*, the GL
 // side in viewer/.
 #pragma once

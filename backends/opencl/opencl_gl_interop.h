@@ -1,5 +1,5 @@
-// The OpenCL-GL display path (cl_khr_gl_sharing): an OpenCL context created together with the viewer's GLX
-// context, the viewer's pixel-unpack buffer wrapped with clCreateFromGLBuffer, and per frame acquire, a
+// The OpenCL-GL display path (cl_khr_gl_sharing): an OpenCL context created together with the viewer's GLX or EGL
+// context, the GL buffer the viewer draws from wrapped with clCreateFromGLBuffer, and per frame acquire, a
 // device-to-device clEnqueueCopyBuffer of the image array, release, clFinish.
 #pragma once
 
