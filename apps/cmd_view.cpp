@@ -23,6 +23,7 @@
 #include "viewer/camera_controls.h"
 #include "viewer/frame_display.h"
 #include "viewer/frame_timing.h"
+#include "viewer/gl_timer.h"
 #include "viewer/key_script.h"
 #include "viewer/window.h"
 #endif
@@ -41,6 +42,7 @@ struct ViewOptions {
     std::string keys;         // scripted key presses, "FRAME:KEY,..."
     std::string display = "auto";   // auto, interop, host-copy, none (viewer/frame_display.h)
     std::string stats;        // --stats: the timing summary as JSON
+    bool headless = false;    // an offscreen EGL framebuffer instead of a window (viewer/offscreen_window.h)
 };
 
 #ifdef PRISM_HAVE_VIEWER
@@ -98,22 +100,23 @@ public:
           settings_(options.settings),
           mode_(viewer::parse_display_mode(options.display)),
           script_(viewer::parse_key_script(options.keys)),
-          window_("Prism", int(settings_.width), int(settings_.height), !options.no_vsync),
+          window_(viewer::open_window("Prism", int(settings_.width), int(settings_.height), !options.no_vsync,
+                                       options.headless)),
           loaded_(load_and_build(options.scene, options.backend)),
           controls_(loaded_.scene.camera),
           moving_(loaded_) {
         // Only the interop modes tell the backend about the GL context: with host-copy (and none) it is created
         // exactly as `prism render` creates it.
         if (mode_ == viewer::DisplayMode::Auto || mode_ == viewer::DisplayMode::Interop)
-            gl_ = window_.gl_context_handles();
+            gl_ = window_->gl_context_handles();
         engine_ = make_engine(options.backend);
         display_ = make_display(*engine_);
         BackendInfo info = engine_->info();
         std::printf("prism view: %s (%zu triangles, %zu instances) on %s [%s]\n", options.scene.scene.c_str(),
                     loaded_.device.traced_triangles, loaded_.device.instances.size(), info.name.c_str(),
                     info.device.c_str());
-        std::printf("  window %dx%d, %s\n", window_.framebuffer_width(), window_.framebuffer_height(),
-                    window_.context_description().c_str());
+        std::printf("  %s %dx%d, %s\n", options.headless ? "offscreen" : "window", window_->framebuffer_width(),
+                    window_->framebuffer_height(), window_->context_description().c_str());
         std::printf("  %s\n", display_->path().describe().c_str());
         std::fflush(stdout);
     }
@@ -123,11 +126,11 @@ public:
         started_ = last_present;
         size_t next_key = 0;
         for (uint32_t frame = 0; options_.frames == 0 || frame < options_.frames; ++frame) {
-            if (window_.should_close()) break;
+            if (window_->should_close()) break;
             if (options_.seconds > 0.0 &&
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count() >= options_.seconds)
                 break;
-            viewer::Input input = window_.poll();
+            viewer::Input input = window_->poll();
             auto now = std::chrono::steady_clock::now();
             float seconds = std::chrono::duration<float>(now - last_present).count();
             while (next_key < script_.size() && script_[next_key].frame <= frame)
@@ -152,19 +155,20 @@ public:
             timing.render_ms = ms(rendered - start);
             bool shows = display_->path().kind != viewer::DisplayPath::Kind::None;
             if (shows) {
+                // GL runs the display asynchronously, as a viewer should: its GPU time comes from a timer query a
+                // few frames later (a glFinish here would add its own latency to every frame).
+                gl_timer_.begin(stats_.frames());
                 display_->update(last_frame_);
-                display_->draw(window_.framebuffer_width(), window_.framebuffer_height());
-                // Measuring: GL's work for the display (the upload from the shared buffer, the draw) counts
-                // here, not in whatever would otherwise wait for it later. Rendering waits for the device anyway,
-                // so this costs the viewer next to no overlap.
-                if (!options_.stats.empty()) window_.finish_gl();
+                display_->draw(window_->framebuffer_width(), window_->framebuffer_height());
+                gl_timer_.end();
+                for (auto [index, ms] : gl_timer_.collect(false)) stats_.set_gpu_display(index, ms);
             }
             auto drawn = Clock::now();
             bool last = options_.frames != 0 && frame + 1 == options_.frames;
             if (screenshot) save_screenshot(screenshot_path(frame));
             if (last && !options_.screenshot.empty()) save_screenshot(options_.screenshot);
             auto swap_start = Clock::now();
-            if (shows) window_.swap();
+            if (shows) window_->swap();
 
             now = Clock::now();
             timing.display_ms = ms(drawn - rendered);   // a screenshot's read-back is in neither
@@ -174,7 +178,7 @@ public:
             double frame_seconds = std::chrono::duration<double>(now - last_present).count();
             last_present = now;
             fps_ = fps_ == 0.0 ? 1.0 / frame_seconds : 0.9 * fps_ + 0.1 / frame_seconds;
-            window_.set_title(hud());
+            window_->set_title(hud());
             ++frames_rendered_;
         }
         finish();
@@ -187,6 +191,7 @@ private:
             double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
             std::printf("  rendered %u frames in %.1f s\n", frames_rendered_, elapsed);
         }
+        for (auto [index, ms] : gl_timer_.collect(true)) stats_.set_gpu_display(index, ms);
         if ((options_.frames != 0 || options_.seconds > 0.0) && stats_.frames() != 0)
             std::printf("  last frame (%s):\n%s", hud().c_str(), frame_summary(last_frame_, settings_).c_str());
         if (stats_.frames() != 0)
@@ -223,7 +228,8 @@ private:
         json["backend"] = {{"name", info.name}, {"device", info.device}, {"driver", info.driver},
                            {"api_version", info.api_version}};
         json["backend_switches"] = backend_switches_;
-        json["gl"] = window_.context_description();
+        json["gl"] = window_->context_description();
+        json["headless"] = options_.headless;
         json["display"] = {{"requested", viewer::display_mode_name(mode_)},
                            {"path", path.kind_name()},
                            {"name", path.name},
@@ -294,10 +300,10 @@ private:
             std::printf("  no screenshot: --display none shows nothing\n");
             return;
         }
-        std::vector<uint32_t> pixels = window_.read_pixels();
-        write_png(path, window_.framebuffer_width(), window_.framebuffer_height(), pixels);
-        std::printf("  wrote %s (window read-back, %dx%d)\n", path.c_str(), window_.framebuffer_width(),
-                    window_.framebuffer_height());
+        std::vector<uint32_t> pixels = window_->read_pixels();
+        write_png(path, window_->framebuffer_width(), window_->framebuffer_height(), pixels);
+        std::printf("  wrote %s (window read-back, %dx%d)\n", path.c_str(), window_->framebuffer_width(),
+                    window_->framebuffer_height());
         std::fflush(stdout);
     }
 
@@ -324,7 +330,8 @@ private:
     RenderSettings settings_;
     viewer::DisplayMode mode_;
     std::vector<viewer::ScriptedKey> script_;
-    viewer::Window window_;   // first: no display fails fast, and the GL context outlives the FrameDisplay
+    std::unique_ptr<viewer::Window> window_;   // first: no display fails fast, and the GL context outlives
+                                               // the FrameDisplay
     std::optional<GlContextHandles> gl_;   // given to backends in the interop modes
     LoadedScene loaded_;
     viewer::CameraControls controls_;
@@ -337,6 +344,7 @@ private:
     uint32_t frames_rendered_ = 0;
     double fps_ = 0.0;
     viewer::FrameTimings stats_;
+    viewer::GlTimer gl_timer_;
     int backend_switches_ = 0;
 };
 
@@ -389,7 +397,14 @@ void add_view_command(CLI::App& app) {
         ->capture_default_str();
     command->add_option("--stats", options->stats,
                         "write the timing summary (median render/display/frame ms, fps, display path) as JSON");
-    command->callback([options] { run_view(*options); });
+    command->add_flag("--headless", options->headless,
+                      "draw into an offscreen framebuffer of an EGL context (an EGL device, else Mesa's surfaceless "
+                      "platform) instead of a window: no X server needed; input only from --keys");
+    command->callback([options] {
+        if (options->headless && options->frames == 0 && options->seconds <= 0.0)
+            throw Error("view: --headless needs --frames or --seconds (there is no window to close)");
+        run_view(*options);
+    });
 }
 
 }  // namespace prism::app

@@ -6,7 +6,7 @@
 #   PRISM_TAG:   suffix of the result files (default: the GPU's name)
 #   PRISM_SKIP_TESTS / PRISM_SKIP_SEED_TABLE / PRISM_SKIP_BANDWIDTH=1 skip a part; PRISM_CPU_BENCH=0 skips the
 #   host-CPU table; PRISM_VULKAN_AB=1 adds Vulkan's fixed-grid and device-address variants.
-#   PRISM_VIEW_BENCH=1: also bench/view_gpu.sh (the viewer's display paths; needs .gpu-xvfb/ carried along)
+#   PRISM_VIEW_BENCH=1: also bench/view_gpu.sh (the viewer's display paths, offscreen through NVIDIA's EGL)
 set -uo pipefail
 build=${PRISM_BUILD:-build-gpu}
 data=${PRISM_DATA:-.device-data/scenes}
@@ -73,7 +73,7 @@ if [ "${PRISM_SKIP_BANDWIDTH:-0}" != 1 ]; then
   $prism bandwidth --json "$out/bandwidth-$tag.json" --plot "$out/bandwidth-$tag.png" 2>&1 | tee "$out/bandwidth-$tag.txt"
 fi
 if [ "${PRISM_VIEW_BENCH:-0}" = 1 ]; then
-  # Needs .gpu-xvfb/ (bench/pack_xvfb.sh) carried along; PRISM_VIEW_* select scene, size, frames, backends.
+  # prism view --headless (no X server there); PRISM_VIEW_* select scene, size, frames, backends.
   step "prism view: display by interop, by host copy, and the render alone (bench/view_gpu.sh)"
   PRISM_BUILD=$build PRISM_DATA=$data OUT=$out PRISM_TAG=$tag bash bench/view_gpu.sh
 fi

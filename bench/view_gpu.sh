@@ -2,8 +2,8 @@
 # `prism view` on the GPU machine: for each GPU backend, the dragon at 1920x1080 shown by buffer interop, by host
 # copy, and not shown at all (the render alone), each run's --stats, and one summary JSON with the interop overhead
 # against the render alone (docs/viewer.md, "Measuring on the H100"). Run from the repository root there, after
-# `source .gpu-runtime/env.sh`; bench/run_gpu.sh calls it when PRISM_VIEW_BENCH=1. Needs .gpu-xvfb/
-# (bench/pack_xvfb.sh) carried along: the machine has no X server.
+# `source .gpu-runtime/env.sh`; bench/run_gpu.sh calls it when PRISM_VIEW_BENCH=1. The machine has no X server:
+# the viewer runs --headless, drawing into an offscreen framebuffer of NVIDIA's GL through EGL.
 #   PRISM_BUILD          build folder with apps/prism (default build-gpu)
 #   PRISM_DATA           scenes folder (default .device-data/scenes)
 #   OUT                  results folder (default bench/results/gpu): view-<tag>.json, view/<tag>-*.json and logs
@@ -12,7 +12,8 @@
 #   PRISM_VIEW_SCENE     default builtin:dragon;  PRISM_VIEW_SIZE default 1920x1080;  PRISM_VIEW_FRAMES default 200
 #   PRISM_VIEW_DEPTH     default 8;  PRISM_VIEW_TIMEOUT: seconds allowed per run (default 240)
 #   PRISM_VIEW_ANY_GL=1  run even when GL is not NVIDIA's (to check this script on a machine without a GPU:
-#                        PRISM_VIEW_ANY_GL=1 PRISM_VIEW_BACKENDS=vulkan:llvmpipe PRISM_VIEW_SIZE=160x90 ...)
+#                        PRISM_BUILD=build PRISM_DATA=../shared/scenes OUT=/tmp/view PRISM_VIEW_ANY_GL=1
+#                        PRISM_VIEW_BACKENDS=vulkan:llvmpipe PRISM_VIEW_SIZE=160x90 PRISM_VIEW_FRAMES=5 ...)
 set -uo pipefail
 build=${PRISM_BUILD:-build-gpu}
 data=${PRISM_DATA:-.device-data/scenes}
@@ -33,21 +34,14 @@ chmod 700 "$XDG_RUNTIME_DIR"
 tag=${PRISM_TAG:-$(nvidia-smi --query-gpu=name --format=csv,noheader 2>/dev/null | head -1 | tr ' ' '-' | tr -cd 'A-Za-z0-9-')}
 tag=${tag:-gpu}
 [ -x "$prism" ] || { echo "view_gpu: no $prism (PRISM_BUILD?)" >&2; exit 1; }
-[ -x .gpu-xvfb/start.sh ] || { echo "view_gpu: no .gpu-xvfb/ (run bench/pack_xvfb.sh where it was built)" >&2; exit 1; }
-
-# The carried Xvfb (GLX through its stub driver) with NVIDIA's GLX on the client side: GL then runs on the GPU.
-xvfb=$(.gpu-xvfb/start.sh) || exit 1
-eval "$xvfb"
-trap 'kill "$PRISM_XVFB_PID" 2>/dev/null' EXIT
-export DISPLAY __GLX_VENDOR_LIBRARY_NAME=nvidia
-echo "== Xvfb on $DISPLAY (pid $PRISM_XVFB_PID)"
 
 # Display timings mean nothing on llvmpipe: make sure GL is NVIDIA's before spending the time.
-probe=$("$prism" view --data-dir "$data" --scene builtin:sphere --backend cpu --width 64 --height 64 --frames 1 2>&1)
-gl=$(printf '%s\n' "$probe" | sed -n 's/^  window [0-9x]*, //p' | head -1)
+probe=$("$prism" view --headless --data-dir "$data" --scene builtin:sphere --backend cpu --width 64 --height 64 \
+        --frames 1 2>&1)
+gl=$(printf '%s\n' "$probe" | sed -n 's/^  offscreen [0-9x]*, //p' | head -1)
 echo "== GL: ${gl:-none} "
 if ! printf '%s' "$gl" | grep -qi nvidia && [ "${PRISM_VIEW_ANY_GL:-0}" != 1 ]; then
-  echo "view_gpu: GL is not NVIDIA's (${gl:-no window}):" >&2
+  echo "view_gpu: GL is not NVIDIA's (${gl:-no context}):" >&2
   printf '%s\n' "$probe" | tail -3 >&2
   exit 1
 fi
@@ -58,20 +52,23 @@ field() { sed -n "s/^  \"$2\": \\([-0-9.e+]*\\),\\{0,1\\}$/\\1/p" "$1" | head -1
 display_text() { sed -n "/^  \"display\": {/,/^  }/ s/^    \"$2\": \"\\(.*\\)\",\\{0,1\\}$/\\1/p" "$1" | head -1; }
 json_escape() { sed 's/\\/\\\\/g; s/"/\\"/g' | tr -d '\n'; }
 
-# One mode's medians and, against the render alone (--display none), what showing the frame adds: with the
-# present (the buffer swap: under Xvfb a copy of the window into the X server, which a real display server does
-# not make) and without it.
+# One mode's medians and what showing the frame adds to it (added_ms, below). overhead_ms: the median frame time
+# minus that of the render alone, a different run (so that run's noise, about 0.1-0.2 ms on the dragon, is in it).
 mode_json() {
   local m=$1
   if [ -n "${error[$m]:-}" ] || [ -z "${frame[$m]:-}" ]; then
     printf '{"error": "%s"}' "${error[$m]:-not run}"
     return
   fi
-  awk -v f="${frame[$m]}" -v p="${present[$m]}" -v r="${render[$m]}" -v d="${display[$m]}" \
-      -v base="${frame[none]:-}" -v name="${path[$m]}" -v detail="${detail[$m]}" 'BEGIN {
+  awk -v f="${frame[$m]}" -v p="${present[$m]}" -v r="${render[$m]}" -v d="${display[$m]}" -v g="${gpu[$m]:-}" \
+      -v b="${beyond[$m]}" -v a="${added[$m]:-}" -v base="${frame[none]:-}" -v name="${path[$m]}" \
+      -v detail="${detail[$m]}" 'BEGIN {
     printf "{\"path\": \"%s\", \"detail\": \"%s\", \"fps\": %.3f, \"median_frame_ms\": %.4f, ", name, detail, 1000 / f, f
     printf "\"median_render_ms\": %.4f, \"median_display_ms\": %.4f, \"median_present_ms\": %.4f", r, d, p
-    if (base != "") printf ", \"overhead_ms\": %.4f, \"overhead_without_present_ms\": %.4f", f - base, f - p - base
+    printf ", \"median_beyond_render_ms\": %.4f", b
+    if (g != "") printf ", \"median_gpu_display_ms\": %.4f", g
+    if (a != "") printf ", \"added_ms\": %.4f", a
+    if (base != "") printf ", \"overhead_ms\": %.4f", f - base
     printf "}" }'
 }
 
@@ -80,14 +77,14 @@ entries=()
 runs=()
 for backend in ${backends//,/ }; do
   name=${backend//:/-}
-  declare -A frame=() present=() render=() display=() path=() detail=() error=()
+  declare -A frame=() present=() render=() display=() gpu=() beyond=() added=() path=() detail=() error=()
   for mode in none interop host-copy; do
     stats=$out/view/$tag-$name-$mode.json
     log=$out/view/$tag-$name-$mode.log
     echo "== $backend, --display $mode ($frames frames at ${width}x${height}, $(date -u +%H:%M:%S))"
     rm -f "$stats"
     # A time limit per run: a driver that hangs in one mode (a sync never signalled) must not take the session.
-    timeout -k 10 "$run_limit" "$prism" view --data-dir "$data" --scene "$scene" --backend "$backend" \
+    timeout -k 10 "$run_limit" "$prism" view --headless --data-dir "$data" --scene "$scene" --backend "$backend" \
       --width "$width" --height "$height" --depth "$depth" --frames "$frames" --no-vsync --display "$mode" \
       --stats "$stats" >"$log" 2>&1
     status=$?
@@ -103,33 +100,39 @@ for backend in ${backends//,/ }; do
     present[$mode]=$(field "$stats" median_present_ms)
     render[$mode]=$(field "$stats" median_render_ms)
     display[$mode]=$(field "$stats" median_display_ms)
+    gpu[$mode]=$(field "$stats" median_gpu_display_ms)   # empty when null (no GL work: --display none)
+    beyond[$mode]=$(field "$stats" median_beyond_render_ms)
     path[$mode]=$(display_text "$stats" name)
     detail[$mode]=$(display_text "$stats" detail)
     runs+=("\"$name-$mode\": $(cat "$stats")")
   done
 
-  # The interop overhead is measured inside the interop run: its display step (the device copy into the shared
-  # buffer, GL's upload from it and the draw, until GL has finished) is all that interop adds to the frame, as
-  # its render reads nothing back, like the render alone. The difference between the two runs' frame times says
-  # the same with the noise of two runs in it (overhead_without_present_ms above).
-  overhead=null
+  # What a display path adds to each frame, measured within its own run so the render's run-to-run noise stays
+  # out: the median of (frame - render) beyond that of the render alone (the host time of the device copy and of
+  # issuing GL's upload and draw, and the swap), plus GL's GPU time for the upload and the draw (timer queries),
+  # counted in full as if it never overlapped the next render. interop_overhead_ms is that for interop.
+  for mode in interop host-copy; do
+    if [ -z "${error[$mode]:-}" ] && [ -n "${beyond[$mode]:-}" ] && [ -n "${beyond[none]:-}" ]; then
+      added[$mode]=$(awk -v b="${beyond[$mode]}" -v n="${beyond[none]}" -v g="${gpu[$mode]:-0}" \
+                     'BEGIN { printf "%.4f", b - n + g }')
+    fi
+  done
+  overhead=${added[interop]:-null}
   verdict=null
-  if [ -z "${error[interop]:-}" ] && [ -n "${display[interop]:-}" ]; then
-    overhead=${display[interop]}
-    verdict=$(awk -v d="$overhead" -v t=$target_ms 'BEGIN { print (d <= t) ? "true" : "false" }')
-  fi
+  [ "$overhead" != null ] && verdict=$(awk -v d="$overhead" -v t=$target_ms 'BEGIN { print (d <= t) ? "true" : "false" }')
   entries+=("\"$backend\": {\"render_only\": $(mode_json none), \"interop\": $(mode_json interop), \"host_copy\": $(mode_json host-copy), \"interop_overhead_ms\": $overhead, \"interop_meets_target\": $verdict}")
 done
 
 device=$(nvidia-smi --query-gpu=name --format=csv,noheader 2>/dev/null | head -1)
 driver=$(nvidia-smi --query-gpu=driver_version --format=csv,noheader 2>/dev/null | head -1)
+commit=$(sed -n 's/^  "commit": "\([^"]*\)",\{0,1\}$/\1/p' "$out"/view/"$tag"-*.json 2>/dev/null | head -1)
 {
-  printf '{\n  "tool": "bench/view_gpu.sh",\n  "date": "%s",\n' "$(date -u +%Y-%m-%dT%H:%M:%SZ)"
+  printf '{\n  "tool": "bench/view_gpu.sh",\n  "commit": "%s",\n  "date": "%s",\n' "$commit" "$(date -u +%Y-%m-%dT%H:%M:%SZ)"
   printf '  "device": "%s",\n  "driver": "%s",\n  "gl": "%s",\n' "$device" "$driver" "$(printf '%s' "$gl" | json_escape)"
   printf '  "scene": "%s",\n  "width": %s,\n  "height": %s,\n  "depth": %s,\n  "frames": %s,\n' \
     "$scene" "$width" "$height" "$depth" "$frames"
   printf '  "target_interop_overhead_ms": %s,\n' "$target_ms"
-  printf '  "method": "medians over the frames after warm-up (prism view --stats). interop_overhead_ms: median display_ms of the interop run, i.e. device copy into the shared GL buffer + glTexSubImage2D from it + draw, ended by glFinish; the render reads nothing back, as with --display none. interop_meets_target: interop_overhead_ms <= target. Per mode, overhead_ms: median frame time minus that of --display none (render alone, nothing read back or shown; a different run, so run-to-run noise included); overhead_without_present_ms: the same without the buffer swap, which under Xvfb copies the window into the X server",\n'
+  printf '  "method": "prism view --headless (offscreen framebuffer, NVIDIA GL through an EGL device) --stats, medians over the frames after warm-up; GL runs asynchronously (no glFinish per frame). Per mode, added_ms: median(frame - render) of the mode minus that of --display none (the render alone: nothing read back or shown), plus the median GPU time of the display GL commands (GL_TIME_ELAPSED: upload + draw), counted as if serialised with the render. interop_overhead_ms: added_ms of interop; interop_meets_target: <= target. overhead_ms: median frame time minus that of --display none (a different run: its noise included). With the host copy, the render includes the read-back",\n'
   printf '  "backends": {\n'
   for i in "${!entries[@]}"; do printf '    %s%s\n' "${entries[$i]}" "$([ $i -lt $((${#entries[@]} - 1)) ] && echo ,)"; done
   printf '  },\n  "runs": {\n'

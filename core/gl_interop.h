@@ -1,6 +1,6 @@
 // Buffer interop between a backend and the viewer's OpenGL context (docs/viewer.md, "Display paths"): the frame's
-// RGBA8 image goes from the backend's `image` array into a GL pixel-unpack buffer on the device, with no trip
-// through host memory. Handles travel as plain integers: core and the backends include no GL or X11 header, and
+// RGBA8 image goes from the backend's `image` array into a GL buffer on the device, with no trip through host
+// memory, and GL draws it from there. Handles travel as plain integers: core and the backends include no GL or X11 header, and
 // the viewer no GPU API header. The GPU API side of each path lives in backends/<api>/<api>_gl_interop.*, the GL
 // side in viewer/.
 #pragma once
@@ -17,6 +17,8 @@ namespace prism {
 struct GlContextHandles {
     uintptr_t x11_display = 0;   // Display* of the window (OpenCL: CL_GLX_DISPLAY_KHR); 0 when not X11
     uintptr_t glx_context = 0;   // GLXContext (OpenCL: CL_GL_CONTEXT_KHR); 0 when not GLX
+    uintptr_t egl_display = 0;   // EGLDisplay of an offscreen context (OpenCL: CL_EGL_DISPLAY_KHR); 0 when not EGL
+    uintptr_t egl_context = 0;   // EGLContext (OpenCL: CL_GL_CONTEXT_KHR); 0 when not EGL
     std::string renderer;        // GL_RENDERER, for messages
     bool memory_object_fd = false;   // GL_EXT_memory_object_fd: GL can use an exported opaque fd as buffer memory
     bool semaphore_fd = false;       // GL_EXT_semaphore_fd: GL can wait on and signal exported semaphores

@@ -8,7 +8,7 @@ packages=(
   libgtest-dev libgmock-dev libembree-dev
   ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
   libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers glslang-tools spirv-tools
-  libglfw3-dev libgl-dev libegl-dev libgl1-mesa-dri xvfb xauth
+  libglfw3-dev libgl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri xvfb xauth
   clang libclang-rt-14-dev
 )
 missing=()

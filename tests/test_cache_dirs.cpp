@@ -48,17 +48,16 @@ std::string blocked(const std::string& name) {
     return (blocker / "cache").string();
 }
 
-// The image with every cache writable (fresh folders), once per backend. The folders and the image are named
-// for the test too: ctest runs each test in its own process, two at a time with -j2, and a shared folder was
-// removed by one test while the other's render was writing into it.
+// The image with every cache writable, once per backend and process. The cache folders are kept between test
+// processes (ctest runs each test alone), so only the first reference render compiles kernels and shaders from
+// scratch; the image is named for the test, as ctest -j2 runs two of these processes at once.
 const Render& reference(const std::string& backend) {
     static std::map<std::string, Render> done;
     auto found = done.find(backend);
     if (found != done.end()) return found->second;
-    const std::string name = backend.substr(0, backend.find(':')) + "-" +
-                             ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    const fs::path root = prism::test::temp_dir("cache-dirs-writable-" + name);
-    fs::remove_all(root);
+    const std::string api = backend.substr(0, backend.find(':'));
+    const std::string name = api + "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    const fs::path root = prism::test::temp_dir("cache-dirs-writable-" + api);
     const std::string writable = "POCL_CACHE_DIR='" + (root / "pocl").string() + "' PRISM_CACHE_DIR='" +
                                  (root / "prism").string() + "' MESA_SHADER_CACHE_DIR='" + (root / "mesa").string() +
                                  "' XDG_CACHE_HOME='" + (root / "xdg").string() + "'";

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -25,6 +24,7 @@ namespace {
 using prism::viewer::DisplayMode;
 using prism::viewer::DisplayPath;
 using prism::test::psnr_against_render;
+using prism::test::read_json;
 using prism::test::view;
 
 // --- units -------------------------------------------------------------------------------------------------
@@ -115,19 +115,6 @@ TEST(ViewerFrameTimings, MediansSkipTheWarmUp) {
 }
 
 // --- under Xvfb ----------------------------------------------------------------------------------------------
-
-nlohmann::json read_json(const std::filesystem::path& path) {
-    std::ifstream in(path);
-    if (!in) return {};
-    return nlohmann::json::parse(in, nullptr, false);
-}
-
-#define REQUIRE_BACKEND(api, device)                                                   \
-    do {                                                                               \
-        std::string reason;                                                            \
-        if (!prism::test::backend_device_available(api, device, &reason))              \
-            GTEST_SKIP() << api << " on '" << device << "' unavailable: " << reason;   \
-    } while (0)
 
 TEST(ViewerInterop, CpuShowsItsHostFrameAndReportsTimings) {
     REQUIRE_XVFB();

@@ -1,15 +1,17 @@
-// Helpers of the viewer tests (test_viewer.cpp, test_viewer_interop.cpp): running `prism view` under Xvfb on the
-// 320x180 sphere, and comparing its window read-back with `prism render`.
+// Helpers of the viewer tests (test_viewer*.cpp): running `prism view` under Xvfb (or --headless) on the 320x180
+// sphere, and comparing its window read-back with `prism render`.
 #pragma once
 
 #include <cctype>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <stb_image.h>
 
 #include "core/backend.h"
@@ -37,6 +39,20 @@ inline bool backend_device_available(const std::string& api, const std::string& 
     }
     *reason = api + " runs here, but no device matches '" + device + "'";
     return false;
+}
+
+#define REQUIRE_BACKEND(api, device)                                                   \
+    do {                                                                               \
+        std::string reason;                                                            \
+        if (!prism::test::backend_device_available(api, device, &reason))              \
+            GTEST_SKIP() << api << " on '" << device << "' unavailable: " << reason;   \
+    } while (0)
+
+// A --stats file (null when missing or not JSON).
+inline nlohmann::json read_json(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    if (!in) return {};
+    return nlohmann::json::parse(in, nullptr, false);
 }
 
 inline std::vector<uint32_t> read_png(const std::filesystem::path& path, int* width, int* height) {

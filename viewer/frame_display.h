@@ -1,8 +1,8 @@
 // How a rendered frame reaches the window. One implementation per display path:
 //   host copy - glTexSubImage2D from FrameResult.image (every backend; the fallback);
-//   interop   - the backend's image array copied on the device into a GL pixel-unpack buffer it shares with GL
-//               (CUDA-GL, OpenCL-GL, Vulkan-GL: core/gl_interop.h, viewer/interop_display.h), then
-//               glTexSubImage2D from that buffer;
+//   interop   - the backend's image array copied on the device into a GL buffer it shares with GL (CUDA-GL,
+//               OpenCL-GL, Vulkan-GL: core/gl_interop.h, viewer/interop_display.h), which the draw reads
+//               directly (a buffer texture);
 //   none      - nothing is shown: `--display none` measures the render alone.
 // choose_display_path() decides from what the user asked and what the backend offers, and says why;
 // open_frame_display() builds it, falling back to the host copy when an interop path fails to set up.

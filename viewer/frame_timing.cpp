@@ -23,8 +23,10 @@ size_t FrameTimings::warmup() const { return std::min<size_t>(5, frames_.size() 
 FrameTimings::Summary FrameTimings::summary() const {
     Summary s;
     s.frames = frames_.size();
-    std::vector<double> render, display, present, frame;
+    std::vector<double> render, display, present, frame, gpu_display, beyond_render;
     for (size_t i = warmup(); i < frames_.size(); ++i) {
+        beyond_render.push_back(frames_[i].frame_ms - frames_[i].render_ms);
+        if (frames_[i].gpu_display_ms >= 0.0) gpu_display.push_back(frames_[i].gpu_display_ms);
         render.push_back(frames_[i].render_ms);
         display.push_back(frames_[i].display_ms);
         present.push_back(frames_[i].present_ms);
@@ -35,26 +37,32 @@ FrameTimings::Summary FrameTimings::summary() const {
     s.display_ms = median(display);
     s.present_ms = median(present);
     s.frame_ms = median(frame);
+    if (!gpu_display.empty()) s.gpu_display_ms = median(gpu_display);
+    s.beyond_render_ms = median(beyond_render);
     s.fps = s.frame_ms > 0.0 ? 1000.0 / s.frame_ms : 0.0;
     return s;
 }
 
 std::string FrameTimings::summary_line() const {
     Summary s = summary();
-    char line[256];
+    char gpu[48] = "";
+    if (s.gpu_display_ms >= 0.0) std::snprintf(gpu, sizeof gpu, " (GL on the GPU %.3f ms)", s.gpu_display_ms);
+    char line[320];
     std::snprintf(line, sizeof line,
-                  "timing: %zu frames after %zu warm-up, median render %.2f ms, display %.2f ms, present %.2f ms, "
+                  "timing: %zu frames after %zu warm-up, median render %.2f ms, display %.2f ms%s, present %.2f ms, "
                   "frame %.2f ms (%.1f fps)",
-                  s.measured, warmup(), s.render_ms, s.display_ms, s.present_ms, s.frame_ms, s.fps);
+                  s.measured, warmup(), s.render_ms, s.display_ms, gpu, s.present_ms, s.frame_ms, s.fps);
     return line;
 }
 
 nlohmann::json FrameTimings::json() const {
     Summary s = summary();
     nlohmann::json render = nlohmann::json::array(), display = nlohmann::json::array(),
-                   present = nlohmann::json::array(), frame = nlohmann::json::array();
+                   present = nlohmann::json::array(), frame = nlohmann::json::array(),
+                   gpu_display = nlohmann::json::array();
     for (const FrameTiming& t : frames_) {
         render.push_back(t.render_ms);
+        gpu_display.push_back(t.gpu_display_ms >= 0.0 ? nlohmann::json(t.gpu_display_ms) : nlohmann::json());
         display.push_back(t.display_ms);
         present.push_back(t.present_ms);
         frame.push_back(t.frame_ms);
@@ -66,8 +74,12 @@ nlohmann::json FrameTimings::json() const {
             {"median_display_ms", s.display_ms},
             {"median_present_ms", s.present_ms},
             {"median_frame_ms", s.frame_ms},
+            {"median_beyond_render_ms", s.beyond_render_ms},
+            {"median_gpu_display_ms", s.gpu_display_ms >= 0.0 ? nlohmann::json(s.gpu_display_ms) : nlohmann::json()},
             {"fps", s.fps},
-            {"per_frame", {{"render_ms", render}, {"display_ms", display}, {"present_ms", present}, {"frame_ms", frame}}}};
+            {"per_frame",
+             {{"render_ms", render}, {"display_ms", display}, {"present_ms", present}, {"frame_ms", frame},
+              {"gpu_display_ms", gpu_display}}}};
 }
 
 }  // namespace prism::viewer

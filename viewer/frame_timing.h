@@ -12,14 +12,20 @@ namespace prism::viewer {
 
 struct FrameTiming {
     double render_ms = 0.0;    // RenderEngine::render: the frame on the device, plus its read-back for a host copy
-    double display_ms = 0.0;   // display update (device copy or texture upload) + draw, until GL has done them
-    double present_ms = 0.0;   // the buffer swap (under Xvfb: a copy of the window into the X server)
+    double display_ms = 0.0;   // host time of the display update (device copy into GL's buffer, or texture upload
+                               // from host memory) + draw, as issued: GL runs them asynchronously
+    double present_ms = 0.0;   // the buffer swap (offscreen: glFlush)
     double frame_ms = 0.0;     // from the previous frame's present to this one's: what fps is made of
+    double gpu_display_ms = -1.0;   // GL's GPU time for the display commands (GL_TIME_ELAPSED); < 0: not known
 };
 
 class FrameTimings {
 public:
     void add(const FrameTiming& timing) { frames_.push_back(timing); }
+    // A GPU time read back after the frame was added (viewer/gl_timer.h).
+    void set_gpu_display(size_t frame, double ms) {
+        if (frame < frames_.size()) frames_[frame].gpu_display_ms = ms;
+    }
     size_t frames() const { return frames_.size(); }
     // The first min(5, frames/4) frames are left out of the medians.
     size_t warmup() const;
@@ -27,11 +33,13 @@ public:
     struct Summary {
         size_t frames = 0, measured = 0;
         double render_ms = 0.0, display_ms = 0.0, present_ms = 0.0, frame_ms = 0.0;   // medians
+        double gpu_display_ms = -1.0;   // median of the frames whose GPU time is known; < 0: none
+        double beyond_render_ms = 0.0;  // median of frame_ms - render_ms: what the viewer adds to each frame's time
         double fps = 0.0;                                             // 1000 / median frame_ms
     };
     Summary summary() const;
-    // "timing: 95 frames after 5 warm-up, median render 12.31 ms, display 0.42 ms, present 0.05 ms, frame 12.80 ms
-    // (78.1 fps)"
+    // "timing: 95 frames after 5 warm-up, median render 12.31 ms, display 0.42 ms (GL on the GPU 0.03 ms), present
+    // 0.05 ms, frame 12.80 ms (78.1 fps)"
     std::string summary_line() const;
     // The summary and the per-frame values (all frames, warm-up included).
     nlohmann::json json() const;

@@ -3,10 +3,14 @@
 #include <cstring>
 #include <type_traits>
 
-#define GLFW_INCLUDE_NONE
-#include <GLFW/glfw3.h>
-
 namespace prism::viewer {
+namespace {
+
+GlProcAddress proc_address = nullptr;
+
+}  // namespace
+
+void set_gl_proc_address(GlProcAddress lookup) { proc_address = lookup; }
 
 bool gl_has_extension(const char* name) {
     GLint count = 0;
@@ -21,7 +25,8 @@ bool gl_has_extension(const char* name) {
 GlExternalFunctions load_gl_external_functions() {
     GlExternalFunctions f;
     auto load = [](auto& pointer, const char* name) {
-        pointer = reinterpret_cast<std::remove_reference_t<decltype(pointer)>>(glfwGetProcAddress(name));
+        GlFunction function = proc_address ? proc_address(name) : nullptr;
+        pointer = reinterpret_cast<std::remove_reference_t<decltype(pointer)>>(function);
         return pointer != nullptr;
     };
     bool memory = gl_has_extension("GL_EXT_memory_object") && gl_has_extension("GL_EXT_memory_object_fd");

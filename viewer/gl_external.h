@@ -1,5 +1,6 @@
 // GL_EXT_memory_object(_fd) and GL_EXT_semaphore(_fd), the GL half of the Vulkan-GL path. They are not in
-// glcorearb.h and not every libGL exports them, so they are looked up through GLFW once a context is current.
+// glcorearb.h and not every libGL exports them, so they are looked up once a context is current, through the
+// window system that made it (glfwGetProcAddress, eglGetProcAddress).
 #pragma once
 
 #include "viewer/gl.h"
@@ -35,6 +36,11 @@ struct GlExternalFunctions {
     bool memory_object_fd = false;   // the context lists both extensions and every function above resolved
     bool semaphore_fd = false;
 };
+
+// How GL functions are looked up for the current context: set by the window that made it current.
+using GlFunction = void (*)();
+using GlProcAddress = GlFunction (*)(const char* name);
+void set_gl_proc_address(GlProcAddress lookup);
 
 // The current context's functions (looked up on every call: a backend switch keeps the context, so this is cheap
 // to keep simple).

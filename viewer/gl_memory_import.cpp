@@ -44,8 +44,8 @@ ImportedBuffer::ImportedBuffer(const ExportedBuffer& exported, size_t bytes) : g
         check_gl("glImportMemoryFdEXT");
         memory_fd = -1;   // GL owns it now
         glGenBuffers(1, &buffer_);
-        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, buffer_);   // binding once creates the object the named call needs
-        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+        glBindBuffer(GL_TEXTURE_BUFFER, buffer_);   // binding once creates the object the named call needs
+        glBindBuffer(GL_TEXTURE_BUFFER, 0);
         gl_.named_buffer_storage_mem(buffer_, GLsizeiptr(bytes), memory_, 0);
         check_gl("glNamedBufferStorageMemEXT");
         if (ready_fd >= 0 && released_fd >= 0) {
@@ -79,7 +79,7 @@ void ImportedBuffer::release() {
 }
 
 void ImportedBuffer::wait_ready() {
-    // A buffer barrier only: the buffer is read as a pixel-unpack source next, no texture layout to convert.
+    // A buffer barrier only: the draw reads the buffer through a buffer texture, no image layout to convert.
     gl_.wait_semaphore(ready_, 1, &buffer_, 0, nullptr, nullptr);
 }
 

@@ -21,10 +21,10 @@ public:
             while (glGetError() != GL_NO_ERROR) {
             }
             glGenBuffers(1, &own_buffer_);
-            glBindBuffer(GL_PIXEL_UNPACK_BUFFER, own_buffer_);
-            // Written by the device, read by GL as the source of a texture upload.
-            glBufferData(GL_PIXEL_UNPACK_BUFFER, GLsizeiptr(bytes), nullptr, GL_DYNAMIC_COPY);
-            glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+            glBindBuffer(GL_TEXTURE_BUFFER, own_buffer_);
+            // Written by the device, read by GL's draw through a buffer texture.
+            glBufferData(GL_TEXTURE_BUFFER, GLsizeiptr(bytes), nullptr, GL_DYNAMIC_COPY);
+            glBindBuffer(GL_TEXTURE_BUFFER, 0);
             if (glGetError() != GL_NO_ERROR) {
                 glDeleteBuffers(1, &own_buffer_);
                 throw Error("view: cannot create a GL buffer of " + std::to_string(bytes) + " bytes");
@@ -39,6 +39,7 @@ public:
                 throw;
             }
         }
+        quad_.show_buffer(width_, height_, buffer_);
     }
 
     ~InteropDisplay() override {
@@ -56,21 +57,23 @@ public:
             wait_for_gl();
         }
         interop_.copy_image(bytes());
-        bool semaphores = imported_ && imported_->has_semaphores();
-        if (semaphores) imported_->wait_ready();
-        quad_.upload_from_buffer(width_, height_, buffer_);
-        if (semaphores) {
+        if (semaphores()) imported_->wait_ready();
+    }
+
+    // GL reads the shared buffer in the draw itself (no upload into a texture first): the device may write it
+    // again only after that.
+    void draw(int viewport_width, int viewport_height) override {
+        quad_.draw(viewport_width, viewport_height);
+        if (semaphores()) {
             imported_->signal_released();
         } else if (interop_.needs_gl_idle_before_copy()) {
-            // The upload reads the buffer later, on GL's timeline: the next copy must not overwrite it before.
             fence_ = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
         }
     }
 
-    void draw(int viewport_width, int viewport_height) override { quad_.draw(viewport_width, viewport_height); }
-
 private:
     size_t bytes() const { return size_t(width_) * height_ * 4; }
+    bool semaphores() const { return imported_ && imported_->has_semaphores(); }
 
     void wait_for_gl() {
         // The first wait flushes, so the fence cannot wait on commands still sitting in GL's queue.

@@ -1,6 +1,6 @@
-// The interop display paths: a GL pixel-unpack buffer shared with the backend (CUDA-GL and OpenCL-GL: a GL
-// buffer the device registers; Vulkan-GL: device memory GL imports), the frame copied into it on the device by
-// GlInterop::copy_image, then glTexSubImage2D from it. Synchronisation follows what the API offers
+// The interop display paths: a GL buffer shared with the backend (CUDA-GL and OpenCL-GL: a GL buffer the device
+// registers; Vulkan-GL: device memory GL imports), the frame copied into it on the device by
+// GlInterop::copy_image, then drawn straight from it (a buffer texture: GL copies nothing). Synchronisation follows what the API offers
 // (core/gl_interop.h): nothing to add for CUDA (map/unmap), a GL fence waited on before the next copy for OpenCL
 // and for Vulkan without semaphores, the shared semaphores otherwise.
 #pragma once

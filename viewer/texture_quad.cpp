@@ -26,6 +26,18 @@ out vec4 color;
 void main() { color = vec4(texture(frame, uv).rgb, 1.0); }
 )";
 
+// The same pixels read straight from the shared buffer (a buffer texture over it): texel y * width + x.
+const char* buffer_fragment_source = R"(#version 330 core
+in vec2 uv;
+uniform samplerBuffer frame;
+uniform ivec2 size;
+out vec4 color;
+void main() {
+    ivec2 p = clamp(ivec2(uv * vec2(size)), ivec2(0), size - 1);
+    color = vec4(texelFetch(frame, p.y * size.x + p.x).rgb, 1.0);
+}
+)";
+
 GLuint compile(GLenum type, const char* source) {
     GLuint shader = glCreateShader(type);
     glShaderSource(shader, 1, &source, nullptr);
@@ -43,22 +55,33 @@ GLuint compile(GLenum type, const char* source) {
     return shader;
 }
 
-}  // namespace
-
-TextureQuad::TextureQuad() {
+GLuint link(const char* fragment_source) {
     GLuint vertex = compile(GL_VERTEX_SHADER, vertex_source);
     GLuint fragment = compile(GL_FRAGMENT_SHADER, fragment_source);
-    program_ = glCreateProgram();
-    glAttachShader(program_, vertex);
-    glAttachShader(program_, fragment);
-    glLinkProgram(program_);
+    GLuint program = glCreateProgram();
+    glAttachShader(program, vertex);
+    glAttachShader(program, fragment);
+    glLinkProgram(program);
     glDeleteShader(vertex);
     glDeleteShader(fragment);
     GLint ok = GL_FALSE;
-    glGetProgramiv(program_, GL_LINK_STATUS, &ok);
+    glGetProgramiv(program, GL_LINK_STATUS, &ok);
     if (!ok) {
-        glDeleteProgram(program_);
+        glDeleteProgram(program);
         throw Error("view: display shader failed to link");
+    }
+    return program;
+}
+
+}  // namespace
+
+TextureQuad::TextureQuad() {
+    program_ = link(fragment_source);
+    try {
+        buffer_program_ = link(buffer_fragment_source);
+    } catch (...) {
+        glDeleteProgram(program_);
+        throw;
     }
     glGenVertexArrays(1, &vertex_array_);   // core profile: drawing needs a bound VAO, even an empty one
     glGenTextures(1, &texture_);
@@ -71,6 +94,8 @@ TextureQuad::TextureQuad() {
 }
 
 TextureQuad::~TextureQuad() {
+    if (buffer_texture_) glDeleteTextures(1, &buffer_texture_);
+    glDeleteProgram(buffer_program_);
     glDeleteTextures(1, &texture_);
     glDeleteVertexArrays(1, &vertex_array_);
     glDeleteProgram(program_);
@@ -92,25 +117,34 @@ void TextureQuad::upload_from_host(uint32_t width, uint32_t height, const void* 
     glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, GLsizei(width_), GLsizei(height_), GL_RGBA, GL_UNSIGNED_BYTE, pixels);
 }
 
-void TextureQuad::upload_from_buffer(uint32_t width, uint32_t height, GLuint buffer) {
-    resize(width, height);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, buffer);
-    // With a pixel-unpack buffer bound, the pointer is an offset into it: the copy stays on the device.
-    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, GLsizei(width_), GLsizei(height_), GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
-    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+void TextureQuad::show_buffer(uint32_t width, uint32_t height, GLuint buffer) {
+    if (!buffer_texture_) glGenTextures(1, &buffer_texture_);
+    glBindTexture(GL_TEXTURE_BUFFER, buffer_texture_);
+    glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA8, buffer);
+    glBindTexture(GL_TEXTURE_BUFFER, 0);
+    width_ = width;
+    height_ = height;
+    from_buffer_ = true;
 }
 
 void TextureQuad::draw(int viewport_width, int viewport_height) {
     glViewport(0, 0, viewport_width, viewport_height);
     glDisable(GL_FRAMEBUFFER_SRGB);   // the frame is already sRGB-encoded: pass the bytes through
-    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
-    glClear(GL_COLOR_BUFFER_BIT);
-    if (width_ == 0) return;
-    glUseProgram(program_);
+    if (width_ == 0) {
+        glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+        glClear(GL_COLOR_BUFFER_BIT);   // nothing to show yet (the triangle covers everything otherwise)
+        return;
+    }
+    GLuint program = from_buffer_ ? buffer_program_ : program_;
+    glUseProgram(program);
     glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, texture_);
-    glUniform1i(glGetUniformLocation(program_, "frame"), 0);
+    if (from_buffer_) {
+        glBindTexture(GL_TEXTURE_BUFFER, buffer_texture_);
+        glUniform2i(glGetUniformLocation(program, "size"), GLint(width_), GLint(height_));
+    } else {
+        glBindTexture(GL_TEXTURE_2D, texture_);
+    }
+    glUniform1i(glGetUniformLocation(program, "frame"), 0);
     glBindVertexArray(vertex_array_);
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }

@@ -1,6 +1,6 @@
-// The frame on screen: one RGBA8 texture drawn 1:1 as a full-viewport triangle, filled either from host memory
-// (the host-copy path) or from a pixel-unpack buffer on the device (the interop paths). Needs a current GL 3.3+
-// core context.
+// The frame on screen, drawn 1:1 as a full-viewport triangle: from an RGBA8 texture filled from host memory (the
+// host-copy path), or read in the fragment shader straight from the GL buffer the device copied it into (the
+// interop paths: a buffer texture over it, so GL makes no copy of its own). Needs a current GL 3.3+ core context.
 #pragma once
 
 #include <cstdint>
@@ -18,15 +18,18 @@ public:
 
     // RGBA8 pixels, row 0 at the top, packed words with r in the low byte.
     void upload_from_host(uint32_t width, uint32_t height, const void* pixels);
-    // The same layout, from offset 0 of a GL buffer (bound as GL_PIXEL_UNPACK_BUFFER for the upload).
-    void upload_from_buffer(uint32_t width, uint32_t height, GLuint buffer);
-    // Clears the viewport and draws the texture over it (nothing before the first upload).
+    // From now on, draw reads the frame from offset 0 of the GL buffer `buffer` itself (same layout), whatever it
+    // holds at draw time.
+    void show_buffer(uint32_t width, uint32_t height, GLuint buffer);
+    // Draws the frame over the viewport (clears it before the first upload).
     void draw(int viewport_width, int viewport_height);
 
 private:
     void resize(uint32_t width, uint32_t height);
 
     GLuint program_ = 0, vertex_array_ = 0, texture_ = 0;
+    GLuint buffer_program_ = 0, buffer_texture_ = 0;
+    bool from_buffer_ = false;
     uint32_t width_ = 0, height_ = 0;
 };
 

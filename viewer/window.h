@@ -1,8 +1,11 @@
-// The GLFW window and its OpenGL core context (4.5, else 3.3), the input gathered each frame, and the read-back
-// of the default framebuffer (what the user sees: `--screenshot` proves the display path with it).
+// Where `prism view` shows its frames: a GLFW window with its OpenGL core context (viewer/glfw_window.*), or an
+// offscreen framebuffer in an EGL context (viewer/offscreen_window.*: `--headless`, for GPU servers without an X
+// server, where NVIDIA's GL runs only through EGL). Both give the frame display the same GL 4.5 (else 3.3) core
+// context and a framebuffer of the frame's size, and read back what was drawn (`--screenshot`).
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -10,8 +13,6 @@
 
 #include "core/gl_interop.h"
 #include "viewer/key_script.h"
-
-struct GLFWwindow;
 
 namespace prism::viewer {
 
@@ -25,41 +26,38 @@ struct Input {
 
 class Window {
 public:
-    // Throws prism::Error "view: cannot open a window (...)" when there is no display or no GL 3.3 context.
-    Window(const std::string& title, int width, int height, bool vsync);
-    ~Window();
-    Window(const Window&) = delete;
-    Window& operator=(const Window&) = delete;
+    virtual ~Window() = default;
 
-    bool should_close() const;
-    Input poll();
-    void set_title(const std::string& title);
-    void swap();
-    // Waits until GL has executed everything issued (glFinish): lets --stats charge GL's work to the step that
-    // issued it.
-    void finish_gl();
+    virtual bool should_close() const = 0;
+    virtual Input poll() = 0;
+    virtual void set_title(const std::string& title) = 0;
+    // Shows the frame drawn (a buffer swap; offscreen, a glFlush that submits the frame's GL commands).
+    virtual void swap() = 0;
 
-    int framebuffer_width() const;
-    int framebuffer_height() const;
-    // "OpenGL 4.5 (Core Profile) Mesa 22.3.6 on llvmpipe (LLVM 15.0.6, 256 bits)"
+    virtual int framebuffer_width() const = 0;
+    virtual int framebuffer_height() const = 0;
+    // "OpenGL 4.5 (Core Profile) Mesa 22.3.6 on llvmpipe (LLVM 15.0.6, 256 bits)", offscreen with " via EGL ..."
     const std::string& context_description() const { return context_description_; }
-    // The back buffer just drawn, as packed RGBA8 (r in the low byte), row 0 at the top, alpha forced opaque.
+    // The frame just drawn, as packed RGBA8 (r in the low byte), row 0 at the top, alpha forced opaque.
     std::vector<uint32_t> read_pixels() const;
-    // What a backend needs to share buffers with this window's GL context: GLX handles, GL_RENDERER, the
+    // What a backend needs to share buffers with this GL context: the GLX or EGL handles, GL_RENDERER, the
     // external-memory extensions and GL's device/driver UUIDs (core/gl_interop.h).
     GlContextHandles gl_context_handles() const;
 
-private:
-    static void on_key(GLFWwindow* window, int key, int scancode, int action, int mods);
-    static void on_cursor(GLFWwindow* window, double x, double y);
-    static void on_mouse_button(GLFWwindow* window, int button, int action, int mods);
-    static void on_scroll(GLFWwindow* window, double x, double y);
+protected:
+    // Called by the implementations once their context is current; `via` names how it was made, if not a window.
+    void describe_context(const std::string& via = "");
 
-    GLFWwindow* window_ = nullptr;
+private:
+    // The framebuffer the frame is drawn into and read back from (0: the window's own).
+    virtual uint32_t draw_framebuffer() const = 0;
+    virtual void native_handles(GlContextHandles& gl) const = 0;
+
     std::string context_description_;
-    Input pending_;
-    bool dragging_ = false;
-    glm::dvec2 last_cursor_{0.0};
 };
+
+// Throws prism::Error "view: cannot open a window (...)" (with headless: "view: cannot create an offscreen GL
+// context (...)") when there is no display, no EGL device or no GL 3.3 core context.
+std::unique_ptr<Window> open_window(const std::string& title, int width, int height, bool vsync, bool headless);
 
 }  // namespace prism::viewer

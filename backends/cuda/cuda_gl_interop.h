@@ -1,4 +1,4 @@
-// The CUDA-GL display path: the viewer's pixel-unpack buffer registered with CUDA (cudaGraphicsGLRegisterBuffer),
+// The CUDA-GL display path: the GL buffer the viewer draws from, registered with CUDA (cudaGraphicsGLRegisterBuffer),
 // mapped around a device-to-device copy of the frame on the backend's stream. Like cuda_device.h, no CUDA types
 // here: the CUDA headers and kernels/ must not meet in one translation unit.
 #pragma once

@@ -79,15 +79,19 @@ ContextSharing context_properties(cl_platform_id platform, cl_device_id device, 
         sharing.reason = platform_name + " has no cl_khr_gl_sharing";
         return sharing;
     }
-    if (!gl.glx_context || !gl.x11_display) {
-        sharing.reason = "the window's GL context is not a GLX context (cl_khr_gl_sharing needs one here)";
+    // The GL context is GLX (a window) or EGL (prism view --headless): cl_khr_gl_sharing names both.
+    std::vector<cl_context_properties> properties;
+    if (gl.glx_context && gl.x11_display) {
+        properties = {CL_GL_CONTEXT_KHR, cl_context_properties(gl.glx_context), CL_GLX_DISPLAY_KHR,
+                      cl_context_properties(gl.x11_display)};
+    } else if (gl.egl_context && gl.egl_display) {
+        properties = {CL_GL_CONTEXT_KHR, cl_context_properties(gl.egl_context), CL_EGL_DISPLAY_KHR,
+                      cl_context_properties(gl.egl_display)};
+    } else {
+        sharing.reason = "the GL context is neither a GLX nor an EGL context (cl_khr_gl_sharing needs one)";
         return sharing;
     }
-    std::vector<cl_context_properties> properties = {
-        CL_GL_CONTEXT_KHR,   cl_context_properties(gl.glx_context),
-        CL_GLX_DISPLAY_KHR,  cl_context_properties(gl.x11_display),
-        CL_CONTEXT_PLATFORM, cl_context_properties(platform),
-        0};
+    properties.insert(properties.end(), {CL_CONTEXT_PLATFORM, cl_context_properties(platform), 0});
     // Which devices can share with this GL context: with several GPUs, GL may run on another one.
     auto devices_for_gl = reinterpret_cast<clGetGLContextInfoKHR_fn>(
         clGetExtensionFunctionAddressForPlatform(platform, "clGetGLContextInfoKHR"));

@@ -1,5 +1,5 @@
-// The OpenCL-GL display path (cl_khr_gl_sharing): an OpenCL context created together with the viewer's GLX
-// context, the viewer's pixel-unpack buffer wrapped with clCreateFromGLBuffer, and per frame acquire, a
+// The OpenCL-GL display path (cl_khr_gl_sharing): an OpenCL context created together with the viewer's GLX or EGL
+// context, the GL buffer the viewer draws from wrapped with clCreateFromGLBuffer, and per frame acquire, a
 // device-to-device clEnqueueCopyBuffer of the image array, release, clFinish.
 #pragma once
 
@@ -15,7 +15,7 @@
 namespace prism::opencl_gl {
 
 // The context properties that tie a new context on `device` to the viewer's GL context, ending with 0. Empty, with
-// `reason` saying why, when the device cannot share with it: no cl_khr_gl_sharing (PoCL), not a GLX context, or
+// `reason` saying why, when the device cannot share with it: no cl_khr_gl_sharing (PoCL), neither GLX nor EGL, or
 // GL running on another device.
 struct ContextSharing {
     std::vector<cl_context_properties> properties;

@@ -1,5 +1,5 @@
 // The Vulkan-GL display path: a buffer in exportable device memory (VK_KHR_external_memory_fd, dedicated
-// allocation, opaque fd) that GL imports as its pixel-unpack buffer (GL_EXT_memory_object_fd), the frame copied
+// allocation, opaque fd) that GL imports as the buffer it draws the frame from (GL_EXT_memory_object_fd), the frame copied
 // into it on the device, and two exported semaphores (VK_KHR_external_semaphore_fd + GL_EXT_semaphore_fd) ordering
 // the copy and GL's read where both sides offer them; otherwise the frame's fence wait, plus a GL fence before the
 // next copy, is the sync.

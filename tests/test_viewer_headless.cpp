@@ -1,0 +1,84 @@
+// `prism view --headless` (viewer/offscreen_window.h): an offscreen framebuffer in an EGL context, with no X server
+// at all (DISPLAY unset) — how the viewer runs on GPU servers. Here EGL is Mesa's (llvmpipe): the read-back must
+// equal `prism render`, through the host copy (cpu) and through the Vulkan-GL path (lavapipe), like the window.
+#ifdef PRISM_HAVE_VIEWER
+
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tests/test_support.h"
+#include "tests/viewer_test_support.h"
+
+namespace {
+
+using prism::test::kScene;
+using prism::test::psnr_against_render;
+using prism::test::read_json;
+
+prism::test::CommandResult headless(const std::string& arguments) {
+    return prism::test::run_prism("view " + kScene + " --headless " + arguments, "env -u DISPLAY -u WAYLAND_DISPLAY");
+}
+
+TEST(ViewerHeadless, RendersOffscreenWithoutADisplay) {
+    auto dir = prism::test::temp_dir("viewer-headless-cpu");
+    std::filesystem::path shot = dir / "cpu.png", stats = dir / "stats.json";
+    prism::test::CommandResult result =
+        headless("--backend cpu --frames 3 --screenshot '" + shot.string() + "' --stats '" + stats.string() + "'");
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_NE(result.output.find("  offscreen 320x180, OpenGL "), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find(" via EGL device "), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("interop: host copy (the frame is already in host memory)"), std::string::npos)
+        << result.output;
+    nlohmann::json json = read_json(stats);
+    EXPECT_EQ(json["headless"], true);
+    EXPECT_EQ(json["frames"], 3);
+    EXPECT_EQ(json["display"]["path"], "host-copy");
+    EXPECT_NE(json["gl"].get<std::string>().find(" via EGL "), std::string::npos) << json["gl"];
+    // What the offscreen framebuffer holds is the frame `prism render` writes.
+    EXPECT_GE(psnr_against_render(shot, "cpu"), 45.0);
+}
+
+TEST(ViewerHeadless, LavapipeSharesItsFrameWithEglGl) {
+    REQUIRE_BACKEND("vulkan", "llvmpipe");
+    auto dir = prism::test::temp_dir("viewer-headless-vulkan");
+    std::filesystem::path shot = dir / "vulkan-gl.png", stats = dir / "stats.json";
+    prism::test::CommandResult result = headless("--backend vulkan:llvmpipe --frames 3 --display interop --screenshot '" +
+                                                 shot.string() + "' --stats '" + stats.string() + "'");
+    for (const char* missing : {"has no GL_EXT_memory_object_fd", "has no VK_KHR_external_memory_fd",
+                                "runs on another device or driver"})
+        if (result.exit_code == 1 && result.output.find(missing) != std::string::npos)
+            GTEST_SKIP() << "this Mesa cannot share lavapipe memory with llvmpipe: " << result.output;
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    nlohmann::json json = read_json(stats);
+    EXPECT_EQ(json["display"]["path"], "interop");
+    EXPECT_EQ(json["display"]["name"], "Vulkan-GL");
+    EXPECT_GE(psnr_against_render(shot, "vulkan:llvmpipe"), 45.0);
+}
+
+TEST(ViewerHeadless, ScriptedKeysStillApply) {
+    // No window means no keyboard: --keys is the only input, and it must work (the moving object here).
+    auto dir = prism::test::temp_dir("viewer-headless-keys");
+    std::filesystem::path still = dir / "still.png", moved = dir / "moved.png";
+    ASSERT_EQ(headless("--backend cpu --frames 3 --screenshot '" + still.string() + "'").exit_code, 0);
+    prism::test::CommandResult result =
+        headless("--backend cpu --frames 3 --keys 0:M --screenshot '" + moved.string() + "'");
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    int w1 = 0, h1 = 0, w2 = 0, h2 = 0;
+    auto a = prism::test::read_png(still, &w1, &h1);
+    auto b = prism::test::read_png(moved, &w2, &h2);
+    ASSERT_EQ(a.size(), b.size());
+    EXPECT_LT(prism::test::psnr_rgba8(a, b), 40.0);   // the object moved
+}
+
+TEST(ViewerHeadless, NeedsAnEnd) {
+    prism::test::CommandResult result = headless("--backend cpu");
+    EXPECT_EQ(result.exit_code, 1) << result.output;
+    EXPECT_EQ(result.output, "prism: error: view: --headless needs --frames or --seconds (there is no window to close)\n");
+}
+
+}  // namespace
+
+#endif  // PRISM_HAVE_VIEWER

@@ -1,0 +1,42 @@
+// The GLFW window (X11 or Wayland) and its OpenGL core context, with mouse and keyboard input.
+#pragma once
+
+#include <string>
+
+#include "viewer/window.h"
+
+struct GLFWwindow;
+
+namespace prism::viewer {
+
+class GlfwWindow final : public Window {
+public:
+    // Throws prism::Error "view: cannot open a window (...)" when there is no display or no GL 3.3 context.
+    GlfwWindow(const std::string& title, int width, int height, bool vsync);
+    ~GlfwWindow() override;
+    GlfwWindow(const GlfwWindow&) = delete;
+    GlfwWindow& operator=(const GlfwWindow&) = delete;
+
+    bool should_close() const override;
+    Input poll() override;
+    void set_title(const std::string& title) override;
+    void swap() override;
+    int framebuffer_width() const override;
+    int framebuffer_height() const override;
+
+private:
+    uint32_t draw_framebuffer() const override { return 0; }
+    void native_handles(GlContextHandles& gl) const override;
+
+    static void on_key(GLFWwindow* window, int key, int scancode, int action, int mods);
+    static void on_cursor(GLFWwindow* window, double x, double y);
+    static void on_mouse_button(GLFWwindow* window, int button, int action, int mods);
+    static void on_scroll(GLFWwindow* window, double x, double y);
+
+    GLFWwindow* window_ = nullptr;
+    Input pending_;
+    bool dragging_ = false;
+    glm::dvec2 last_cursor_{0.0};
+};
+
+}  // namespace prism::viewer
