@@ -3,6 +3,7 @@
 // the command still exists and says why it cannot run.
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <optional>
 
@@ -109,6 +110,7 @@ public:
         // exactly as `prism render` creates it.
         if (mode_ == viewer::DisplayMode::Auto || mode_ == viewer::DisplayMode::Interop)
             gl_ = window_->gl_context_handles();
+        device_ = &loaded_.device;
         engine_ = make_engine(options.backend);
         display_ = make_display(*engine_);
         BackendInfo info = engine_->info();
@@ -144,7 +146,7 @@ public:
             controls_.orbit(0.005f * input.drag.x, 0.005f * input.drag.y);
             controls_.zoom(input.scroll);
             if (input.fly != glm::vec3(0.0f)) controls_.fly(input.fly * std::min(seconds, 0.1f) * 0.5f);
-            if (moving_on_) engine_->update_instances(loaded_.device, moving_.advance(), false);
+            if (moving_on_) engine_->update_instances(*device_, moving_.advance(), false);
 
             using Clock = std::chrono::steady_clock;
             auto ms = [](Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); };
@@ -200,8 +202,22 @@ private:
         std::fflush(stdout);
     }
 
+    // The device scene in the BVH layout --bvh-layout gives `spec` (auto: wide on cpu, stack on GPUs): a backend
+    // switch that needs another layout builds it once from the loaded scene.
+    DeviceScene& device_for(const std::string& spec) {
+        BvhLayout layout = resolve_bvh_layout(options_.scene.layout, spec);
+        if (layout == loaded_.device.bvh_options.layout) return loaded_.device;
+        auto found = other_layouts_.find(layout);
+        if (found == other_layouts_.end()) {
+            std::printf("  building the %s BVH for %s\n", bvh_layout_name(layout).c_str(), spec.c_str());
+            std::fflush(stdout);
+            found = other_layouts_.emplace(layout, build_device_scene_for(loaded_.scene, options_.scene, layout)).first;
+        }
+        return found->second;
+    }
+
     std::unique_ptr<RenderEngine> make_engine(const std::string& spec) {
-        return std::make_unique<RenderEngine>(spec, loaded_.device, gl_ ? &*gl_ : nullptr);
+        return std::make_unique<RenderEngine>(spec, device_for(spec), gl_ ? &*gl_ : nullptr);
     }
 
     // The display path for `engine` and the read-back it needs. Throws prism::Error with --display interop when
@@ -274,11 +290,13 @@ private:
         if (current == api) return;
         RenderSettings previous = settings_;
         try {
+            DeviceScene& next_device = device_for(spec);
             auto next = make_engine(spec);
             auto next_display = make_display(*next);
             // The old display goes first: it may hold the old backend's shared buffer.
             display_ = std::move(next_display);
             engine_ = std::move(next);
+            device_ = &next_device;
         } catch (const Error& e) {
             settings_ = previous;   // make_display set the read-back for a display that is not used
             std::printf("  backend %s unavailable (%s); keeping %s\n", api.c_str(), e.what(), current.c_str());
@@ -334,6 +352,9 @@ private:
                                                // the FrameDisplay
     std::optional<GlContextHandles> gl_;   // given to backends in the interop modes
     LoadedScene loaded_;
+    std::map<BvhLayout, DeviceScene> other_layouts_;   // built on a backend switch that needs another layout;
+                                                       // before engine_, which traces one of them
+    DeviceScene* device_ = nullptr;                     // the scene the current engine traces
     viewer::CameraControls controls_;
     MovingObject moving_;
     bool moving_on_ = false;

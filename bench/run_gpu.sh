@@ -5,8 +5,7 @@
 #   PRISM_DATA:  scenes folder laid out like ../shared/scenes (default .device-data/scenes)
 #   PRISM_TAG:   suffix of the result files (default: the GPU's name)
 #   PRISM_SKIP_TESTS / PRISM_SKIP_SEED_TABLE / PRISM_SKIP_BANDWIDTH=1 skip a part; PRISM_CPU_BENCH=0 skips the
-#   host-CPU table; PRISM_VULKAN_AB=1 adds Vulkan's fixed-grid and device-address variants; PRISM_WIDE_BVH=1 the
-#   1080p table on the 8-wide BVH layout (the cpu backends' default) instead of the GPU default (stack).
+#   host-CPU table; PRISM_VULKAN_AB=1 adds Vulkan's fixed-grid and device-address variants.
 #   PRISM_VIEW_BENCH=1: also bench/view_gpu.sh (the viewer's display paths, offscreen through NVIDIA's EGL)
 set -uo pipefail
 build=${PRISM_BUILD:-build-gpu}
@@ -63,11 +62,6 @@ if [ "${PRISM_VULKAN_AB:-0}" = 1 ]; then
   step "Vulkan at 1920x1080 through buffer device addresses (PRISM_VULKAN_ADDRESSING=addresses)"
   PRISM_VULKAN_ADDRESSING=addresses $prism bench --data-dir "$data" --backends vulkan:nvidia --width 1920 \
     --height 1080 --depth 8 --runs 10 --warmup 2 --json "$out/vulkan-$tag-addresses-1080p.json"
-fi
-if [ "${PRISM_WIDE_BVH:-0}" = 1 ]; then
-  step "seed table at 1920x1080 on the 8-wide BVH layout (--bvh-layout wide)"
-  $prism bench --data-dir "$data" --backends "$backends" --bvh-layout wide --width 1920 --height 1080 --depth 8 \
-    --runs 10 --warmup 2 --json "$out/seed-table-$tag-1080p-wide-bvh.json"
 fi
 if [ "${PRISM_CPU_BENCH:-1}" = 1 ]; then
   step "the same on the host CPU (cpu backend)"

@@ -45,6 +45,10 @@ std::string bvh_layout_name(BvhLayout layout) {
 RenderEngine::RenderEngine(const std::string& backend_name, const DeviceScene& scene, const GlContextHandles* gl)
     : name_(resolve_backend_name(backend_name)), scene_(scene) {
     BackendSpec spec = parse_backend_spec(name_);
+    // The GPU kernels are built without the wide traversal (kernels/traverse.h says why).
+    if (scene.bvh_options.layout == BvhLayout::Wide && spec.api != "cpu" && spec.api != "cpu-ref")
+        throw Error(name_ + ": the wide BVH layout is traced by the cpu backends only; use --bvh-layout stack, "
+                            "escape or auto");
     if (spec.api == "cpu-ref") {
         unsigned threads = 0;
         if (!spec.device_filter.empty()) threads = static_cast<unsigned>(std::stoul(spec.device_filter));

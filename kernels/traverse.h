@@ -4,8 +4,16 @@
 // visits the nearer child first, the seed's stackless escape-index walk (thesis 6.4.1), and 8-wide nodes whose
 // children are tested together, with leaves of four-triangle blocks (the cpu backends' default: the lanes become
 // AVX or SSE registers).
+//
+// The wide traversal is compiled for the cpu backends only (RT_WIDE_TRAVERSAL). A GPU kernel gets one register
+// count, the largest any of its paths needs, whichever layout a frame uses: with the wide path inside, CUDA's
+// intersect kernel went from 66 to 112 registers (shadow 60 to 101) and the dragon at 1080p from 83 to 112 ms on
+// the H100, and tracing the wide layout there was slower than the stack layout as well (docs/kernels.md).
 #ifndef RT_TRAVERSE_H
 #define RT_TRAVERSE_H
+#if defined(RT_CPU)
+#define RT_WIDE_TRAVERSAL 1
+#endif
 
 #include "globals.h"
 #include "intersect.h"
@@ -58,6 +66,7 @@ RT_FUNC Hit rt_intersect_leaf(KernelGlobals kg, Hit best, TraversalRay ray, uint
     return best;
 }
 
+#if defined(RT_WIDE_TRAVERSAL)
 // The wide layout's leaves: rt_intersect_leaf a block of four triangles at a time, with the same per-triangle
 // results and, among equal distances, the same winner (the first triangle).
 RT_FUNC Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, uint instance, uint first, uint count) {
@@ -78,6 +87,8 @@ RT_FUNC Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, ui
     }
     return best;
 }
+
+#endif  // RT_WIDE_TRAVERSAL
 
 // Stack layout: interior nodes hold their first child (the second is next to it); both child boxes are tested
 // and the nearer is visited first, the farther pushed with its entry distance so it can be skipped later.
@@ -205,6 +216,7 @@ RT_FUNC Hit rt_trace_escape(KernelGlobals kg, float3 origin, float3 direction, f
     return best;
 }
 
+#if defined(RT_WIDE_TRAVERSAL)
 // An instance whose transform is the identity keeps the world ray (and its inverse direction) as it is.
 RT_FUNC TraversalRay rt_wide_ray_to_object(Instance inst, TraversalRay world) {
     return (inst.info.w & RT_INSTANCE_IDENTITY) != 0u ? world : rt_ray_to_object(inst, world);
@@ -364,13 +376,18 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
     return best;
 }
 
+#endif  // RT_WIDE_TRAVERSAL
+
 RT_FUNC Hit rt_trace(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit) {
     // The frame is loaded whole: Mesa 22.3's lavapipe, in the Vulkan backend's buffer-address mode, read
     // RT_FETCH(kg, frame, 0u).scene.y as scene.x (the instance count) after the stage had loaded the frame.
     FrameParams frame = RT_FETCH(kg, frame, 0u);
     uint bvh_layout = frame.scene.y;
+#if defined(RT_WIDE_TRAVERSAL)
     if (bvh_layout == RT_BVH_LAYOUT_WIDE)
         return rt_trace_wide(kg, origin, direction, tmin, tmax, any_hit, (frame.scene.z & RT_FLAG_ONE_INSTANCE) != 0u);
+#endif
+    // (A GPU backend never receives a wide scene: RenderEngine refuses it.)
     if (bvh_layout == RT_BVH_LAYOUT_ESCAPE) return rt_trace_escape(kg, origin, direction, tmin, tmax, any_hit);
     return rt_trace_stack(kg, origin, direction, tmin, tmax, any_hit);
 }

@@ -77,11 +77,6 @@ TEST(EmbreeOracle, OpenclAgreesOnBunny) {
     if (!prism::test::device_present("opencl", device.substr(7), &reason)) GTEST_SKIP() << reason;
     check_against_embree("stanford/bunny.ply", device, 1000000);
 }
-TEST(EmbreeOracle, OpenclWideLayoutAgreesOnBunny) {
-    std::string device = prism::test::test_device("opencl"), reason;
-    if (!prism::test::device_present("opencl", device.substr(7), &reason)) GTEST_SKIP() << reason;
-    check_against_embree("stanford/bunny.ply", device, 1000000, "wide");
-}
 #endif
 #ifdef PRISM_HAVE_VULKAN
 TEST(EmbreeOracle, VulkanAgreesOnBunny) {
@@ -89,22 +84,12 @@ TEST(EmbreeOracle, VulkanAgreesOnBunny) {
     if (!prism::test::device_present("vulkan", device.substr(7), &reason)) GTEST_SKIP() << reason;
     check_against_embree("stanford/bunny.ply", device, 1000000);
 }
-TEST(EmbreeOracle, VulkanWideLayoutAgreesOnBunny) {
-    std::string device = prism::test::test_device("vulkan"), reason;
-    if (!prism::test::device_present("vulkan", device.substr(7), &reason)) GTEST_SKIP() << reason;
-    check_against_embree("stanford/bunny.ply", device, 1000000, "wide");
-}
 #endif
 #ifdef PRISM_HAVE_CUDA
 TEST(EmbreeOracle, CudaAgreesOnDragon) {
     std::string reason;
     if (!prism::test::backend_available("cuda", &reason)) GTEST_SKIP() << "no CUDA device: " << reason;
     check_against_embree("stanford/dragon.ply.gz", "cuda", 1000000);
-}
-TEST(EmbreeOracle, CudaWideLayoutAgreesOnDragon) {
-    std::string reason;
-    if (!prism::test::backend_available("cuda", &reason)) GTEST_SKIP() << "no CUDA device: " << reason;
-    check_against_embree("stanford/dragon.ply.gz", "cuda", 1000000, "wide");
 }
 #endif
 

@@ -265,27 +265,6 @@ static void expect_ray_queries_match_reference(const prism::DeviceScene& device)
 
 TEST_F(Vulkan, RayQueriesMatchReferenceHits) { expect_ray_queries_match_reference(load("builtin:bunny")); }
 
-// The wide layout (the cpu backends' default) traced by the GLSL build of the same traversal.
-TEST_F(Vulkan, WideLayoutRayQueriesMatchReferenceHits) {
-    expect_ray_queries_match_reference(load("builtin:bunny", nullptr, prism::BvhLayout::Wide));
-}
-
-TEST_F(Vulkan, WideLayoutImageMatchesReference) {
-    for (const char* spec : {"builtin:sphere", "builtin:bunny"}) {
-        SCOPED_TRACE(spec);
-        prism::Scene scene;
-        prism::DeviceScene device = load(spec, &scene, prism::BvhLayout::Wide);
-        prism::RenderSettings settings;
-        settings.width = 96;
-        settings.height = 72;
-        settings.max_depth = 4;
-        prism::FrameResult expected = prism::RenderEngine("cpu-ref", device).render(scene.camera, settings);
-        prism::FrameResult actual = prism::RenderEngine(kDevice, device).render(scene.camera, settings);
-        EXPECT_GE(prism::test::psnr_rgba8(expected.image, actual.image), 50.0);
-        prism::test::expect_ray_counts_near(expected.stats, actual.stats);
-    }
-}
-
 TEST_F(Vulkan, TwoRendersAreBitIdentical) {
     prism::Scene scene;
     prism::DeviceScene device = load("builtin:sphere", &scene);
@@ -384,13 +363,13 @@ TEST_F(Vulkan, QueueAboveMaxStorageBufferRangeRendersThroughAddresses) {
     EXPECT_TRUE(mode.indirect);
 }
 
-// Address mode traces every node layout, in scenes of one and of two instances (lavapipe once read the frame's
-// layout field as its instance count there: two instances took the wide path, one the escape path).
+// Address mode traces every node layout the GPU kernels have, in scenes of one and of two instances (lavapipe once
+// read the frame's layout field as its instance count there: two instances took the wide path, one the escape path).
 TEST_F(Vulkan, AddressModeTracesEveryLayout) {
     if (!on_lavapipe()) GTEST_SKIP() << "checks lavapipe's buffer-address mode";
     ScopedEnv addresses("PRISM_VULKAN_ADDRESSING", "addresses");
     for (const char* spec : {"builtin:sphere", "stanford/bunny.ply"})
-        for (prism::BvhLayout layout : {prism::BvhLayout::Stack, prism::BvhLayout::Escape, prism::BvhLayout::Wide}) {
+        for (prism::BvhLayout layout : {prism::BvhLayout::Stack, prism::BvhLayout::Escape}) {
             SCOPED_TRACE(std::string(spec) + ", " + prism::bvh_layout_name(layout));
             prism::Scene scene;
             prism::DeviceScene device = load(spec, &scene, layout);
