@@ -286,7 +286,59 @@ private:
     // memory another API uses.
     void copy_image_to(VkBuffer target, VkDeviceSize bytes, bool acquire, VkSemaphore wait,
                        VkSemaphore signal) override {
+        if (signal) return copy_image_async(target, bytes, acquire, wait, signal);
         begin_command();
+        record_image_copy(command_, target, bytes, acquire);
+        flush(wait, signal);
+    }
+
+    // With shared semaphores GL waits for the copy on the device, so the host does not: the copy gets a command
+    // buffer and fence of its own, and the host waits for it only before recording the next one (by then long
+    // done). The next frame's stages start with a full pipeline barrier, which orders them after this copy's
+    // read of `image` (submission order on the one queue).
+    void copy_image_async(VkBuffer target, VkDeviceSize bytes, bool acquire, VkSemaphore wait, VkSemaphore signal) {
+        if (!copy_command_) {
+            VkCommandBufferAllocateInfo command_info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+            command_info.commandPool = command_pool_;
+            command_info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+            command_info.commandBufferCount = 1;
+            vk::check(vkAllocateCommandBuffers(device_, &command_info, &copy_command_), "vkAllocateCommandBuffers");
+            VkFenceCreateInfo fence_info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+            vk::check(vkCreateFence(device_, &fence_info, nullptr, &copy_fence_), "vkCreateFence");
+        }
+        if (copy_pending_) {
+            vk::check(vkWaitForFences(device_, 1, &copy_fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences (copy)");
+            vk::check(vkResetFences(device_, 1, &copy_fence_), "vkResetFences (copy)");
+            copy_pending_ = false;
+        }
+        vk::check(vkResetCommandBuffer(copy_command_, 0), "vkResetCommandBuffer (copy)");
+        VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+        begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+        vk::check(vkBeginCommandBuffer(copy_command_, &begin), "vkBeginCommandBuffer (copy)");
+        VkMemoryBarrier after_frame{VK_STRUCTURE_TYPE_MEMORY_BARRIER};   // the frame's writes of `image`
+        after_frame.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+        after_frame.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+        vkCmdPipelineBarrier(copy_command_, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1,
+                             &after_frame, 0, nullptr, 0, nullptr);
+        record_image_copy(copy_command_, target, bytes, acquire);
+        vk::check(vkEndCommandBuffer(copy_command_), "vkEndCommandBuffer (copy)");
+        VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+        submit.commandBufferCount = 1;
+        submit.pCommandBuffers = &copy_command_;
+        VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
+        if (wait) {
+            submit.waitSemaphoreCount = 1;
+            submit.pWaitSemaphores = &wait;
+            submit.pWaitDstStageMask = &wait_stage;
+        }
+        submit.signalSemaphoreCount = 1;
+        submit.pSignalSemaphores = &signal;
+        vk::check(vkQueueSubmit(queue_, 1, &submit, copy_fence_), "vkQueueSubmit (copy)");
+        copy_pending_ = true;
+    }
+
+    // The copy itself, with the queue family ownership transfers around it.
+    void record_image_copy(VkCommandBuffer command, VkBuffer target, VkDeviceSize bytes, bool acquire) {
         VkBufferMemoryBarrier ownership{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER};
         ownership.buffer = target;
         ownership.size = VK_WHOLE_SIZE;
@@ -294,18 +346,17 @@ private:
             ownership.srcQueueFamilyIndex = VK_QUEUE_FAMILY_EXTERNAL;
             ownership.dstQueueFamilyIndex = physical_.compute_family;
             ownership.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-            vkCmdPipelineBarrier(command_, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
+            vkCmdPipelineBarrier(command, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
                                  nullptr, 1, &ownership, 0, nullptr);
         }
         VkBufferCopy region{0, 0, bytes};
-        vkCmdCopyBuffer(command_, arrays_[size_t(DeviceArray::image)].buffer, target, 1, &region);
+        vkCmdCopyBuffer(command, arrays_[size_t(DeviceArray::image)].buffer, target, 1, &region);
         ownership.srcQueueFamilyIndex = physical_.compute_family;
         ownership.dstQueueFamilyIndex = VK_QUEUE_FAMILY_EXTERNAL;
         ownership.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
         ownership.dstAccessMask = 0;
-        vkCmdPipelineBarrier(command_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0, 0,
+        vkCmdPipelineBarrier(command, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0, 0,
                              nullptr, 1, &ownership, 0, nullptr);
-        flush(wait, signal);
     }
 
     void create(const std::string& filter, const GlContextHandles* gl) {
@@ -470,6 +521,7 @@ private:
         if (set_layout_) vkDestroyDescriptorSetLayout(device_, set_layout_, nullptr);
         if (query_pool_) vkDestroyQueryPool(device_, query_pool_, nullptr);
         if (fence_) vkDestroyFence(device_, fence_, nullptr);
+        if (copy_fence_) vkDestroyFence(device_, copy_fence_, nullptr);
         if (command_pool_) vkDestroyCommandPool(device_, command_pool_, nullptr);
         vkDestroyDevice(device_, nullptr);
         device_ = VK_NULL_HANDLE;
@@ -676,6 +728,9 @@ private:
     VkCommandPool command_pool_ = VK_NULL_HANDLE;
     VkCommandBuffer command_ = VK_NULL_HANDLE;
     VkFence fence_ = VK_NULL_HANDLE;
+    VkCommandBuffer copy_command_ = VK_NULL_HANDLE;   // Vulkan-GL copies with shared semaphores (copy_image_async)
+    VkFence copy_fence_ = VK_NULL_HANDLE;
+    bool copy_pending_ = false;
     bool recording_ = false;
 
     VkQueryPool query_pool_ = VK_NULL_HANDLE;

@@ -28,9 +28,10 @@ struct GlSharingPlan {
 // to GL), that an opaque-fd buffer can be exported, and whether semaphores can be shared too.
 GlSharingPlan plan_gl_sharing(const DeviceCandidate& device, const GlContextHandles& gl);
 
-// The backend's side of a frame copy: its `image` array into `target`, in the recorded order, then submitted and
-// waited for (its fence). `wait`/`signal`: semaphores for the submission, or VK_NULL_HANDLE. `acquire`: the
-// buffer comes back from GL (a queue family ownership transfer from VK_QUEUE_FAMILY_EXTERNAL first).
+// The backend's side of a frame copy: its `image` array into `target`, ordered after the frame. `wait`/`signal`:
+// semaphores for the submission, or VK_NULL_HANDLE. Without `signal` the copy is waited for (its fence) before
+// the call returns; with it, GL waits on `signal` on the device and the host goes on. `acquire`: the buffer comes
+// back from GL (a queue family ownership transfer from VK_QUEUE_FAMILY_EXTERNAL first).
 class ImageCopier {
 public:
     virtual ~ImageCopier() = default;
