@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -17,6 +18,12 @@
 
 namespace prism {
 namespace {
+
+// Byte equality of two node arrays (empty ones included: memcmp must not see their null data()).
+template <typename T>
+bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
+    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
 
 struct Triangle {
     glm::vec3 a, b, c;
@@ -498,14 +505,11 @@ TEST(BvhBuild, SameNodesForAnyThreadCount) {
                 for (uint32_t threads : {2u, 5u}) {
                     Bvh many = build_bvh(soup->bounds, options_for(method, layout, threads));
                     ASSERT_EQ(one.nodes.size(), many.nodes.size());
-                    EXPECT_EQ(std::memcmp(one.nodes.data(), many.nodes.data(), one.nodes.size() * sizeof(BvhNode)),
-                              0);
+                    EXPECT_TRUE(same_bytes(one.nodes, many.nodes));
                     EXPECT_EQ(one.primitive_order, many.primitive_order);
                     EXPECT_EQ(one.sah_cost, many.sah_cost);
                     ASSERT_EQ(one.wide_nodes.size(), many.wide_nodes.size());
-                    EXPECT_EQ(std::memcmp(one.wide_nodes.data(), many.wide_nodes.data(),
-                                          one.wide_nodes.size() * sizeof(BvhWideNode)),
-                              0);
+                    EXPECT_TRUE(same_bytes(one.wide_nodes, many.wide_nodes));
                 }
             }
         }
@@ -717,12 +721,8 @@ TEST(BvhRefit, MovedPrimitivesKeepInvariantsAndHits) {
             Bvh bvh = build_bvh(soup.bounds, options_for(method, layout));
             Bvh unchanged = bvh;
             refit_bvh(unchanged, soup.bounds);
-            EXPECT_EQ(std::memcmp(unchanged.nodes.data(), bvh.nodes.data(), bvh.nodes.size() * sizeof(BvhNode)), 0)
-                << "refit with the same bounds is the identity";
-            EXPECT_EQ(std::memcmp(unchanged.wide_nodes.data(), bvh.wide_nodes.data(),
-                                  bvh.wide_nodes.size() * sizeof(BvhWideNode)),
-                      0)
-                << "also for wide nodes";
+            EXPECT_TRUE(same_bytes(unchanged.nodes, bvh.nodes)) << "refit with the same bounds is the identity";
+            EXPECT_TRUE(same_bytes(unchanged.wide_nodes, bvh.wide_nodes)) << "also for wide nodes";
 
             float cost_before = bvh.sah_cost;
             refit_bvh(bvh, after.bounds);

@@ -16,7 +16,6 @@
 #include "core/error.h"
 #include "core/thread_pool.h"
 
-thread_local RtCpuGrid rt_cpu_grid;
 
 namespace prism {
 namespace {

@@ -208,7 +208,9 @@ struct RtCpuGrid {
     uint chunk;                // the smallest range
     uint workers;
 };
-extern thread_local RtCpuGrid rt_cpu_grid;
+// Defined here (an inline variable, zero-initialised) rather than `extern`: every stage build (SSE2, AVX2) then
+// reads it directly instead of through a TLS wrapper call, which UBSan also reported as a null access.
+inline thread_local RtCpuGrid rt_cpu_grid{};
 // Takes [begin, *end) of the n items; begin >= n when none are left.
 static inline uint rt_cpu_take(uint n, uint* end) {
     uint begin = rt_cpu_grid.next->load(std::memory_order_relaxed);
