@@ -322,18 +322,7 @@ private:
                              &after_frame, 0, nullptr, 0, nullptr);
         record_image_copy(copy_command_, target, bytes, acquire);
         vk::check(vkEndCommandBuffer(copy_command_), "vkEndCommandBuffer (copy)");
-        VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-        submit.commandBufferCount = 1;
-        submit.pCommandBuffers = &copy_command_;
-        VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
-        if (wait) {
-            submit.waitSemaphoreCount = 1;
-            submit.pWaitSemaphores = &wait;
-            submit.pWaitDstStageMask = &wait_stage;
-        }
-        submit.signalSemaphoreCount = 1;
-        submit.pSignalSemaphores = &signal;
-        vk::check(vkQueueSubmit(queue_, 1, &submit, copy_fence_), "vkQueueSubmit (copy)");
+        submit(copy_command_, copy_fence_, wait, signal);
         copy_pending_ = true;
     }
 
@@ -667,26 +656,32 @@ private:
         vkCmdDispatchIndirect(command_, launch_args_.buffer, offset);
     }
 
+    // One command buffer to the queue, signalling `fence`; `wait`/`signal`: semaphores shared with GL, or none (a
+    // wait is for the transfer that hands the shared buffer back).
+    void submit(VkCommandBuffer command, VkFence fence, VkSemaphore wait, VkSemaphore signal) {
+        VkSubmitInfo info{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+        info.commandBufferCount = 1;
+        info.pCommandBuffers = &command;
+        VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
+        if (wait) {
+            info.waitSemaphoreCount = 1;
+            info.pWaitSemaphores = &wait;
+            info.pWaitDstStageMask = &wait_stage;
+        }
+        if (signal) {
+            info.signalSemaphoreCount = 1;
+            info.pSignalSemaphores = &signal;
+        }
+        vk::check(vkQueueSubmit(queue_, 1, &info, fence), "vkQueueSubmit");
+    }
+
     // Submits what was recorded, waits, and turns the timestamps into stage timings. `wait`/`signal`: semaphores
     // shared with GL (the Vulkan-GL path), or none.
     void flush(VkSemaphore wait = VK_NULL_HANDLE, VkSemaphore signal = VK_NULL_HANDLE) {
         if (!recording_) return;
         recording_ = false;
         vk::check(vkEndCommandBuffer(command_), "vkEndCommandBuffer");
-        VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-        submit.commandBufferCount = 1;
-        submit.pCommandBuffers = &command_;
-        VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
-        if (wait) {
-            submit.waitSemaphoreCount = 1;
-            submit.pWaitSemaphores = &wait;
-            submit.pWaitDstStageMask = &wait_stage;
-        }
-        if (signal) {
-            submit.signalSemaphoreCount = 1;
-            submit.pSignalSemaphores = &signal;
-        }
-        vk::check(vkQueueSubmit(queue_, 1, &submit, fence_), "vkQueueSubmit");
+        submit(command_, fence_, wait, signal);
         VkResult waited = vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX);
         if (waited == VK_ERROR_DEVICE_LOST)
             throw Error(std::string("vulkan: device lost on ") + physical_.properties.deviceName +
