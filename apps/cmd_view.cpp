@@ -110,8 +110,8 @@ public:
         // exactly as `prism render` creates it.
         if (mode_ == viewer::DisplayMode::Auto || mode_ == viewer::DisplayMode::Interop)
             gl_ = window_->gl_context_handles();
-        device_ = &loaded_.device;
-        engine_ = make_engine(options.backend);
+        device_ = &device_for(options.backend);
+        engine_ = make_engine(options.backend, *device_);
         display_ = make_display(*engine_);
         BackendInfo info = engine_->info();
         std::printf("prism view: %s (%zu triangles, %zu instances) on %s [%s]\n", options.scene.scene.c_str(),
@@ -216,8 +216,8 @@ private:
         return found->second;
     }
 
-    std::unique_ptr<RenderEngine> make_engine(const std::string& spec) {
-        return std::make_unique<RenderEngine>(spec, device_for(spec), gl_ ? &*gl_ : nullptr);
+    std::unique_ptr<RenderEngine> make_engine(const std::string& spec, const DeviceScene& device) {
+        return std::make_unique<RenderEngine>(spec, device, gl_ ? &*gl_ : nullptr);
     }
 
     // The display path for `engine` and the read-back it needs. Throws prism::Error with --display interop when
@@ -291,7 +291,7 @@ private:
         RenderSettings previous = settings_;
         try {
             DeviceScene& next_device = device_for(spec);
-            auto next = make_engine(spec);
+            auto next = make_engine(spec, next_device);
             auto next_display = make_display(*next);
             // The old display goes first: it may hold the old backend's shared buffer.
             display_ = std::move(next_display);

@@ -47,10 +47,7 @@ TEST(ViewerHeadless, LavapipeSharesItsFrameWithEglGl) {
     std::filesystem::path shot = dir / "vulkan-gl.png", stats = dir / "stats.json";
     prism::test::CommandResult result = headless("--backend vulkan:llvmpipe --frames 3 --display interop --screenshot '" +
                                                  shot.string() + "' --stats '" + stats.string() + "'");
-    for (const char* missing : {"has no GL_EXT_memory_object_fd", "has no VK_KHR_external_memory_fd",
-                                "runs on another device or driver"})
-        if (result.exit_code == 1 && result.output.find(missing) != std::string::npos)
-            GTEST_SKIP() << "this Mesa cannot share lavapipe memory with llvmpipe: " << result.output;
+    SKIP_IF_MESA_CANNOT_SHARE(result);
     ASSERT_EQ(result.exit_code, 0) << result.output;
     nlohmann::json json = read_json(stats);
     EXPECT_EQ(json["display"]["path"], "interop");

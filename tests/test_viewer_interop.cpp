@@ -206,10 +206,7 @@ TEST(ViewerInterop, LavapipeSharesItsFrameWithLlvmpipe) {
     std::filesystem::path stats = dir / "stats.json", shot = dir / "vulkan-gl.png";
     prism::test::CommandResult result = view("--backend vulkan:llvmpipe --frames 3 --display interop --screenshot '" +
                                              shot.string() + "' --stats '" + stats.string() + "'");
-    for (const char* missing : {"has no GL_EXT_memory_object_fd", "has no VK_KHR_external_memory_fd",
-                                "runs on another device or driver"})
-        if (result.exit_code == 1 && result.output.find(missing) != std::string::npos)
-            GTEST_SKIP() << "this Mesa cannot share lavapipe memory with llvmpipe: " << result.output;
+    SKIP_IF_MESA_CANNOT_SHARE(result);
     ASSERT_EQ(result.exit_code, 0) << result.output;
     EXPECT_NE(result.output.find("interop: Vulkan-GL (sync: fence waits, no shared semaphores ("), std::string::npos)
         << result.output;

@@ -48,6 +48,16 @@ inline bool backend_device_available(const std::string& api, const std::string& 
             GTEST_SKIP() << api << " on '" << device << "' unavailable: " << reason;   \
     } while (0)
 
+// Skips a Vulkan-GL test whose `prism view` run (`result`) found this Mesa unable to share lavapipe memory with
+// llvmpipe's GL; any other failure stays a failure.
+#define SKIP_IF_MESA_CANNOT_SHARE(result)                                                                  \
+    do {                                                                                                   \
+        for (const char* missing : {"has no GL_EXT_memory_object_fd", "has no VK_KHR_external_memory_fd",  \
+                                    "runs on another device or driver"})                                   \
+            if ((result).exit_code == 1 && (result).output.find(missing) != std::string::npos)             \
+                GTEST_SKIP() << "this Mesa cannot share lavapipe memory with llvmpipe: " << (result).output; \
+    } while (0)
+
 // A --stats file (null when missing or not JSON).
 inline nlohmann::json read_json(const std::filesystem::path& path) {
     std::ifstream in(path);
