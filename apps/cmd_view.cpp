@@ -44,6 +44,7 @@ struct ViewOptions {
     std::string display = "auto";   // auto, interop, host-copy, none (viewer/frame_display.h)
     std::string stats;        // --stats: the timing summary as JSON
     bool headless = false;    // an offscreen EGL framebuffer instead of a window (viewer/offscreen_window.h)
+    uint32_t alternate = 0;   // --alternate-display N: N frames shown, N only rendered, ... (0: every frame shown)
 };
 
 #ifdef PRISM_HAVE_VIEWER
@@ -150,12 +151,22 @@ public:
 
             using Clock = std::chrono::steady_clock;
             auto ms = [](Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); };
+            bool last = options_.frames != 0 && frame + 1 == options_.frames;
             viewer::FrameTiming timing;
+            // --alternate-display: blocks of frames shown and only rendered, measuring within one run what showing
+            // adds (the last frame is always shown, for --screenshot, and left out of the comparison).
+            bool hidden_block = options_.alternate != 0 && (frame / options_.alternate) % 2 == 1;
+            if (options_.alternate != 0 && !(last && hidden_block)) {
+                timing.block = hidden_block ? viewer::FrameTiming::Block::Hidden : viewer::FrameTiming::Block::Shown;
+                timing.first_of_block = frame % options_.alternate == 0;
+            }
+            bool shows = display_->path().kind != viewer::DisplayPath::Kind::None && (!hidden_block || last);
+            viewer::set_read_back(display_->path(), settings_, shows);
+            if (shows) display_->before_render();
             auto start = Clock::now();
             last_frame_ = engine_->render(controls_.camera(), settings_);
             auto rendered = Clock::now();
             timing.render_ms = ms(rendered - start);
-            bool shows = display_->path().kind != viewer::DisplayPath::Kind::None;
             if (shows) {
                 // GL runs the display asynchronously, as a viewer should: its GPU time comes from a timer query a
                 // few frames later (a glFinish here would add its own latency to every frame).
@@ -166,7 +177,6 @@ public:
                 for (auto [index, ms] : gl_timer_.collect(false)) stats_.set_gpu_display(index, ms);
             }
             auto drawn = Clock::now();
-            bool last = options_.frames != 0 && frame + 1 == options_.frames;
             if (screenshot) save_screenshot(screenshot_path(frame));
             if (last && !options_.screenshot.empty()) save_screenshot(options_.screenshot);
             auto swap_start = Clock::now();
@@ -418,6 +428,10 @@ void add_view_command(CLI::App& app) {
         ->capture_default_str();
     command->add_option("--stats", options->stats,
                         "write the timing summary (median render/display/frame ms, fps, display path) as JSON");
+    command->add_option("--alternate-display", options->alternate,
+                        "measure what showing a frame costs within one run: N frames shown, then N only rendered, and "
+                        "so on; the summary and --stats compare their median frame times (0: show every frame)")
+        ->capture_default_str();
     command->add_flag("--headless", options->headless,
                       "draw into an offscreen framebuffer of an EGL context (an EGL device, else Mesa's surfaceless "
                       "platform) instead of a window: no X server needed; input only from --keys");

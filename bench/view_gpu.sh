@@ -11,6 +11,7 @@
 #   PRISM_VIEW_BACKENDS  default cuda,opencl:nvidia,vulkan:nvidia
 #   PRISM_VIEW_SCENE     default builtin:dragon;  PRISM_VIEW_SIZE default 1920x1080;  PRISM_VIEW_FRAMES default 200
 #   PRISM_VIEW_DEPTH     default 8;  PRISM_VIEW_TIMEOUT: seconds allowed per run (default 240)
+#   PRISM_VIEW_ALTERNATE blocks of --alternate-display for the interop and host-copy runs (default 10)
 #   PRISM_VIEW_ANY_GL=1  run even when GL is not NVIDIA's (to check this script on a machine without a GPU:
 #                        PRISM_BUILD=build PRISM_DATA=../shared/scenes OUT=/tmp/view PRISM_VIEW_ANY_GL=1
 #                        PRISM_VIEW_BACKENDS=vulkan:llvmpipe PRISM_VIEW_SIZE=160x90 PRISM_VIEW_FRAMES=5 ...)
@@ -26,6 +27,7 @@ frames=${PRISM_VIEW_FRAMES:-200}
 depth=${PRISM_VIEW_DEPTH:-8}
 run_limit=${PRISM_VIEW_TIMEOUT:-240}   # seconds per prism view run
 backends=${PRISM_VIEW_BACKENDS:-cuda,opencl:nvidia,vulkan:nvidia}
+alternate=${PRISM_VIEW_ALTERNATE:-10}
 prism=$PWD/$build/apps/prism
 target_ms=0.2   # issue 7: interop may add at most this much to a frame over the render alone
 mkdir -p "$out/view"
@@ -49,11 +51,15 @@ fi
 # A top-level number of a --stats file (nlohmann::json dump(2): top-level keys are indented by two spaces), and a
 # string of its "display" object, still JSON-escaped as written. No jq or python needed on the machine.
 field() { sed -n "s/^  \"$2\": \\([-0-9.e+]*\\),\\{0,1\\}$/\\1/p" "$1" | head -1; }
+alternating() { sed -n "/^  \"alternating\": {/,/^  }/ s/^    \"$2\": \([-0-9.e+]*\),\{0,1\}$/\1/p" "$1" | head -1; }
 display_text() { sed -n "/^  \"display\": {/,/^  }/ s/^    \"$2\": \"\\(.*\\)\",\\{0,1\\}$/\\1/p" "$1" | head -1; }
 json_escape() { sed 's/\\/\\\\/g; s/"/\\"/g' | tr -d '\n'; }
 
-# One mode's medians and what showing the frame adds to it (added_ms, below). overhead_ms: the median frame time
-# minus that of the render alone, a different run (so that run's noise, about 0.1-0.2 ms on the dragon, is in it).
+# One mode's medians and what showing the frame adds to it. The interop and host-copy runs alternate blocks of
+# shown and only-rendered frames (--alternate-display): added_ms is the median frame time of the shown frames minus
+# that of the hidden ones, within the one run, so the render's drift between runs stays out of it; fps and
+# median_frame_ms are those of the shown frames. overhead_ms: that median minus the render alone's (--display none),
+# a different run (its noise, about 0.1-0.2 ms on the dragon, included).
 mode_json() {
   local m=$1
   if [ -n "${error[$m]:-}" ] || [ -z "${frame[$m]:-}" ]; then
@@ -61,12 +67,12 @@ mode_json() {
     return
   fi
   awk -v f="${frame[$m]}" -v p="${present[$m]}" -v r="${render[$m]}" -v d="${display[$m]}" -v g="${gpu[$m]:-}" \
-      -v b="${beyond[$m]}" -v a="${added[$m]:-}" -v base="${frame[none]:-}" -v name="${path[$m]}" \
-      -v detail="${detail[$m]}" 'BEGIN {
+      -v a="${added[$m]:-}" -v h="${hidden[$m]:-}" -v hr="${hidden_render[$m]:-}" -v base="${frame[none]:-}" \
+      -v name="${path[$m]}" -v detail="${detail[$m]}" 'BEGIN {
     printf "{\"path\": \"%s\", \"detail\": \"%s\", \"fps\": %.3f, \"median_frame_ms\": %.4f, ", name, detail, 1000 / f, f
     printf "\"median_render_ms\": %.4f, \"median_display_ms\": %.4f, \"median_present_ms\": %.4f", r, d, p
-    printf ", \"median_beyond_render_ms\": %.4f", b
     if (g != "") printf ", \"median_gpu_display_ms\": %.4f", g
+    if (h != "") printf ", \"median_frame_ms_not_shown\": %.4f, \"median_render_ms_not_shown\": %.4f", h, hr
     if (a != "") printf ", \"added_ms\": %.4f", a
     if (base != "") printf ", \"overhead_ms\": %.4f", f - base
     printf "}" }'
@@ -77,7 +83,8 @@ entries=()
 runs=()
 for backend in ${backends//,/ }; do
   name=${backend//:/-}
-  declare -A frame=() present=() render=() display=() gpu=() beyond=() added=() path=() detail=() error=()
+  declare -A frame=() present=() render=() display=() gpu=() added=() hidden=() hidden_render=() path=() detail=() \
+             error=()
   for mode in none interop host-copy; do
     stats=$out/view/$tag-$name-$mode.json
     log=$out/view/$tag-$name-$mode.log
@@ -86,7 +93,7 @@ for backend in ${backends//,/ }; do
     # A time limit per run: a driver that hangs in one mode (a sync never signalled) must not take the session.
     timeout -k 10 "$run_limit" "$prism" view --headless --data-dir "$data" --scene "$scene" --backend "$backend" \
       --width "$width" --height "$height" --depth "$depth" --frames "$frames" --no-vsync --display "$mode" \
-      --stats "$stats" >"$log" 2>&1
+      $([ "$mode" != none ] && echo --alternate-display "$alternate") --stats "$stats" >"$log" 2>&1
     status=$?
     [ $status -eq 124 ] || [ $status -eq 137 ] && echo "prism view: killed after ${run_limit} s" >>"$log"
     grep -E "^  (interop|display): |^  timing: " "$log" | sed 's/^/   /'
@@ -101,22 +108,18 @@ for backend in ${backends//,/ }; do
     render[$mode]=$(field "$stats" median_render_ms)
     display[$mode]=$(field "$stats" median_display_ms)
     gpu[$mode]=$(field "$stats" median_gpu_display_ms)   # empty when null (no GL work: --display none)
-    beyond[$mode]=$(field "$stats" median_beyond_render_ms)
+    if [ "$mode" != none ]; then
+      frame[$mode]=$(alternating "$stats" median_frame_ms_shown)
+      render[$mode]=$(alternating "$stats" median_render_ms_shown)
+      hidden[$mode]=$(alternating "$stats" median_frame_ms_hidden)
+      hidden_render[$mode]=$(alternating "$stats" median_render_ms_hidden)
+      added[$mode]=$(alternating "$stats" added_ms)
+    fi
     path[$mode]=$(display_text "$stats" name)
     detail[$mode]=$(display_text "$stats" detail)
     runs+=("\"$name-$mode\": $(cat "$stats")")
   done
 
-  # What a display path adds to each frame, measured within its own run so the render's run-to-run noise stays
-  # out: the median of (frame - render) beyond that of the render alone (the host time of the device copy and of
-  # issuing GL's upload and draw, and the swap), plus GL's GPU time for the upload and the draw (timer queries),
-  # counted in full as if it never overlapped the next render. interop_overhead_ms is that for interop.
-  for mode in interop host-copy; do
-    if [ -z "${error[$mode]:-}" ] && [ -n "${beyond[$mode]:-}" ] && [ -n "${beyond[none]:-}" ]; then
-      added[$mode]=$(awk -v b="${beyond[$mode]}" -v n="${beyond[none]}" -v g="${gpu[$mode]:-0}" \
-                     'BEGIN { printf "%.4f", b - n + g }')
-    fi
-  done
   overhead=${added[interop]:-null}
   verdict=null
   [ "$overhead" != null ] && verdict=$(awk -v d="$overhead" -v t=$target_ms 'BEGIN { print (d <= t) ? "true" : "false" }')
@@ -132,7 +135,8 @@ commit=$(sed -n 's/^  "commit": "\([^"]*\)",\{0,1\}$/\1/p' "$out"/view/"$tag"-*.
   printf '  "scene": "%s",\n  "width": %s,\n  "height": %s,\n  "depth": %s,\n  "frames": %s,\n' \
     "$scene" "$width" "$height" "$depth" "$frames"
   printf '  "target_interop_overhead_ms": %s,\n' "$target_ms"
-  printf '  "method": "prism view --headless (offscreen framebuffer, NVIDIA GL through an EGL device) --stats, medians over the frames after warm-up; GL runs asynchronously (no glFinish per frame). Per mode, added_ms: median(frame - render) of the mode minus that of --display none (the render alone: nothing read back or shown), plus the median GPU time of the display GL commands (GL_TIME_ELAPSED: upload + draw), counted as if serialised with the render. interop_overhead_ms: added_ms of interop; interop_meets_target: <= target. overhead_ms: median frame time minus that of --display none (a different run: its noise included). With the host copy, the render includes the read-back",\n'
+  printf '  "alternate_block": %s,\n' "$alternate"
+  printf '  "method": "prism view --headless (offscreen framebuffer, NVIDIA GL through an EGL device) --stats, medians over the frames after warm-up; GL runs asynchronously (no glFinish per frame). The interop and host-copy runs alternate blocks of alternate_block frames shown and frames only rendered (--alternate-display; the first frame of each block left out): added_ms = median frame time shown - median frame time not shown, within the one run. Shown frames copy the image into GL buffer in the frame (interop) or read it back (host copy): their render includes that. interop_overhead_ms: added_ms of interop; interop_meets_target: <= target. fps and median_frame_ms: the shown frames. overhead_ms: median_frame_ms minus that of --display none (the render alone, a different run: its noise included). median_gpu_display_ms: GL_TIME_ELAPSED of the display GL commands, for information",\n'
   printf '  "backends": {\n'
   for i in "${!entries[@]}"; do printf '    %s%s\n' "${entries[$i]}" "$([ $i -lt $((${#entries[@]} - 1)) ] && echo ,)"; done
   printf '  },\n  "runs": {\n'

@@ -33,12 +33,14 @@ struct ExportedBuffer {
     int memory_fd = -1;
     uint64_t allocation_size = 0;    // of the whole allocation, as glImportMemoryFdEXT wants it
     bool dedicated = true;           // a dedicated allocation (GL_DEDICATED_MEMORY_OBJECT_EXT must match)
-    int ready_semaphore_fd = -1;     // the device signals it after each copy; GL waits on it (-1: no semaphores)
-    int released_semaphore_fd = -1;  // GL signals it after reading the buffer; the device waits on it before the
-                                     // next copy (-1: no semaphores)
+    int ready_semaphore_fd = -1;     // the frame's submission signals it after its copy; GL waits on it before
+                                     // drawing (-1: no semaphores)
+    int released_semaphore_fd = -1;  // GL signals it after reading the buffer; the next frame's submission waits on
+                                     // it before its copy (-1: no semaphores)
 };
 
-// A backend's side of the shared display buffer. One buffer, written by copy_image(), read by GL in between.
+// A backend's side of the shared display buffer. One buffer, written by copy_image() at the end of each shown
+// frame, read by GL's draw in between.
 class GlInterop {
 public:
     virtual ~GlInterop() = default;
@@ -56,12 +58,16 @@ public:
     // Allocates `bytes` of exportable device memory (and the semaphores, where offered) and returns its fds.
     virtual ExportedBuffer export_buffer(size_t bytes);
 
-    // Device-to-device copy of the backend's `image` array (the last frame rendered) into the shared buffer,
-    // ordered after that frame. On return GL may read the buffer: the API has ordered it (CUDA unmap), finished
-    // it (OpenCL clFinish, Vulkan fence), or signalled the ready semaphore GL waits on.
+    // Enqueues the device-to-device copy of the backend's `image` array into the shared buffer on the frame's
+    // in-order queue, after the stages enqueued so far: Renderer calls it right after resolve when
+    // RenderSettings::copy_to_gl is set, so the copy is part of the frame's own submission (no second submission,
+    // no extra host wait) and the frame's completion completes it. When render() has returned GL may read the
+    // buffer: the API has ordered it (CUDA unmap on the stream), the host has seen the frame finish (OpenCL,
+    // Vulkan), and with shared semaphores the frame's submission has also signalled the ready semaphore GL waits on.
     virtual void copy_image(size_t bytes) = 0;
-    // True when the API does not itself wait for GL to finish reading the buffer before copy_image() writes it
-    // again (OpenCL; Vulkan without semaphores): the viewer then waits on a GL fence before calling it.
+    // True when the API does not itself wait for GL to finish reading the buffer before the next frame's copy
+    // writes it (OpenCL; Vulkan without semaphores): the viewer then waits on a GL fence before rendering a frame
+    // that copies.
     virtual bool needs_gl_idle_before_copy() const = 0;
 };
 

@@ -150,6 +150,11 @@ FrameResult Renderer::render(const Camera& camera, const RenderSettings& setting
             if (progress) progress(depth + 1, params.size.z);
         }
         backend_.enqueue(Stage::Resolve, 0);
+        if (settings.copy_to_gl) {
+            GlInteropOffer offer = backend_.gl_interop();
+            if (!offer.interop) throw Error("render: copy_to_gl without a GL interop (" + offer.reason + ")");
+            offer.interop->copy_image(size_t(pixels) * sizeof(uint32_t));
+        }
         auto enqueued = std::chrono::steady_clock::now();
         backend_.read(DeviceArray::counters, counters.data(), counters.size() * sizeof(uint32_t));
         auto counted = std::chrono::steady_clock::now();

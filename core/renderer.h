@@ -24,6 +24,10 @@ struct RenderSettings {
     // 33 MB at 1080p) only .hdr output and the bit-exactness tests need, so frames and benchmarks skip it.
     bool read_image = true;
     bool read_radiance = false;
+    // The viewer's interop display: right after resolve the frame's `image` array is copied on the device into the
+    // buffer the backend shares with GL (GlInterop::copy_image, core/gl_interop.h), in the frame's own submission,
+    // so render() returning means GL may draw it. Needs a backend that offers GL interop.
+    bool copy_to_gl = false;
 };
 
 struct FrameStats {

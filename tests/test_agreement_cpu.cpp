@@ -169,6 +169,20 @@ TEST(CpuAgreement, RenderingIsDeterministic) {
     EXPECT_EQ(engine.render(scene.camera, settings).image, engine.render(scene.camera, settings).image);
 }
 
+// The viewer's in-frame copy into GL's buffer needs a backend with GL interop: asking the cpu backend (created
+// without a GL context) fails in one message naming why, instead of silently showing nothing.
+TEST(CpuAgreement, CopyToGlWithoutInteropIsAnError) {
+    prism::Scene scene;
+    prism::DeviceScene device = load("builtin:sphere", prism::BvhLayout::Stack, prism::BvhMethod::BinnedSah, &scene);
+    prism::RenderSettings settings;
+    settings.width = 32;
+    settings.height = 24;
+    settings.copy_to_gl = true;
+    prism::RenderEngine engine("cpu", device);
+    std::string message = prism::test::error_message([&] { engine.render(scene.camera, settings); });
+    EXPECT_EQ(message.rfind("render: copy_to_gl without a GL interop (", 0), 0u) << message;
+}
+
 // A tiny queue forces the renderer to grow it and re-run: no ray may be lost.
 TEST(CpuAgreement, OverflowingQueuesAreGrownNotDropped) {
     prism::Scene scene;

@@ -48,8 +48,12 @@ TEST(ViewerDisplayPath, AutoTakesTheInteropTheBackendOffers) {
     EXPECT_STREQ(path.kind_name(), "interop");
     prism::RenderSettings settings;
     prism::viewer::set_read_back(path, settings);
-    EXPECT_FALSE(settings.read_image);   // the display copies the device's image itself
+    EXPECT_FALSE(settings.read_image);   // the frame's own submission copies the device's image into GL's buffer
+    EXPECT_TRUE(settings.copy_to_gl);
     EXPECT_FALSE(settings.read_radiance);
+    prism::viewer::set_read_back(path, settings, false);   // a frame only rendered (--alternate-display)
+    EXPECT_FALSE(settings.copy_to_gl);
+    EXPECT_FALSE(settings.read_image);
 }
 
 TEST(ViewerDisplayPath, AutoFallsBackToHostCopyAndSaysWhy) {
@@ -60,7 +64,10 @@ TEST(ViewerDisplayPath, AutoFallsBackToHostCopyAndSaysWhy) {
     prism::RenderSettings settings;
     prism::viewer::set_read_back(path, settings);
     EXPECT_TRUE(settings.read_image);
+    EXPECT_FALSE(settings.copy_to_gl);
     EXPECT_FALSE(settings.read_radiance);
+    prism::viewer::set_read_back(path, settings, false);
+    EXPECT_FALSE(settings.read_image);
 }
 
 TEST(ViewerDisplayPath, HostCopyAndNoneAreForcedEvenWithInterop) {
@@ -72,6 +79,7 @@ TEST(ViewerDisplayPath, HostCopyAndNoneAreForcedEvenWithInterop) {
     prism::RenderSettings settings;
     prism::viewer::set_read_back(none, settings);
     EXPECT_FALSE(settings.read_image);   // render alone: nothing leaves the device
+    EXPECT_FALSE(settings.copy_to_gl);
 }
 
 TEST(ViewerDisplayPath, ForcedInteropWithoutOneIsAnError) {
@@ -112,6 +120,37 @@ TEST(ViewerFrameTimings, MediansSkipTheWarmUp) {
     for (double ms : {50.0, 4.0, 6.0, 8.0}) two.add({ms, 0.0, 0.0, ms});
     EXPECT_EQ(two.warmup(), 1u);
     EXPECT_DOUBLE_EQ(two.summary().frame_ms, 6.0);
+}
+
+TEST(ViewerFrameTimings, AlternatingBlocksCompareShownWithHiddenFrames) {
+    using Block = prism::viewer::FrameTiming::Block;
+    prism::viewer::FrameTimings timings;
+    // 24 frames in blocks of 3: shown frames take 10.3 ms, hidden ones 10.0 ms; the first of each block carries
+    // the block before it (here 50 ms) and must be left out, as must the 5 warm-up frames.
+    for (int i = 0; i < 24; ++i) {
+        prism::viewer::FrameTiming t;
+        t.block = (i / 3) % 2 ? Block::Hidden : Block::Shown;
+        t.first_of_block = i % 3 == 0;
+        t.render_ms = 10.0;
+        t.frame_ms = t.first_of_block ? 50.0 : (t.block == Block::Shown ? 10.3 : 10.0);
+        timings.add(t);
+    }
+    prism::viewer::FrameTimings::Summary s = timings.summary();
+    EXPECT_EQ(s.shown, 6u);    // frames 7 8, 13 14, 19 20
+    EXPECT_EQ(s.hidden, 7u);   // frames 5 (4 is warm-up), 10 11, 16 17, 22 23
+    EXPECT_DOUBLE_EQ(s.shown_frame_ms, 10.3);
+    EXPECT_DOUBLE_EQ(s.hidden_frame_ms, 10.0);
+    EXPECT_NEAR(s.added_ms, 0.3, 1e-12);
+    nlohmann::json json = timings.json();
+    EXPECT_NEAR(double(json["alternating"]["added_ms"]), 0.3, 1e-12);
+    EXPECT_EQ(json["per_frame"]["shown"][3], false);
+    EXPECT_NE(timings.summary_line().find("showing adds 0.300 ms"), std::string::npos) << timings.summary_line();
+
+    prism::viewer::FrameTimings plain;   // without --alternate-display there is no comparison
+    for (int i = 0; i < 8; ++i) plain.add({10.0, 0.1, 0.1, 10.2});
+    EXPECT_EQ(plain.summary().shown, 0u);
+    EXPECT_TRUE(plain.json()["alternating"].is_null());
+    EXPECT_EQ(plain.summary_line().find("alternating"), std::string::npos);
 }
 
 // --- under Xvfb ----------------------------------------------------------------------------------------------
@@ -216,6 +255,44 @@ TEST(ViewerInterop, LavapipeSharesItsFrameWithLlvmpipe) {
     EXPECT_EQ(json["display"]["name"], "Vulkan-GL");
     // The window shows what the device copied into GL's buffer: the frame `prism render` writes.
     EXPECT_GE(psnr_against_render(shot, "vulkan:llvmpipe"), 45.0);
+}
+
+// --alternate-display with the Vulkan-GL path: hidden frames skip the frame's copy into GL's buffer and the
+// draw, the shown ones after them must still see the new frame (the semaphores/fences stay paired), and the last
+// frame (in a hidden block here) is shown for the screenshot.
+TEST(ViewerInterop, AlternatingDisplayKeepsTheInteropInStep) {
+    REQUIRE_XVFB();
+    REQUIRE_BACKEND("vulkan", "llvmpipe");
+    auto dir = prism::test::temp_dir("viewer-interop-alternate");
+    std::filesystem::path stats = dir / "stats.json", shot = dir / "alternate.png";
+    prism::test::CommandResult result =
+        view("--backend vulkan:llvmpipe --frames 7 --alternate-display 2 --keys 0:M --display interop "
+             "--screenshot '" + shot.string() + "' --stats '" + stats.string() + "'");
+    SKIP_IF_MESA_CANNOT_SHARE(result);
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_NE(result.output.find("; alternating: shown "), std::string::npos) << result.output;
+    nlohmann::json json = read_json(stats);
+    ASSERT_TRUE(json["alternating"].is_object()) << json.dump();
+    EXPECT_GT(int(json["alternating"]["shown_frames"]), 0);
+    EXPECT_GT(int(json["alternating"]["hidden_frames"]), 0);
+    const nlohmann::json& shown = json["per_frame"]["shown"];
+    ASSERT_EQ(shown.size(), 7u);
+    EXPECT_EQ(shown[0], true);
+    EXPECT_EQ(shown[2], false);
+    EXPECT_EQ(shown[4], true);
+    EXPECT_TRUE(shown[6].is_null());   // the last frame, shown for the screenshot, is in neither median
+    // The screenshot is the last frame with the object moved 7 times: `prism render` cannot pose it, so compare
+    // with the same run fully shown.
+    std::filesystem::path every = dir / "every.png";
+    prism::test::CommandResult reference = view("--backend vulkan:llvmpipe --frames 7 --keys 0:M --display interop "
+                                                "--screenshot '" + every.string() + "'");
+    ASSERT_EQ(reference.exit_code, 0) << reference.output;
+    int width = 0, height = 0, every_width = 0, every_height = 0;
+    std::vector<uint32_t> alternated = prism::test::read_png(shot, &width, &height);
+    std::vector<uint32_t> all_shown = prism::test::read_png(every, &every_width, &every_height);
+    ASSERT_EQ(width, every_width);
+    ASSERT_EQ(height, every_height);
+    EXPECT_TRUE(alternated == all_shown) << "PSNR " << prism::test::psnr_rgba8(alternated, all_shown);
 }
 
 TEST(ViewerInterop, HostCopyCanBeForcedOnLavapipe) {

@@ -110,8 +110,9 @@ std::unique_ptr<FrameDisplay> open_frame_display(DisplayMode mode, DisplayPath p
     }
 }
 
-void set_read_back(const DisplayPath& path, RenderSettings& settings) {
-    settings.read_image = path.kind == DisplayPath::Kind::HostCopy;
+void set_read_back(const DisplayPath& path, RenderSettings& settings, bool shown) {
+    settings.read_image = shown && path.kind == DisplayPath::Kind::HostCopy;
+    settings.copy_to_gl = shown && path.kind == DisplayPath::Kind::Interop;
     settings.read_radiance = false;   // the viewer shows the tone-mapped image only
 }
 

@@ -1,8 +1,8 @@
 // How a rendered frame reaches the window. One implementation per display path:
 //   host copy - glTexSubImage2D from FrameResult.image (every backend; the fallback);
-//   interop   - the backend's image array copied on the device into a GL buffer it shares with GL (CUDA-GL,
-//               OpenCL-GL, Vulkan-GL: core/gl_interop.h, viewer/interop_display.h), which the draw reads
-//               directly (a buffer texture);
+//   interop   - the backend's image array copied on the device, at the end of the frame's own submission, into a
+//               GL buffer it shares with GL (CUDA-GL, OpenCL-GL, Vulkan-GL: core/gl_interop.h,
+//               viewer/interop_display.h), which the draw reads directly (a buffer texture);
 //   none      - nothing is shown: `--display none` measures the render alone.
 // choose_display_path() decides from what the user asked and what the backend offers, and says why;
 // open_frame_display() builds it, falling back to the host copy when an interop path fails to set up.
@@ -41,8 +41,11 @@ class FrameDisplay {
 public:
     virtual ~FrameDisplay() = default;
     virtual const DisplayPath& path() const = 0;
+    // Called before rendering a frame that will be shown: an interop path whose API does not wait for GL itself
+    // waits here until GL has read the shared buffer, since the frame's copy (RenderSettings::copy_to_gl) writes it.
+    virtual void before_render() {}
     // Makes `frame` the displayed image (the GL context must be current). The interop paths take the pixels from
-    // the backend's device memory, not from frame.image.
+    // the shared buffer the frame's own submission copied the image into, not from frame.image.
     virtual void update(const FrameResult& frame) = 0;
     // Draws the displayed image over the whole viewport of the bound framebuffer.
     virtual void draw(int viewport_width, int viewport_height) = 0;
@@ -55,7 +58,8 @@ public:
 std::unique_ptr<FrameDisplay> open_frame_display(DisplayMode mode, DisplayPath path, GlInterop* interop,
                                                  uint32_t width, uint32_t height);
 
-// The RenderSettings::read_image / read_radiance a path needs: the image for the host copy, nothing otherwise.
-void set_read_back(const DisplayPath& path, RenderSettings& settings);
+// The RenderSettings::read_image / read_radiance / copy_to_gl a path needs: the image read back for the host copy,
+// the copy into GL's buffer for interop, nothing for none. `shown` false: this frame is only rendered (nothing).
+void set_read_back(const DisplayPath& path, RenderSettings& settings, bool shown = true);
 
 }  // namespace prism::viewer

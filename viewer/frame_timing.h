@@ -17,6 +17,12 @@ struct FrameTiming {
     double present_ms = 0.0;   // the buffer swap (offscreen: glFlush)
     double frame_ms = 0.0;     // from the previous frame's present to this one's: what fps is made of
     double gpu_display_ms = -1.0;   // GL's GPU time for the display commands (GL_TIME_ELAPSED); < 0: not known
+    // --alternate-display: whether this frame was shown (its copy, upload, draw and swap done) or only rendered,
+    // and whether it is the first of its block (left out of the A/B medians: it carries what the block before it
+    // left running on the GPU).
+    enum class Block { None, Shown, Hidden };
+    Block block = Block::None;
+    bool first_of_block = false;
 };
 
 class FrameTimings {
@@ -32,10 +38,17 @@ public:
 
     struct Summary {
         size_t frames = 0, measured = 0;
-        double render_ms = 0.0, display_ms = 0.0, present_ms = 0.0, frame_ms = 0.0;   // medians
+        // Medians; display and present (and the GPU time) over the frames shown only (see --alternate-display).
+        double render_ms = 0.0, display_ms = 0.0, present_ms = 0.0, frame_ms = 0.0;
         double gpu_display_ms = -1.0;   // median of the frames whose GPU time is known; < 0: none
         double beyond_render_ms = 0.0;  // median of frame_ms - render_ms: what the viewer adds to each frame's time
         double fps = 0.0;                                             // 1000 / median frame_ms
+        // --alternate-display: median frame and render time of the shown and of the hidden frames (after warm-up,
+        // first frames of blocks left out), and what showing adds to a frame: shown - hidden, within one run, so
+        // the render's drift between runs stays out of it. Zero counts: no A/B.
+        size_t shown = 0, hidden = 0;
+        double shown_frame_ms = 0.0, hidden_frame_ms = 0.0, shown_render_ms = 0.0, hidden_render_ms = 0.0;
+        double added_ms = 0.0;
     };
     Summary summary() const;
     // "timing: 95 frames after 5 warm-up, median render 12.31 ms, display 0.42 ms (GL on the GPU 0.03 ms), present

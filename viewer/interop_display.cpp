@@ -53,11 +53,12 @@ public:
         if (frame.width != width_ || frame.height != height_)
             throw Error("view: frame is " + std::to_string(frame.width) + "x" + std::to_string(frame.height) +
                         ", the shared buffer " + std::to_string(width_) + "x" + std::to_string(height_));
-        if (fence_) {
-            wait_for_gl();
-        }
-        interop_.copy_image(bytes());
+        // The frame's submission already copied it into the shared buffer (RenderSettings::copy_to_gl).
         if (semaphores()) imported_->wait_ready();
+    }
+
+    void before_render() override {
+        if (fence_) wait_for_gl();
     }
 
     // GL reads the shared buffer in the draw itself (no upload into a texture first): the device may write it

@@ -281,49 +281,17 @@ public:
     bool uses_indirect_dispatch() const { return indirect_; }
 
 private:
-    // vk::ImageCopier, for the Vulkan-GL path: the image array into the exported buffer, which is handed to and
-    // taken back from GL by queue family ownership transfers (VK_QUEUE_FAMILY_EXTERNAL), as the spec asks for
-    // memory another API uses.
+    // vk::ImageCopier, for the Vulkan-GL path: the image array into the exported buffer, recorded into the frame's
+    // own command buffer (Renderer asks for it right after resolve), so the frame's one submission and fence cover
+    // it. The buffer is handed to and taken back from GL by queue family ownership transfers
+    // (VK_QUEUE_FAMILY_EXTERNAL), as the spec asks for memory another API uses; `wait`/`signal` (the shared
+    // semaphores) go with that submission.
     void copy_image_to(VkBuffer target, VkDeviceSize bytes, bool acquire, VkSemaphore wait,
                        VkSemaphore signal) override {
-        if (signal) return copy_image_async(target, bytes, acquire, wait, signal);
         begin_command();
         record_image_copy(command_, target, bytes, acquire);
-        flush(wait, signal);
-    }
-
-    // With shared semaphores GL waits for the copy on the device, so the host does not: the copy gets a command
-    // buffer and fence of its own, and the host waits for it only before recording the next one (by then long
-    // done). The next frame's stages start with a full pipeline barrier, which orders them after this copy's
-    // read of `image` (submission order on the one queue).
-    void copy_image_async(VkBuffer target, VkDeviceSize bytes, bool acquire, VkSemaphore wait, VkSemaphore signal) {
-        if (!copy_command_) {
-            VkCommandBufferAllocateInfo command_info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-            command_info.commandPool = command_pool_;
-            command_info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-            command_info.commandBufferCount = 1;
-            vk::check(vkAllocateCommandBuffers(device_, &command_info, &copy_command_), "vkAllocateCommandBuffers");
-            VkFenceCreateInfo fence_info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-            vk::check(vkCreateFence(device_, &fence_info, nullptr, &copy_fence_), "vkCreateFence");
-        }
-        if (copy_pending_) {
-            vk::check(vkWaitForFences(device_, 1, &copy_fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences (copy)");
-            vk::check(vkResetFences(device_, 1, &copy_fence_), "vkResetFences (copy)");
-            copy_pending_ = false;
-        }
-        vk::check(vkResetCommandBuffer(copy_command_, 0), "vkResetCommandBuffer (copy)");
-        VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-        begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-        vk::check(vkBeginCommandBuffer(copy_command_, &begin), "vkBeginCommandBuffer (copy)");
-        VkMemoryBarrier after_frame{VK_STRUCTURE_TYPE_MEMORY_BARRIER};   // the frame's writes of `image`
-        after_frame.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-        after_frame.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-        vkCmdPipelineBarrier(copy_command_, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1,
-                             &after_frame, 0, nullptr, 0, nullptr);
-        record_image_copy(copy_command_, target, bytes, acquire);
-        vk::check(vkEndCommandBuffer(copy_command_), "vkEndCommandBuffer (copy)");
-        submit(copy_command_, copy_fence_, wait, signal);
-        copy_pending_ = true;
+        submit_wait_ = wait;
+        submit_signal_ = signal;
     }
 
     // The copy itself, with the queue family ownership transfers around it.
@@ -510,7 +478,6 @@ private:
         if (set_layout_) vkDestroyDescriptorSetLayout(device_, set_layout_, nullptr);
         if (query_pool_) vkDestroyQueryPool(device_, query_pool_, nullptr);
         if (fence_) vkDestroyFence(device_, fence_, nullptr);
-        if (copy_fence_) vkDestroyFence(device_, copy_fence_, nullptr);
         if (command_pool_) vkDestroyCommandPool(device_, command_pool_, nullptr);
         vkDestroyDevice(device_, nullptr);
         device_ = VK_NULL_HANDLE;
@@ -657,7 +624,7 @@ private:
     }
 
     // One command buffer to the queue, signalling `fence`; `wait`/`signal`: semaphores shared with GL, or none (a
-    // wait is for the transfer that hands the shared buffer back).
+    // wait is for the transfers: the copy that writes the shared buffer GL has handed back).
     void submit(VkCommandBuffer command, VkFence fence, VkSemaphore wait, VkSemaphore signal) {
         VkSubmitInfo info{VK_STRUCTURE_TYPE_SUBMIT_INFO};
         info.commandBufferCount = 1;
@@ -675,13 +642,14 @@ private:
         vk::check(vkQueueSubmit(queue_, 1, &info, fence), "vkQueueSubmit");
     }
 
-    // Submits what was recorded, waits, and turns the timestamps into stage timings. `wait`/`signal`: semaphores
-    // shared with GL (the Vulkan-GL path), or none.
-    void flush(VkSemaphore wait = VK_NULL_HANDLE, VkSemaphore signal = VK_NULL_HANDLE) {
+    // Submits what was recorded, waits, and turns the timestamps into stage timings. When the recording holds the
+    // frame's Vulkan-GL copy, the submission also waits on / signals the semaphores shared with GL.
+    void flush() {
         if (!recording_) return;
         recording_ = false;
         vk::check(vkEndCommandBuffer(command_), "vkEndCommandBuffer");
-        submit(command_, fence_, wait, signal);
+        submit(command_, fence_, std::exchange(submit_wait_, VK_NULL_HANDLE),
+               std::exchange(submit_signal_, VK_NULL_HANDLE));
         VkResult waited = vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX);
         if (waited == VK_ERROR_DEVICE_LOST)
             throw Error(std::string("vulkan: device lost on ") + physical_.properties.deviceName +
@@ -723,9 +691,8 @@ private:
     VkCommandPool command_pool_ = VK_NULL_HANDLE;
     VkCommandBuffer command_ = VK_NULL_HANDLE;
     VkFence fence_ = VK_NULL_HANDLE;
-    VkCommandBuffer copy_command_ = VK_NULL_HANDLE;   // Vulkan-GL copies with shared semaphores (copy_image_async)
-    VkFence copy_fence_ = VK_NULL_HANDLE;
-    bool copy_pending_ = false;
+    // Semaphores shared with GL for the next submission (the one holding the frame's Vulkan-GL copy), or none.
+    VkSemaphore submit_wait_ = VK_NULL_HANDLE, submit_signal_ = VK_NULL_HANDLE;
     bool recording_ = false;
 
     VkQueryPool query_pool_ = VK_NULL_HANDLE;

@@ -1,8 +1,8 @@
 // The Vulkan-GL display path: a buffer in exportable device memory (VK_KHR_external_memory_fd, dedicated
-// allocation, opaque fd) that GL imports as the buffer it draws the frame from (GL_EXT_memory_object_fd), the frame copied
-// into it on the device, and two exported semaphores (VK_KHR_external_semaphore_fd + GL_EXT_semaphore_fd) ordering
-// the copy and GL's read where both sides offer them; otherwise the frame's fence wait, plus a GL fence before the
-// next copy, is the sync.
+// allocation, opaque fd) that GL imports as the buffer it draws the frame from (GL_EXT_memory_object_fd), the frame
+// copied into it on the device at the end of each shown frame, and two exported semaphores
+// (VK_KHR_external_semaphore_fd + GL_EXT_semaphore_fd) ordering the copy and GL's read where both sides offer them;
+// otherwise the frame's fence wait, plus a GL fence before the next frame's copy, is the sync.
 #pragma once
 
 #include <vulkan/vulkan.h>
@@ -28,10 +28,10 @@ struct GlSharingPlan {
 // to GL), that an opaque-fd buffer can be exported, and whether semaphores can be shared too.
 GlSharingPlan plan_gl_sharing(const DeviceCandidate& device, const GlContextHandles& gl);
 
-// The backend's side of a frame copy: its `image` array into `target`, ordered after the frame. `wait`/`signal`:
-// semaphores for the submission, or VK_NULL_HANDLE. Without `signal` the copy is waited for (its fence) before
-// the call returns; with it, GL waits on `signal` on the device and the host goes on. `acquire`: the buffer comes
-// back from GL (a queue family ownership transfer from VK_QUEUE_FAMILY_EXTERNAL first).
+// The backend's side of a frame copy: its `image` array into `target`, recorded after the stages enqueued so far,
+// in the frame's own submission (whose fence the frame's read-back waits on). `wait`/`signal`: semaphores for that
+// submission, or VK_NULL_HANDLE. `acquire`: the buffer comes back from GL (a queue family ownership transfer from
+// VK_QUEUE_FAMILY_EXTERNAL first).
 class ImageCopier {
 public:
     virtual ~ImageCopier() = default;
