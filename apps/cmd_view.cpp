@@ -162,7 +162,6 @@ public:
             }
             bool shows = display_->path().kind != viewer::DisplayPath::Kind::None && (!hidden_block || last);
             viewer::set_read_back(display_->path(), settings_, shows);
-            if (shows) display_->before_render();
             auto start = Clock::now();
             last_frame_ = engine_->render(controls_.camera(), settings_);
             auto rendered = Clock::now();

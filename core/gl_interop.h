@@ -8,6 +8,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 
 namespace prism {
@@ -66,9 +67,21 @@ public:
     // Vulkan), and with shared semaphores the frame's submission has also signalled the ready semaphore GL waits on.
     virtual void copy_image(size_t bytes) = 0;
     // True when the API does not itself wait for GL to finish reading the buffer before the next frame's copy
-    // writes it (OpenCL; Vulkan without semaphores): the viewer then waits on a GL fence before rendering a frame
-    // that copies.
+    // writes it (CUDA with external memory, OpenCL, Vulkan without semaphores): copy_image() then first calls the
+    // wait the viewer set (a GL fence). It runs where the host is idle anyway — the frame's stages are enqueued
+    // and, on CUDA, already running — so GL's latency does not hold back the GPU.
     virtual bool needs_gl_idle_before_copy() const = 0;
+    // The viewer's wait for GL to be done with the buffer (on the viewer's thread, its GL context current), or an
+    // empty function to remove it.
+    void set_gl_idle_wait(std::function<void()> wait) { gl_idle_wait_ = std::move(wait); }
+
+protected:
+    void wait_for_gl_idle() {
+        if (gl_idle_wait_) gl_idle_wait_();
+    }
+
+private:
+    std::function<void()> gl_idle_wait_;
 };
 
 // What a backend offers the viewer: an interop it owns, or why there is none ("PoCL has no cl_khr_gl_sharing").

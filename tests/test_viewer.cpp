@@ -119,8 +119,9 @@ TEST(Viewer, WithoutDisplayFailsInOneLine) {
     EXPECT_EQ(result.output, "prism: error: view: cannot open a window (no DISPLAY; run under xvfb-run -a)\n");
 }
 
+// Option errors come before any window: these run without xvfb-run (the GPU machine has none).
 TEST(Viewer, ScreenshotNeedsFrames) {
-    prism::test::CommandResult result = view("--screenshot x.png");
+    prism::test::CommandResult result = prism::test::run_prism("view " + prism::test::kScene + " --screenshot x.png");
     EXPECT_EQ(result.exit_code, 1) << result.output;
     EXPECT_NE(result.output.find("--screenshot needs --frames"), std::string::npos) << result.output;
 }
@@ -138,7 +139,7 @@ TEST(Viewer, SecondsEndsTheSessionAndCountsFrames) {
 }
 
 TEST(Viewer, SecondsMustNotBeNegative) {
-    prism::test::CommandResult result = view("--seconds -1");
+    prism::test::CommandResult result = prism::test::run_prism("view " + prism::test::kScene + " --seconds -1");
     EXPECT_NE(result.exit_code, 0) << result.output;
     EXPECT_LT(result.exit_code, 128) << result.output;
     EXPECT_NE(result.output.find("--seconds"), std::string::npos) << result.output;

@@ -55,6 +55,27 @@ TEST(ViewerHeadless, LavapipeSharesItsFrameWithEglGl) {
     EXPECT_GE(psnr_against_render(shot, "vulkan:llvmpipe"), 45.0);
 }
 
+// On a CUDA machine whose EGL is NVIDIA's (the H100): CUDA-GL both ways — memory CUDA exports and GL imports (the
+// default), and the GL buffer registered with CUDA (PRISM_CUDA_GL=register) — shows what `prism render` writes.
+TEST(ViewerHeadless, CudaGlShowsTheRenderedFrameBothWays) {
+    REQUIRE_BACKEND("cuda", "");
+    auto dir = prism::test::temp_dir("viewer-headless-cuda");
+    for (std::string way : {"external", "register"}) {
+        std::filesystem::path shot = dir / ("cuda-" + way + ".png"), stats = dir / ("stats-" + way + ".json");
+        prism::test::CommandResult result = prism::test::run_prism(
+            "view " + kScene + " --headless --backend cuda --frames 3 --display interop --screenshot '" +
+                shot.string() + "' --stats '" + stats.string() + "'",
+            "env -u DISPLAY -u WAYLAND_DISPLAY" + std::string(way == "register" ? " PRISM_CUDA_GL=register" : ""));
+        ASSERT_EQ(result.exit_code, 0) << result.output;
+        nlohmann::json json = read_json(stats);
+        EXPECT_EQ(json["display"]["name"], "CUDA-GL") << way;
+        std::string detail = json["display"]["detail"];
+        EXPECT_NE(detail.find(way == "register" ? "registered GL buffer" : "external memory"), std::string::npos)
+            << detail;
+        EXPECT_GE(psnr_against_render(shot, "cuda"), 45.0) << way;
+    }
+}
+
 TEST(ViewerHeadless, ScriptedKeysStillApply) {
     // No window means no keyboard: --keys is the only input, and it must work (the moving object here).
     auto dir = prism::test::temp_dir("viewer-headless-keys");

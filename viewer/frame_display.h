@@ -41,9 +41,6 @@ class FrameDisplay {
 public:
     virtual ~FrameDisplay() = default;
     virtual const DisplayPath& path() const = 0;
-    // Called before rendering a frame that will be shown: an interop path whose API does not wait for GL itself
-    // waits here until GL has read the shared buffer, since the frame's copy (RenderSettings::copy_to_gl) writes it.
-    virtual void before_render() {}
     // Makes `frame` the displayed image (the GL context must be current). The interop paths take the pixels from
     // the shared buffer the frame's own submission copied the image into, not from frame.image.
     virtual void update(const FrameResult& frame) = 0;

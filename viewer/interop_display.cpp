@@ -40,9 +40,14 @@ public:
             }
         }
         quad_.show_buffer(width_, height_, buffer_);
+        // The frame's copy waits for GL's last draw from the buffer where the API does not (a GL fence).
+        interop_.set_gl_idle_wait([this] {
+            if (fence_) wait_for_gl();
+        });
     }
 
     ~InteropDisplay() override {
+        interop_.set_gl_idle_wait({});
         if (fence_) glDeleteSync(fence_);
         if (own_buffer_) glDeleteBuffers(1, &own_buffer_);
     }
@@ -55,10 +60,6 @@ public:
                         ", the shared buffer " + std::to_string(width_) + "x" + std::to_string(height_));
         // The frame's submission already copied it into the shared buffer (RenderSettings::copy_to_gl).
         if (semaphores()) imported_->wait_ready();
-    }
-
-    void before_render() override {
-        if (fence_) wait_for_gl();
     }
 
     // GL reads the shared buffer in the draw itself (no upload into a texture first): the device may write it

@@ -122,13 +122,15 @@ OffscreenWindow::OffscreenWindow(int width, int height) : width_(width), height_
     set_gl_proc_address(egl_proc_address);
     describe_context(platform_);
 
-    // The frame's framebuffer: one RGBA8 color buffer of the frame's size, bound for drawing from now on.
-    glGenRenderbuffers(1, &color_);
-    glBindRenderbuffer(GL_RENDERBUFFER, color_);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
+    // The frame's framebuffer: one RGBA8 color texture of the frame's size, bound for drawing from now on (a texture,
+    // not a renderbuffer: the interop display writes it with a compute shader, viewer/texture_quad.h).
+    glGenTextures(1, &color_);
+    glBindTexture(GL_TEXTURE_2D, color_);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, width, height);
+    glBindTexture(GL_TEXTURE_2D, 0);
     glGenFramebuffers(1, &framebuffer_);
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color_);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color_, 0);
     GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE) {
         char text[96];
@@ -144,7 +146,7 @@ OffscreenWindow::~OffscreenWindow() { release(); }
 void OffscreenWindow::release() {
     if (!context_) return;
     if (framebuffer_) glDeleteFramebuffers(1, &framebuffer_);
-    if (color_) glDeleteRenderbuffers(1, &color_);
+    if (color_) glDeleteTextures(1, &color_);
     framebuffer_ = color_ = 0;
     set_gl_proc_address(nullptr);
     eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);

@@ -35,7 +35,7 @@ private:
     void* display_ = nullptr;   // EGLDisplay
     void* context_ = nullptr;   // EGLContext
     uint32_t framebuffer_ = 0;
-    uint32_t color_ = 0;        // the framebuffer's RGBA8 renderbuffer
+    uint32_t color_ = 0;        // the framebuffer's RGBA8 texture
     std::string platform_;   // "EGL device 0 (EGL_NV_device_cuda ...)", "Mesa surfaceless platform"
 };
 

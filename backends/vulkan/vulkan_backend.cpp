@@ -281,17 +281,36 @@ public:
     bool uses_indirect_dispatch() const { return indirect_; }
 
 private:
-    // vk::ImageCopier, for the Vulkan-GL path: the image array into the exported buffer, recorded into the frame's
-    // own command buffer (Renderer asks for it right after resolve), so the frame's one submission and fence cover
-    // it. The buffer is handed to and taken back from GL by queue family ownership transfers
-    // (VK_QUEUE_FAMILY_EXTERNAL), as the spec asks for memory another API uses; `wait`/`signal` (the shared
-    // semaphores) go with that submission.
+    // vk::ImageCopier, for the Vulkan-GL path: the image array into the exported buffer, handed to and taken back
+    // from GL by queue family ownership transfers (VK_QUEUE_FAMILY_EXTERNAL), as the spec asks for memory another
+    // API uses. It goes into the frame's own vkQueueSubmit and fence, but in a second batch with a command buffer of
+    // its own: the shared semaphores' wait (GL has read the buffer) then holds back only the copy, never the
+    // frame's stages — the GPU renders the next frame while it still switches to GL for the last one's draw.
     void copy_image_to(VkBuffer target, VkDeviceSize bytes, bool acquire, VkSemaphore wait,
                        VkSemaphore signal) override {
-        begin_command();
-        record_image_copy(command_, target, bytes, acquire);
-        submit_wait_ = wait;
-        submit_signal_ = signal;
+        if (!copy_command_) {
+            VkCommandBufferAllocateInfo command_info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+            command_info.commandPool = command_pool_;
+            command_info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+            command_info.commandBufferCount = 1;
+            vk::check(vkAllocateCommandBuffers(device_, &command_info, &copy_command_), "vkAllocateCommandBuffers");
+        }
+        begin_command();   // the frame's batch goes with it, even if nothing else is recorded after the copy
+        VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+        begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+        vk::check(vkBeginCommandBuffer(copy_command_, &begin), "vkBeginCommandBuffer (copy)");
+        // A barrier's first scope reaches back over earlier batches in submission order: the frame's writes of
+        // `image` (resolve) happen before the copy reads it.
+        VkMemoryBarrier after_frame{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        after_frame.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+        after_frame.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+        vkCmdPipelineBarrier(copy_command_, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1,
+                             &after_frame, 0, nullptr, 0, nullptr);
+        record_image_copy(copy_command_, target, bytes, acquire);
+        vk::check(vkEndCommandBuffer(copy_command_), "vkEndCommandBuffer (copy)");
+        copy_recorded_ = true;
+        copy_wait_ = wait;
+        copy_signal_ = signal;
     }
 
     // The copy itself, with the queue family ownership transfers around it.
@@ -623,33 +642,35 @@ private:
         vkCmdDispatchIndirect(command_, launch_args_.buffer, offset);
     }
 
-    // One command buffer to the queue, signalling `fence`; `wait`/`signal`: semaphores shared with GL, or none (a
-    // wait is for the transfers: the copy that writes the shared buffer GL has handed back).
-    void submit(VkCommandBuffer command, VkFence fence, VkSemaphore wait, VkSemaphore signal) {
-        VkSubmitInfo info{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-        info.commandBufferCount = 1;
-        info.pCommandBuffers = &command;
-        VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
-        if (wait) {
-            info.waitSemaphoreCount = 1;
-            info.pWaitSemaphores = &wait;
-            info.pWaitDstStageMask = &wait_stage;
-        }
-        if (signal) {
-            info.signalSemaphoreCount = 1;
-            info.pSignalSemaphores = &signal;
-        }
-        vk::check(vkQueueSubmit(queue_, 1, &info, fence), "vkQueueSubmit");
-    }
-
-    // Submits what was recorded, waits, and turns the timestamps into stage timings. When the recording holds the
-    // frame's Vulkan-GL copy, the submission also waits on / signals the semaphores shared with GL.
+    // Submits what was recorded (and the Vulkan-GL copy, when one is pending, as a second batch of the same
+    // vkQueueSubmit: it alone waits on / signals the semaphores shared with GL), waits on the one fence, and turns
+    // the timestamps into stage timings.
     void flush() {
         if (!recording_) return;
         recording_ = false;
         vk::check(vkEndCommandBuffer(command_), "vkEndCommandBuffer");
-        submit(command_, fence_, std::exchange(submit_wait_, VK_NULL_HANDLE),
-               std::exchange(submit_signal_, VK_NULL_HANDLE));
+        std::array<VkSubmitInfo, 2> batches{};
+        batches[0] = VkSubmitInfo{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+        batches[0].commandBufferCount = 1;
+        batches[0].pCommandBuffers = &command_;
+        VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
+        if (copy_recorded_) {
+            batches[1] = VkSubmitInfo{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+            batches[1].commandBufferCount = 1;
+            batches[1].pCommandBuffers = &copy_command_;
+            if (copy_wait_) {
+                batches[1].waitSemaphoreCount = 1;
+                batches[1].pWaitSemaphores = &copy_wait_;
+                batches[1].pWaitDstStageMask = &wait_stage;
+            }
+            if (copy_signal_) {
+                batches[1].signalSemaphoreCount = 1;
+                batches[1].pSignalSemaphores = &copy_signal_;
+            }
+        }
+        vk::check(vkQueueSubmit(queue_, copy_recorded_ ? 2 : 1, batches.data(), fence_), "vkQueueSubmit");
+        copy_recorded_ = false;
+        copy_wait_ = copy_signal_ = VK_NULL_HANDLE;
         VkResult waited = vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX);
         if (waited == VK_ERROR_DEVICE_LOST)
             throw Error(std::string("vulkan: device lost on ") + physical_.properties.deviceName +
@@ -691,8 +712,11 @@ private:
     VkCommandPool command_pool_ = VK_NULL_HANDLE;
     VkCommandBuffer command_ = VK_NULL_HANDLE;
     VkFence fence_ = VK_NULL_HANDLE;
-    // Semaphores shared with GL for the next submission (the one holding the frame's Vulkan-GL copy), or none.
-    VkSemaphore submit_wait_ = VK_NULL_HANDLE, submit_signal_ = VK_NULL_HANDLE;
+    // The frame's Vulkan-GL copy, submitted with the next flush as a batch of its own, and the semaphores shared
+    // with GL that batch waits on and signals (or none).
+    VkCommandBuffer copy_command_ = VK_NULL_HANDLE;
+    bool copy_recorded_ = false;
+    VkSemaphore copy_wait_ = VK_NULL_HANDLE, copy_signal_ = VK_NULL_HANDLE;
     bool recording_ = false;
 
     VkQueryPool query_pool_ = VK_NULL_HANDLE;

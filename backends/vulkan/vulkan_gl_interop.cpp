@@ -62,7 +62,9 @@ public:
         if (bytes > bytes_)
             throw Error("vulkan: frame of " + std::to_string(bytes) + " bytes does not fit the shared buffer of " +
                         std::to_string(bytes_));
-        // GL signals `released` after each read of the buffer; the first copy has nothing to wait for.
+        // GL signals `released` after each read of the buffer; the first copy has nothing to wait for. Without
+        // semaphores the host waits for GL here instead.
+        if (!plan_.semaphores) wait_for_gl_idle();
         bool returned = copies_ > 0;
         copier_.copy_image_to(buffer_, bytes, returned, returned ? released_ : VK_NULL_HANDLE, ready_);
         ++copies_;
