@@ -95,6 +95,12 @@ private:
     std::string name_;
 };
 
+// The viewer can set an object moving at any time (Action::ToggleMoving), so its scenes keep instances movable.
+SceneOptions movable(SceneOptions options) {
+    options.moving_instances = true;
+    return options;
+}
+
 class ViewSession {
 public:
     explicit ViewSession(const ViewOptions& options)
@@ -104,7 +110,7 @@ public:
           script_(viewer::parse_key_script(options.keys)),
           window_(viewer::open_window("Prism", int(settings_.width), int(settings_.height), !options.no_vsync,
                                        options.headless)),
-          loaded_(load_and_build(options.scene, options.backend)),
+          loaded_(load_and_build(movable(options.scene), options.backend)),
           controls_(loaded_.scene.camera),
           moving_(loaded_) {
         // Only the interop modes tell the backend about the GL context: with host-copy (and none) it is created
@@ -220,7 +226,7 @@ private:
         if (found == other_layouts_.end()) {
             std::printf("  building the %s BVH for %s\n", bvh_layout_name(layout).c_str(), spec.c_str());
             std::fflush(stdout);
-            found = other_layouts_.emplace(layout, build_device_scene_for(loaded_.scene, options_.scene, layout)).first;
+            found = other_layouts_.emplace(layout, build_device_scene_for(loaded_.scene, movable(options_.scene), layout)).first;
         }
         return found->second;
     }

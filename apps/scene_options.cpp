@@ -29,6 +29,7 @@ DeviceScene build_device_scene_for(const Scene& scene, const SceneOptions& optio
     BvhBuildOptions bvh;
     bvh.method = options.bvh == "median" ? BvhMethod::Median : BvhMethod::BinnedSah;
     bvh.layout = layout;
+    bvh.flatten_instances = !options.moving_instances;
     return build_device_scene(scene, bvh);
 }
 

@@ -16,6 +16,9 @@ struct SceneOptions {
     std::string data_dir = "../shared/scenes";
     std::string bvh = "sah";
     std::string layout = "auto";   // stack, escape, wide, or auto: per backend (core/render_engine.h)
+    // Instances may move after the build (the viewer's moving object): the wide layout then keeps its top level
+    // over instances, which a move refits; otherwise it flattens them into one BVH (BvhBuildOptions).
+    bool moving_instances = false;
 };
 
 void add_scene_options(CLI::App* command, SceneOptions& options, bool scene_required = false);

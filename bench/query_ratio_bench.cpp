@@ -5,7 +5,8 @@
 //    Embree's intersect1 alternate round by round, so cache and memory contention from other work hits both;
 //  - prints the best and the median round of each and their ratios, and the hit agreement with Embree.
 // `prism bench --embree` (2 threads, wall time) is the reference measurement; this is the tuning loop.
-//   query_ratio_bench [--rounds N] [--threads N] [--bvh-layout wide|stack|escape] [--bvh-leaf N] scene...
+// The wide layout flattens the scene's instances, as `prism bench` builds it; --two-level keeps the top level.
+//   query_ratio_bench [--rounds N] [--threads N] [--bvh-layout wide|stack|escape] [--bvh-leaf N] [--two-level] scene...
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -50,6 +51,7 @@ int main(int argc, char** argv) {
     unsigned threads = 1;
     std::string layout = "wide";
     uint32_t leaf = 0, wide_leaf = 0;
+    bool two_level = false;
     app.add_option("scenes", scenes, "models (.ply, .ply.gz, ...)")->required();
     app.add_option("--rounds", rounds, "timed rounds after one warm-up")->capture_default_str();
     app.add_option("--threads", threads, "threads for both (1: thread CPU time; more: wall time)")
@@ -57,6 +59,7 @@ int main(int argc, char** argv) {
     app.add_option("--bvh-layout", layout, "stack, escape or wide")->capture_default_str();
     app.add_option("--bvh-leaf", leaf, "max_leaf_size of the BVH build (0: the default)");
     app.add_option("--wide-leaf", wide_leaf, "wide_leaf_size of the BVH build (0: the default)");
+    app.add_flag("--two-level", two_level, "wide layout: keep the top level over instances (as `prism view`)");
     CLI11_PARSE(app, argc, argv);
     try {
         register_builtin_backends();
@@ -67,6 +70,7 @@ int main(int argc, char** argv) {
             options.layout = resolve_bvh_layout(layout, "cpu");
             if (leaf) options.max_leaf_size = leaf;
             if (wide_leaf) options.wide_leaf_size = wide_leaf;
+            options.flatten_instances = !two_level;
             DeviceScene device = build_device_scene(scene, options);
             oracle::EmbreeScene embree(scene, threads);
             oracle::OracleRays rays = oracle::make_oracle_rays(scene, embree, 500000, 1000000, 7);

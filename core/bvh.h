@@ -40,6 +40,9 @@ struct BvhBuildOptions {
     float traversal_cost = 1.0f;    // SAH constants: cost of a node visit relative to one primitive test
     float intersection_cost = 1.0f;
     uint32_t wide_leaf_size = RT_WIDE_LEAF_MAX;   // the wide layout: subtrees of at most this many become one leaf
+    // The wide layout: one world-space BVH over every instance's triangles instead of a top level over instances
+    // (build_device_scene; core/device_scene_flat.cpp). For scenes whose instances do not move: it cannot be refit.
+    bool flatten_instances = false;
 };
 
 struct Bvh {

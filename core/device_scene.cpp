@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/bvh_tree.h"
+#include "core/device_scene_flat.h"
 #include "core/error.h"
 
 namespace prism {
@@ -88,7 +89,7 @@ void block_wide_leaves(std::vector<BvhWideNode>& nodes, const std::vector<Triang
             uint32_t first_block = uint32_t(blocks.size());
             for (uint32_t i = 0; i < count; i += 4) {
                 TriangleBlock block{};   // unused lanes: zero edges, never hit
-                block.slot = block.primitive = uint4{~0u, ~0u, ~0u, ~0u};
+                block.slot = block.primitive = block.instance = uint4{~0u, ~0u, ~0u, ~0u};
                 for (uint32_t l = 0; l < 4 && i + l < count; ++l) {
                     const TriangleGeometry& t = triangles[first + i + l];
                     lane(block.v0x, l) = t.v0.x, lane(block.v0y, l) = t.v0.y, lane(block.v0z, l) = t.v0.z;
@@ -202,6 +203,11 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
     placements.reserve(scene.meshes.size());
     double triangle_weighted_sah = 0.0;
     size_t bvh_triangles = 0;
+    // Flattened instances trace one world BVH (core/device_scene_flat.cpp): a mesh's own BVH only orders its
+    // triangles, so it stays binary.
+    bool flatten = options.layout == BvhLayout::Wide && options.flatten_instances;
+    BvhBuildOptions mesh_options = options;
+    if (flatten) mesh_options.layout = BvhLayout::Stack;
     device.mesh_bounds.resize(scene.meshes.size());
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const Mesh& mesh = scene.meshes[m];
@@ -234,7 +240,7 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
             bounds[t].grow(c);
             device.mesh_bounds[m].grow(bounds[t]);
         }
-        placement.bvh = build_bvh(bounds, options);
+        placement.bvh = build_bvh(bounds, mesh_options);
         for (uint32_t t : placement.bvh.primitive_order) {
             glm::uvec3 tri = mesh.triangles[t];
             glm::vec3 a = mesh.positions[tri.x], b = mesh.positions[tri.y], c = mesh.positions[tri.z];
@@ -265,7 +271,18 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
     build_top_level(device, transforms, true);
     // The layout's node array holds the top level first, then each mesh's BVH; the other array gets one unused
     // node (GPU APIs dislike empty buffers).
-    if (options.layout == BvhLayout::Wide) {
+    if (flatten) {
+        std::vector<uint32_t> first_triangle, triangle_count;
+        for (MeshPlacement& placement : placements) {
+            first_triangle.push_back(placement.first_triangle);
+            triangle_count.push_back(uint32_t(placement.bvh.primitive_order.size()));
+            placement.first_vertex = 0;   // reused below as the mesh's root: no mesh has its own
+        }
+        build_flat_instances(device, scene, first_triangle, triangle_count);
+        BvhNode unused{};
+        set_node_box(unused, Aabb{});
+        device.nodes.assign(1, unused);
+    } else if (options.layout == BvhLayout::Wide) {
         device.top_level_nodes = wide_top_level_capacity(scene.instances.size());
         device.wide_nodes = top_level_wide_device_nodes(device.top_level, device.top_level_nodes);
         for (size_t m = 0; m < placements.size(); ++m) {
@@ -349,7 +366,7 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
     if (device.lights.empty()) device.lights.push_back(::Light{});   // placeholder; the frame says 0 lights
     device.ambient_light = scene.ambient_light;
 
-    device.sah_cost = bvh_triangles ? float(triangle_weighted_sah / double(bvh_triangles)) : 0.0f;
+    if (!flatten) device.sah_cost = bvh_triangles ? float(triangle_weighted_sah / double(bvh_triangles)) : 0.0f;
     device.bvh_build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return device;
 }
@@ -357,6 +374,9 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
 void update_instance_transforms(DeviceScene& device, const std::vector<glm::mat4>& transforms, bool rebuild) {
     if (transforms.size() != device.instances.size())
         throw Error("update_instance_transforms: expected " + std::to_string(device.instances.size()) + " transforms");
+    if (device.bvh_options.layout == BvhLayout::Wide && device.bvh_options.flatten_instances)
+        throw Error("update_instance_transforms: the instances of this scene are flattened into one BVH and cannot "
+                    "move (build it with BvhBuildOptions::flatten_instances off)");
     for (size_t i = 0; i < transforms.size(); ++i) {
         const uint4 info = device.instances[i].info;
         device.instances[i] = device_instance(transforms[i], info.x, info.y, info.z);

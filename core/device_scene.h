@@ -35,7 +35,8 @@ struct DeviceScene {
     // For `prism info` and the benchmarks.
     size_t traced_triangles = 0;        // over instances, degenerate ones excluded
     size_t degenerate_triangles = 0;    // over meshes
-    size_t top_level_nodes = 0;         // entries of the top level at the start of nodes (wide_nodes in the wide layout)
+    size_t top_level_nodes = 0;         // entries of the top level at the start of nodes (wide_nodes in the wide layout;
+                                        // 0 with flattened instances, whose wide_nodes are one world-space BVH)
     float sah_cost = 0.0f;              // triangle-weighted mean SAH cost of the mesh BVHs
     double bvh_build_ms = 0.0;
 
@@ -51,6 +52,7 @@ struct DeviceScene {
 DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& options = {});
 
 // New instance transforms (same instances, same meshes): refits the top level, or rebuilds it when `rebuild`.
+// Throws prism::Error for a scene built with flattened instances (BvhBuildOptions::flatten_instances).
 // Only `instances` and the first `top_level_nodes` entries of `nodes` (`wide_nodes` in the wide layout) change.
 void update_instance_transforms(DeviceScene& device, const std::vector<glm::mat4>& transforms, bool rebuild);
 

@@ -67,6 +67,10 @@ RT_FUNC Hit rt_intersect_leaf(KernelGlobals kg, Hit best, TraversalRay ray, uint
 }
 
 #if defined(RT_WIDE_TRAVERSAL)
+// The traversal's instance while it walks a flattened world BVH (RT_FLAG_FLAT_INSTANCES): each block lane names
+// its own.
+#define RT_INSTANCE_PER_LANE 0xfffffffdu
+
 // The wide layout's leaves: rt_intersect_leaf a block of four triangles at a time, with the same per-triangle
 // results and, among equal distances, the same winner (the first triangle).
 RT_FUNC Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, uint instance, uint first, uint count) {
@@ -81,7 +85,8 @@ RT_FUNC Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, ui
             float t = rt_lane(hits.t, k);
             if (t < best.tuv.x) {
                 best.tuv = make_float4(t, rt_lane(hits.u, k), rt_lane(hits.v, k), 0.0f);
-                best.ids = make_uint4(instance, rt_lane_u(block.primitive, k), rt_lane_u(block.slot, k), 0u);
+                uint hit_instance = instance == RT_INSTANCE_PER_LANE ? rt_lane_u(block.instance, k) : instance;
+                best.ids = make_uint4(hit_instance, rt_lane_u(block.primitive, k), rt_lane_u(block.slot, k), 0u);
             }
         }
     }
@@ -240,8 +245,10 @@ RT_FUNC uint rt_wide_child(BvhWideNode node, uint k) { return rt_lane8_u(node.ch
 // marker, as in the stack layout.
 // A scene whose top level holds one instance starts inside it (one_instance: frame flag RT_FLAG_ONE_INSTANCE), and
 // an instance with the identity transform keeps the world ray: the traversal then costs what a one-level BVH costs.
+// A scene with flattened instances (flat: RT_FLAG_FLAT_INSTANCES) is one world-space BVH: the walk starts "inside"
+// at node 0 with the world ray and never meets a top-level leaf; each hit takes its instance from its block.
 RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit,
-                          bool one_instance) {
+                          bool one_instance, bool flat) {
     Hit best = rt_no_hit();
     best.tuv.x = tmax;
     TraversalRay world = rt_traversal_ray(origin, direction, tmin);
@@ -252,7 +259,9 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
     uint sp = 0u;
 
     uint current = 0u;
-    if (one_instance) {
+    if (flat) {
+        instance = RT_INSTANCE_PER_LANE;
+    } else if (one_instance) {
         // The top level holds one instance: start inside it (its mesh root's boxes are tested anyway).
         instance = 0u;
         Instance inst = RT_FETCH(kg, instances, 0u);
@@ -385,7 +394,8 @@ RT_FUNC Hit rt_trace(KernelGlobals kg, float3 origin, float3 direction, float tm
     uint bvh_layout = frame.scene.y;
 #if defined(RT_WIDE_TRAVERSAL)
     if (bvh_layout == RT_BVH_LAYOUT_WIDE)
-        return rt_trace_wide(kg, origin, direction, tmin, tmax, any_hit, (frame.scene.z & RT_FLAG_ONE_INSTANCE) != 0u);
+        return rt_trace_wide(kg, origin, direction, tmin, tmax, any_hit, (frame.scene.z & RT_FLAG_ONE_INSTANCE) != 0u,
+                             (frame.scene.z & RT_FLAG_FLAT_INSTANCES) != 0u);
 #endif
     // (A GPU backend never receives a wide scene: RenderEngine refuses it.)
     if (bvh_layout == RT_BVH_LAYOUT_ESCAPE) return rt_trace_escape(kg, origin, direction, tmin, tmax, any_hit);

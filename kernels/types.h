@@ -70,7 +70,9 @@ RT_STRUCT_END(TriangleGeometry)
 // The wide layout's leaves: triangles four to a block, one per lane, as the four-at-a-time test reads them
 // (component arrays of v0, e1, e2). A leaf of n triangles owns ceil(n / 4) consecutive blocks; a lane past its end
 // has zero edges, which no ray hits. Lane k of slot: the triangle's slot in `triangles` (where shading finds its
-// geometric normal), of primitive: its index within its mesh (as TriangleGeometry.v0.w); RT_NONE when unused.
+// geometric normal), of primitive: its index within its mesh (as TriangleGeometry.v0.w), of instance: the instance
+// it belongs to when the instances are flattened (RT_FLAG_FLAT_INSTANCES; the two-level layout shares a mesh's
+// blocks among its instances and leaves it RT_NONE); RT_NONE when unused. 192 bytes: three whole cache lines.
 RT_STRUCT_BEGIN(TriangleBlock)
     float4 v0x;
     float4 v0y;
@@ -83,6 +85,7 @@ RT_STRUCT_BEGIN(TriangleBlock)
     float4 e2z;
     uint4 slot;
     uint4 primitive;
+    uint4 instance;
 RT_STRUCT_END(TriangleBlock)
 
 // Per-triangle shading data in file order per mesh: indices into the vertex arrays.
@@ -179,6 +182,9 @@ RT_STRUCT_END(Light)
 #define RT_FLAG_ANY_HIT 1u        // intersect reports any hit (ray queries with --any-hit)
 #define RT_FLAG_NO_SHADING 2u     // ray queries: no frame, intersect only
 #define RT_FLAG_ONE_INSTANCE 4u   // the top level holds exactly instance 0 (the wide traversal starts inside it)
+// The wide layout with its instances flattened (static scenes, core/device_scene_flat.cpp): wide_nodes hold one
+// world-space BVH over every instance's triangles, and each block lane names its instance.
+#define RT_FLAG_FLAT_INSTANCES 8u
 
 // One per frame (array of one element). The camera basis is precomputed on the host.
 //  camera_position.w = tan(vertical fov / 2), camera_forward.w = aspect ratio

@@ -3,8 +3,12 @@
 // the images are expected to be identical; the requirement is PSNR >= 50 dB.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <set>
+
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "core/error.h"
 #include "core/render_engine.h"
 #include "core/scene_loader.h"
 #include "tests/test_support.h"
@@ -15,6 +19,7 @@ struct Case {
     std::string scene;
     uint32_t width, height, depth;
     prism::BvhLayout layout = prism::BvhLayout::Stack;
+    bool flatten = false;   // the wide layout: BvhBuildOptions::flatten_instances
 };
 
 void PrintTo(const Case& c, std::ostream* os) { *os << c.scene; }
@@ -22,13 +27,15 @@ void PrintTo(const Case& c, std::ostream* os) { *os << c.scene; }
 class CpuAgreement : public ::testing::TestWithParam<Case> {};
 
 prism::DeviceScene load(const std::string& spec, prism::BvhLayout layout = prism::BvhLayout::Stack,
-                        prism::BvhMethod method = prism::BvhMethod::BinnedSah, prism::Scene* out = nullptr) {
+                        prism::BvhMethod method = prism::BvhMethod::BinnedSah, prism::Scene* out = nullptr,
+                        bool flatten = false) {
     prism::LoadOptions options;
     options.data_dir = prism::test::scenes_dir();
     prism::Scene scene = prism::load_scene(spec, options);
     prism::BvhBuildOptions bvh;
     bvh.layout = layout;
     bvh.method = method;
+    bvh.flatten_instances = flatten;
     prism::DeviceScene device = prism::build_device_scene(scene, bvh);
     if (out) *out = std::move(scene);
     return device;
@@ -43,7 +50,7 @@ std::string resolve(const std::string& spec) {
 TEST_P(CpuAgreement, WavefrontMatchesRecursiveReference) {
     const Case& c = GetParam();
     prism::Scene scene;
-    prism::DeviceScene device = load(resolve(c.scene), c.layout, prism::BvhMethod::BinnedSah, &scene);
+    prism::DeviceScene device = load(resolve(c.scene), c.layout, prism::BvhMethod::BinnedSah, &scene, c.flatten);
     prism::RenderSettings settings;
     settings.width = c.width;
     settings.height = c.height;
@@ -69,9 +76,9 @@ const Case kCases[] = {Case{"builtin:sphere", 160, 120, 8}, Case{"builtin:bunny"
                        Case{"gltf/DamagedHelmet/DamagedHelmet.glb", 96, 96, 4},
                        Case{"gltf/MetalRoughSpheresNoTextures/MetalRoughSpheresNoTextures.glb", 128, 96, 4}};
 
-std::vector<Case> with_layout(prism::BvhLayout layout) {
+std::vector<Case> with_layout(prism::BvhLayout layout, bool flatten = false) {
     std::vector<Case> cases(std::begin(kCases), std::end(kCases));
-    for (Case& c : cases) c.layout = layout;
+    for (Case& c : cases) c.layout = layout, c.flatten = flatten;
     return cases;
 }
 
@@ -86,6 +93,9 @@ INSTANTIATE_TEST_SUITE_P(Scenes, CpuAgreement, ::testing::ValuesIn(with_layout(p
 // The wide layout (the cpu backends' default): the cpu backend runs it from its AVX2 stages where the CPU has
 // them, cpu-ref from the baseline build, so this also checks that both instruction sets trace the same hits.
 INSTANTIATE_TEST_SUITE_P(WideScenes, CpuAgreement, ::testing::ValuesIn(with_layout(prism::BvhLayout::Wide)), case_name);
+// The wide layout with flattened instances (what `prism render`, `rays` and `bench` build for the cpu backends).
+INSTANTIATE_TEST_SUITE_P(FlatWideScenes, CpuAgreement, ::testing::ValuesIn(with_layout(prism::BvhLayout::Wide, true)),
+                         case_name);
 
 // Every node layout and both builders trace the same closest hits, so they render the same image.
 TEST(CpuAgreement, LayoutsAndBuildersRenderTheSameImage) {
@@ -94,13 +104,15 @@ TEST(CpuAgreement, LayoutsAndBuildersRenderTheSameImage) {
     prism::DeviceScene escape = load("builtin:sphere", prism::BvhLayout::Escape, prism::BvhMethod::Median);
     prism::DeviceScene wide = load("builtin:sphere", prism::BvhLayout::Wide, prism::BvhMethod::BinnedSah);
     prism::DeviceScene wide_median = load("builtin:sphere", prism::BvhLayout::Wide, prism::BvhMethod::Median);
+    prism::DeviceScene flat = load("builtin:sphere", prism::BvhLayout::Wide, prism::BvhMethod::BinnedSah, nullptr, true);
     prism::RenderSettings settings;
     settings.width = 96;
     settings.height = 72;
     prism::FrameResult a = prism::RenderEngine("cpu", stack).render(scene.camera, settings);
-    for (const prism::DeviceScene* other : {&escape, &wide, &wide_median}) {
+    for (const prism::DeviceScene* other : {&escape, &wide, &wide_median, &flat}) {
         prism::FrameResult b = prism::RenderEngine("cpu", *other).render(scene.camera, settings);
-        EXPECT_GE(prism::test::psnr_rgba8(a.image, b.image), 50.0) << prism::bvh_layout_name(other->bvh_options.layout);
+        EXPECT_GE(prism::test::psnr_rgba8(a.image, b.image), 50.0)
+            << prism::bvh_layout_name(other->bvh_options.layout) << (other == &flat ? " (flat)" : "");
         EXPECT_EQ(a.stats.rays_per_depth, b.stats.rays_per_depth);
     }
 }
@@ -156,6 +168,48 @@ TEST(CpuAgreement, WideTopLevelRefitAndRebuildMatchAFreshBuild) {
         EXPECT_EQ(expected.stats.rays_per_depth, actual.stats.rays_per_depth);
         EXPECT_EQ(prism::RenderEngine("cpu-ref", updated).render(moved.camera, settings).image, actual.image);
     }
+}
+
+// Flattened instances trace one world-space BVH, so they cannot move: an update says so instead of tracing a
+// stale tree. The two-level wide layout (as `prism view` builds it) is what moving scenes use.
+TEST(CpuAgreement, FlattenedInstancesRefuseToMove) {
+    prism::Scene scene;
+    prism::DeviceScene device = load("builtin:sphere", prism::BvhLayout::Wide, prism::BvhMethod::BinnedSah, &scene, true);
+    std::vector<glm::mat4> transforms;
+    for (const prism::Instance& instance : scene.instances) transforms.push_back(instance.transform);
+    prism::RenderEngine engine("cpu", device);
+    EXPECT_THROW(engine.update_instances(device, transforms, false), prism::Error);
+}
+
+// Flattened and two-level wide layouts report the same hits (instance, primitive, triangle slot) for rays that
+// cross several instances, with t, u, v as close as world- and object-space arithmetic allow.
+TEST(CpuAgreement, FlattenedInstancesReportTheTwoLevelHits) {
+    prism::Scene scene;
+    prism::DeviceScene two_level = load("builtin:bunny", prism::BvhLayout::Wide, prism::BvhMethod::BinnedSah, &scene);
+    prism::DeviceScene flat = load("builtin:bunny", prism::BvhLayout::Wide, prism::BvhMethod::BinnedSah, nullptr, true);
+    ASSERT_GT(scene.instances.size(), 2u);
+    // A fan of rays from above the floor towards the model, the floor and the sky.
+    std::vector<prism::RayQuery> rays;
+    const glm::vec3 eye = scene.camera.position;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+            glm::vec3 d = glm::normalize(scene.camera.target - eye + glm::vec3(0.05f * float(x - 32), 0.05f * float(y - 40), 0.0f));
+            rays.push_back(prism::RayQuery{{eye.x, eye.y, eye.z}, 0.0f, {d.x, d.y, d.z}, INFINITY});
+        }
+    std::vector<prism::RayHit> a = prism::RenderEngine("cpu", two_level).trace(rays, false);
+    std::vector<prism::RayHit> b = prism::RenderEngine("cpu", flat).trace(rays, false);
+    std::set<uint32_t> instances_hit;
+    size_t same = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+        bool a_hit = a[i].t < INFINITY, b_hit = b[i].t < INFINITY;
+        if (a_hit) instances_hit.insert(a[i].instance);
+        if (a_hit != b_hit) continue;
+        if (!a_hit || (a[i].instance == b[i].instance && a[i].primitive == b[i].primitive)) ++same;
+        if (a_hit && a[i].instance == b[i].instance && a[i].primitive == b[i].primitive)
+            EXPECT_NEAR(a[i].t, b[i].t, 1e-4f * a[i].t) << "ray " << i;
+    }
+    EXPECT_GE(instances_hit.size(), 2u) << "the rays should see more than one instance";
+    EXPECT_GE(double(same), 0.999 * double(rays.size()));
 }
 
 // Issue 8's determinism: the same frame twice is bit-identical (exact accumulation, deterministic BVH).
