@@ -3,6 +3,7 @@
 // the command still exists and says why it cannot run.
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <memory>
 #include <optional>
@@ -120,6 +121,7 @@ public:
         device_ = &device_for(options.backend);
         engine_ = make_engine(options.backend, *device_);
         display_ = make_display(*engine_);
+        ablate_ = ablation(display_->path());
         BackendInfo info = engine_->info();
         std::printf("prism view: %s (%zu triangles, %zu instances) on %s [%s]\n", options.scene.scene.c_str(),
                     loaded_.device.traced_triangles, loaded_.device.instances.size(), info.name.c_str(),
@@ -168,6 +170,8 @@ public:
             }
             bool shows = display_->path().kind != viewer::DisplayPath::Kind::None && (!hidden_block || last);
             viewer::set_read_back(display_->path(), settings_, shows);
+            if (ablate_ == "gl") settings_.copy_to_gl = false;   // GL shows the shared buffer as it is
+            if (ablate_ == "copy") shows = false;                  // the frame copies, GL does nothing
             auto start = Clock::now();
             last_frame_ = engine_->render(controls_.camera(), settings_);
             auto rendered = Clock::now();
@@ -202,6 +206,22 @@ public:
     }
 
 private:
+    // PRISM_VIEW_ABLATE (bench/view_gpu.sh) splits what showing a frame through interop costs in two: "copy" — shown
+    // frames copy into the shared buffer and GL does nothing; "gl" — GL shows the shared buffer and the frame copies
+    // nothing into it (the image stays the first one). Not with shared semaphores, which pair every copy with a GL
+    // wait. Empty when unset.
+    static std::string ablation(const viewer::DisplayPath& path) {
+        const char* value = std::getenv("PRISM_VIEW_ABLATE");
+        std::string ablate = value ? value : "";
+        if (ablate.empty()) return ablate;
+        if (ablate != "copy" && ablate != "gl")
+            throw Error("view: PRISM_VIEW_ABLATE='" + ablate + "' is not one of copy, gl");
+        if (path.kind != viewer::DisplayPath::Kind::Interop || path.detail.rfind("shared semaphores", 0) == 0)
+            throw Error("view: PRISM_VIEW_ABLATE needs an interop display without shared semaphores (this one: " +
+                        path.describe() + ")");
+        return ablate;
+    }
+
     // Whatever ends the session (--frames, Esc, the window closing): the last frame, the timing summary, --stats.
     void finish() {
         if (options_.frames != 0 || options_.seconds > 0.0) {
@@ -261,6 +281,7 @@ private:
         json["backend_switches"] = backend_switches_;
         json["gl"] = window_->context_description();
         json["headless"] = options_.headless;
+        json["ablate"] = ablate_.empty() ? nlohmann::json() : nlohmann::json(ablate_);
         json["display"] = {{"requested", viewer::display_mode_name(mode_)},
                            {"path", path.kind_name()},
                            {"name", path.name},
@@ -382,6 +403,7 @@ private:
     viewer::FrameTimings stats_;
     viewer::GlTimer gl_timer_;
     int backend_switches_ = 0;
+    std::string ablate_;   // PRISM_VIEW_ABLATE: "", "copy" or "gl"
 };
 
 void run_view(const ViewOptions& options) {

@@ -12,6 +12,8 @@
 #   PRISM_VIEW_SCENE     default builtin:dragon;  PRISM_VIEW_SIZE default 1920x1080;  PRISM_VIEW_FRAMES default 200
 #   PRISM_VIEW_DEPTH     default 8;  PRISM_VIEW_TIMEOUT: seconds allowed per run (default 240)
 #   PRISM_VIEW_ALTERNATE blocks of --alternate-display for the interop and host-copy runs (default 10)
+#   PRISM_VIEW_ABLATION  backends whose interop cost is also split into its two halves, the device copy alone and GL
+#                        alone (PRISM_VIEW_ABLATE=copy|gl, apps/cmd_view.cpp; not with shared semaphores). Default cuda
 #   PRISM_VIEW_ANY_GL=1  run even when GL is not NVIDIA's (to check this script on a machine without a GPU:
 #                        PRISM_BUILD=build PRISM_DATA=../shared/scenes OUT=/tmp/view PRISM_VIEW_ANY_GL=1
 #                        PRISM_VIEW_BACKENDS=vulkan:llvmpipe PRISM_VIEW_SIZE=160x90 PRISM_VIEW_FRAMES=5 ...)
@@ -28,6 +30,7 @@ depth=${PRISM_VIEW_DEPTH:-8}
 run_limit=${PRISM_VIEW_TIMEOUT:-240}   # seconds per prism view run
 backends=${PRISM_VIEW_BACKENDS:-cuda,opencl:nvidia,vulkan:nvidia}
 alternate=${PRISM_VIEW_ALTERNATE:-10}
+ablation=${PRISM_VIEW_ABLATION-cuda}
 prism=$PWD/$build/apps/prism
 target_ms=0.2   # issue 7: interop may add at most this much to a frame over the render alone
 mkdir -p "$out/view"
@@ -85,15 +88,19 @@ for backend in ${backends//,/ }; do
   name=${backend//:/-}
   declare -A frame=() present=() render=() display=() gpu=() added=() hidden=() hidden_render=() path=() detail=() \
              error=()
-  for mode in none interop host-copy; do
+  modes="none interop host-copy"
+  [[ ",$ablation," == *",$backend,"* ]] && modes="$modes copy-only gl-only"
+  for mode in $modes; do
     stats=$out/view/$tag-$name-$mode.json
     log=$out/view/$tag-$name-$mode.log
-    echo "== $backend, --display $mode ($frames frames at ${width}x${height}, $(date -u +%H:%M:%S))"
+    display=$mode ablate=
+    case $mode in copy-only) display=interop ablate=copy ;; gl-only) display=interop ablate=gl ;; esac
+    echo "== $backend, --display $display${ablate:+ PRISM_VIEW_ABLATE=$ablate} ($frames frames at ${width}x${height}, $(date -u +%H:%M:%S))"
     rm -f "$stats"
     # A time limit per run: a driver that hangs in one mode (a sync never signalled) must not take the session.
-    timeout -k 10 "$run_limit" "$prism" view --headless --data-dir "$data" --scene "$scene" --backend "$backend" \
-      --width "$width" --height "$height" --depth "$depth" --frames "$frames" --no-vsync --display "$mode" \
-      $([ "$mode" != none ] && echo --alternate-display "$alternate") --stats "$stats" >"$log" 2>&1
+    PRISM_VIEW_ABLATE=$ablate timeout -k 10 "$run_limit" "$prism" view --headless --data-dir "$data" --scene "$scene" \
+      --backend "$backend" --width "$width" --height "$height" --depth "$depth" --frames "$frames" --no-vsync \
+      --display "$display" $([ "$mode" != none ] && echo --alternate-display "$alternate") --stats "$stats" >"$log" 2>&1
     status=$?
     [ $status -eq 124 ] || [ $status -eq 137 ] && echo "prism view: killed after ${run_limit} s" >>"$log"
     grep -E "^  (interop|display): |^  timing: " "$log" | sed 's/^/   /'
@@ -123,7 +130,11 @@ for backend in ${backends//,/ }; do
   overhead=${added[interop]:-null}
   verdict=null
   [ "$overhead" != null ] && verdict=$(awk -v d="$overhead" -v t=$target_ms 'BEGIN { print (d <= t) ? "true" : "false" }')
-  entries+=("\"$backend\": {\"render_only\": $(mode_json none), \"interop\": $(mode_json interop), \"host_copy\": $(mode_json host-copy), \"interop_overhead_ms\": $overhead, \"interop_meets_target\": $verdict}")
+  split=""
+  if [[ "$modes" == *copy-only* ]]; then
+    split=", \"interop_split\": {\"copy_only_added_ms\": ${added[copy-only]:-null}, \"gl_only_added_ms\": ${added[gl-only]:-null}, \"copy_only\": $(mode_json copy-only), \"gl_only\": $(mode_json gl-only)}"
+  fi
+  entries+=("\"$backend\": {\"render_only\": $(mode_json none), \"interop\": $(mode_json interop), \"host_copy\": $(mode_json host-copy), \"interop_overhead_ms\": $overhead, \"interop_meets_target\": $verdict$split}")
 done
 
 device=$(nvidia-smi --query-gpu=name --format=csv,noheader 2>/dev/null | head -1)
@@ -136,7 +147,7 @@ commit=$(sed -n 's/^  "commit": "\([^"]*\)",\{0,1\}$/\1/p' "$out"/view/"$tag"-*.
     "$scene" "$width" "$height" "$depth" "$frames"
   printf '  "target_interop_overhead_ms": %s,\n' "$target_ms"
   printf '  "alternate_block": %s,\n' "$alternate"
-  printf '  "method": "prism view --headless (offscreen framebuffer, NVIDIA GL through an EGL device) --stats, medians over the frames after warm-up; GL runs asynchronously (no glFinish per frame). The interop and host-copy runs alternate blocks of alternate_block frames shown and frames only rendered (--alternate-display; the first frame of each block left out): added_ms = median frame time shown - median frame time not shown, within the one run. Shown frames copy the image into GL buffer in the frame (interop) or read it back (host copy): their render includes that. interop_overhead_ms: added_ms of interop; interop_meets_target: <= target. fps and median_frame_ms: the shown frames. overhead_ms: median_frame_ms minus that of --display none (the render alone, a different run: its noise included). median_gpu_display_ms: GL_TIME_ELAPSED of the display GL commands, for information",\n'
+  printf '  "method": "prism view --headless (offscreen framebuffer, NVIDIA GL through an EGL device) --stats, medians over the frames after warm-up; GL runs asynchronously (no glFinish per frame). The interop and host-copy runs alternate blocks of alternate_block frames shown and frames only rendered (--alternate-display; the first frame of each block left out): added_ms = median frame time shown - median frame time not shown, within the one run. Shown frames copy the image into GL buffer in the frame (interop) or read it back (host copy): their render includes that. interop_overhead_ms: added_ms of interop; interop_meets_target: <= target. fps and median_frame_ms: the shown frames. overhead_ms: median_frame_ms minus that of --display none (the render alone, a different run: its noise included). median_gpu_display_ms: GL_TIME_ELAPSED of the display GL commands, for information. interop_split (PRISM_VIEW_ABLATION backends): added_ms with the shown frames only copying into the shared buffer (GL idle) and with GL only showing the shared buffer (no copy)",\n'
   printf '  "backends": {\n'
   for i in "${!entries[@]}"; do printf '    %s%s\n' "${entries[$i]}" "$([ $i -lt $((${#entries[@]} - 1)) ] && echo ,)"; done
   printf '  },\n  "runs": {\n'

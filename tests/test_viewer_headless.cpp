@@ -91,6 +91,21 @@ TEST(ViewerHeadless, ScriptedKeysStillApply) {
     EXPECT_LT(prism::test::psnr_rgba8(a, b), 40.0);   // the object moved
 }
 
+// PRISM_VIEW_ABLATE (bench/view_gpu.sh's split of the interop cost) is refused in one line where it cannot apply.
+TEST(ViewerHeadless, AblationNeedsAnInteropWithoutSemaphores) {
+    prism::test::CommandResult host = prism::test::run_prism(
+        "view " + kScene + " --headless --backend cpu --frames 1", "env -u DISPLAY PRISM_VIEW_ABLATE=gl");
+    EXPECT_EQ(host.exit_code, 1) << host.output;
+    EXPECT_NE(host.output.find("prism: error: view: PRISM_VIEW_ABLATE needs an interop display without shared "
+                               "semaphores (this one: interop: host copy (the frame is already in host memory))\n"),
+              std::string::npos)
+        << host.output;
+    prism::test::CommandResult bad = prism::test::run_prism(
+        "view " + kScene + " --headless --backend cpu --frames 1", "env -u DISPLAY PRISM_VIEW_ABLATE=draw");
+    EXPECT_EQ(bad.exit_code, 1) << bad.output;
+    EXPECT_NE(bad.output.find("PRISM_VIEW_ABLATE='draw' is not one of copy, gl"), std::string::npos) << bad.output;
+}
+
 TEST(ViewerHeadless, NeedsAnEnd) {
     prism::test::CommandResult result = headless("--backend cpu");
     EXPECT_EQ(result.exit_code, 1) << result.output;

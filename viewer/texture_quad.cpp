@@ -124,6 +124,7 @@ TextureQuad::TextureQuad() {
             glDeleteProgram(program_);
             throw Error("view: display compute shader failed to link");
         }
+        compute_size_location_ = glGetUniformLocation(compute_program_, "size");
     }
     glGenVertexArrays(1, &vertex_array_);   // core profile: drawing needs a bound VAO, even an empty one
     glGenTextures(1, &texture_);
@@ -162,6 +163,7 @@ void TextureQuad::upload_from_host(uint32_t width, uint32_t height, const void* 
 
 void TextureQuad::show_buffer(uint32_t width, uint32_t height, GLuint buffer) {
     buffer_ = buffer;
+    compute_target_known_ = false;
     if (!buffer_texture_) glGenTextures(1, &buffer_texture_);
     glBindTexture(GL_TEXTURE_BUFFER, buffer_texture_);
     glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA8, buffer);
@@ -187,7 +189,7 @@ GLuint TextureQuad::framebuffer_texture() const {
 
 void TextureQuad::write_with_compute(GLuint target) {
     glUseProgram(compute_program_);
-    glUniform2i(glGetUniformLocation(compute_program_, "size"), GLint(width_), GLint(height_));
+    glUniform2i(compute_size_location_, GLint(width_), GLint(height_));
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer_);
     glBindImageTexture(0, target, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
     glDispatchCompute((width_ + 15) / 16, (height_ + 15) / 16, 1);
@@ -204,8 +206,12 @@ void TextureQuad::draw(int viewport_width, int viewport_height) {
         return;
     }
     if (compute_program_ && from_buffer_ && viewport_width == int(width_) && viewport_height == int(height_)) {
-        GLuint target = framebuffer_texture();
-        if (target != 0) return write_with_compute(target);
+        // Asked once: a glGet may wait for the driver's own thread, and the window's framebuffer does not change.
+        if (!compute_target_known_) {
+            compute_target_ = framebuffer_texture();
+            compute_target_known_ = true;
+        }
+        if (compute_target_ != 0) return write_with_compute(compute_target_);
     }
     GLuint program = from_buffer_ ? buffer_program_ : program_;
     glUseProgram(program);
