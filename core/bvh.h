@@ -43,6 +43,9 @@ struct BvhBuildOptions {
     // The wide layout: one world-space BVH over every instance's triangles instead of a top level over instances
     // (build_device_scene; core/device_scene_flat.cpp). For scenes whose instances do not move: it cannot be refit.
     bool flatten_instances = false;
+    // ... unless that stores more than this many times the meshes' own triangles (instancing-heavy scenes keep the
+    // two-level layout; the built DeviceScene's bvh_options.flatten_instances says which one it got).
+    float flatten_growth_limit = 2.0f;
 };
 
 struct Bvh {

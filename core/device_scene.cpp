@@ -189,6 +189,16 @@ size_t DeviceScene::byte_size() const {
            texels.size() * sizeof(uint32_t) + lights.size() * sizeof(::Light);
 }
 
+// Flattening stores a mesh once per instance: a scene that instances its meshes heavily (a forest of one tree)
+// would multiply its memory, so it keeps the two-level layout when the flattened triangles would exceed
+// `growth_limit` times the meshes' own.
+static bool flattening_fits(const Scene& scene, float growth_limit) {
+    double own = 0.0, flattened = 0.0;
+    for (const Mesh& mesh : scene.meshes) own += double(mesh.triangles.size());
+    for (const Instance& instance : scene.instances) flattened += double(scene.meshes[instance.mesh].triangles.size());
+    return flattened <= double(growth_limit) * std::max(own, 1.0);
+}
+
 DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& options) {
     auto start = std::chrono::steady_clock::now();
     DeviceScene device;
@@ -205,7 +215,9 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
     size_t bvh_triangles = 0;
     // Flattened instances trace one world BVH (core/device_scene_flat.cpp): a mesh's own BVH only orders its
     // triangles, so it stays binary.
-    bool flatten = options.layout == BvhLayout::Wide && options.flatten_instances;
+    bool flatten = options.layout == BvhLayout::Wide && options.flatten_instances &&
+                   flattening_fits(scene, options.flatten_growth_limit);
+    device.bvh_options.flatten_instances = flatten;   // what was built: the renderer's frame flag reads it
     BvhBuildOptions mesh_options = options;
     if (flatten) mesh_options.layout = BvhLayout::Stack;
     device.mesh_bounds.resize(scene.meshes.size());

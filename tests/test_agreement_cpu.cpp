@@ -181,6 +181,35 @@ TEST(CpuAgreement, FlattenedInstancesRefuseToMove) {
     EXPECT_THROW(engine.update_instances(device, transforms, false), prism::Error);
 }
 
+// Flattening stores a mesh once per instance: a scene that instances a mesh heavily keeps the two-level layout
+// (BvhBuildOptions::flatten_growth_limit), and says so in the built scene's options, and still renders the same.
+TEST(CpuAgreement, InstancingHeavyScenesAreNotFlattened) {
+    prism::Scene scene;
+    prism::DeviceScene flat = load("builtin:sphere", prism::BvhLayout::Wide, prism::BvhMethod::BinnedSah, &scene, true);
+    EXPECT_TRUE(flat.bvh_options.flatten_instances);   // floor + one sphere: nothing repeats
+    prism::Scene many = scene;
+    const prism::Instance sphere = many.instances.back();
+    for (int i = 1; i <= 2; ++i) {
+        prism::Instance copy = sphere;
+        copy.transform = glm::translate(glm::mat4(1.0f), glm::vec3(2.5f * float(i), 0.0f, -2.0f)) * sphere.transform;
+        many.instances.push_back(copy);
+    }
+    prism::BvhBuildOptions bvh;
+    bvh.layout = prism::BvhLayout::Wide;
+    bvh.flatten_instances = true;
+    prism::DeviceScene kept = prism::build_device_scene(many, bvh);
+    EXPECT_FALSE(kept.bvh_options.flatten_instances);   // three spheres: three times the triangles
+    bvh.flatten_growth_limit = 4.0f;
+    prism::DeviceScene forced = prism::build_device_scene(many, bvh);
+    EXPECT_TRUE(forced.bvh_options.flatten_instances);
+    prism::RenderSettings settings;
+    settings.width = 96;
+    settings.height = 72;
+    prism::FrameResult a = prism::RenderEngine("cpu", kept).render(many.camera, settings);
+    prism::FrameResult b = prism::RenderEngine("cpu", forced).render(many.camera, settings);
+    EXPECT_GE(prism::test::psnr_rgba8(a.image, b.image), 50.0);
+}
+
 // Flattened and two-level wide layouts report the same hits (instance, primitive, triangle slot) for rays that
 // cross several instances, with t, u, v as close as world- and object-space arithmetic allow.
 TEST(CpuAgreement, FlattenedInstancesReportTheTwoLevelHits) {
