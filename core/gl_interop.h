@@ -29,7 +29,8 @@ struct GlContextHandles {
     std::array<uint8_t, 16> driver_uuid{};
 };
 
-// Memory the device allocated and exported for GL to import (the Vulkan path). GL takes ownership of the fds.
+// Memory the device allocated and exported for GL to import (Vulkan-GL, CUDA-GL through external memory). GL takes
+// ownership of the fds.
 struct ExportedBuffer {
     int memory_fd = -1;
     uint64_t allocation_size = 0;    // of the whole allocation, as glImportMemoryFdEXT wants it
@@ -50,8 +51,9 @@ public:
     // How the device and GL are ordered, e.g. "map/unmap on the CUDA stream", for the HUD and the stats.
     virtual std::string sync() const = 0;
 
-    // Who allocates the buffer: GL (CUDA, OpenCL; the viewer creates a buffer object and calls attach_gl_buffer)
-    // or the device (Vulkan; the viewer calls export_buffer and imports the result into GL).
+    // Who allocates the buffer: GL (OpenCL, CUDA's registered buffer; the viewer creates a buffer object and calls
+    // attach_gl_buffer) or the device (Vulkan, CUDA's external memory; the viewer calls export_buffer and imports
+    // the result into GL).
     virtual bool device_owns_memory() const = 0;
     // Shares the GL buffer object `gl_buffer` of `bytes` with the device. Needs the GL context current. Throws
     // prism::Error with the API's cause when the driver refuses.
@@ -63,8 +65,9 @@ public:
     // in-order queue, after the stages enqueued so far: Renderer calls it right after resolve when
     // RenderSettings::copy_to_gl is set, so the copy is part of the frame's own submission (no second submission,
     // no extra host wait) and the frame's completion completes it. When render() has returned GL may read the
-    // buffer: the API has ordered it (CUDA unmap on the stream), the host has seen the frame finish (OpenCL,
-    // Vulkan), and with shared semaphores the frame's submission has also signalled the ready semaphore GL waits on.
+    // buffer: the host has seen the frame finish (its counters read waits for the stream or queue), the registered
+    // CUDA buffer's unmap has ordered GL after it, and with shared semaphores the copy's submission has also
+    // signalled the ready semaphore GL waits on.
     virtual void copy_image(size_t bytes) = 0;
     // True when the API does not itself wait for GL to finish reading the buffer before the next frame's copy
     // writes it (CUDA with external memory, OpenCL, Vulkan without semaphores): copy_image() then first calls the

@@ -12,8 +12,9 @@ namespace prism::viewer {
 
 struct FrameTiming {
     double render_ms = 0.0;    // RenderEngine::render: the frame on the device, plus its read-back for a host copy
-    double display_ms = 0.0;   // host time of the display update (device copy into GL's buffer, or texture upload
-                               // from host memory) + draw, as issued: GL runs them asynchronously
+    double display_ms = 0.0;   // host time of the display update (texture upload from host memory; for interop
+                               // only GL's side: the frame copied itself) + draw, as issued: GL runs them
+                               // asynchronously
     double present_ms = 0.0;   // the buffer swap (offscreen: glFlush)
     double frame_ms = 0.0;     // from the previous frame's present to this one's: what fps is made of
     double gpu_display_ms = -1.0;   // GL's GPU time for the display commands (GL_TIME_ELAPSED); < 0: not known

@@ -1,6 +1,7 @@
-// The GL half of the Vulkan-GL path: device memory exported by the backend (an opaque fd, a dedicated allocation)
-// imported as a GL memory object and given to a buffer object with glNamedBufferStorageMemEXT, plus the two shared
-// semaphores when the backend exported them (GL_EXT_memory_object_fd, GL_EXT_semaphore_fd).
+// The GL half of the Vulkan-GL path and of CUDA-GL through external memory: device memory exported by the backend
+// (an opaque fd; Vulkan's a dedicated allocation, CUDA's not) imported as a GL memory object and given to a buffer
+// object with glNamedBufferStorageMemEXT, plus the two shared semaphores when the backend exported them (Vulkan;
+// GL_EXT_memory_object_fd, GL_EXT_semaphore_fd).
 #pragma once
 
 #include <cstddef>
