@@ -44,7 +44,8 @@ struct BvhBuildOptions {
     // (build_device_scene; core/device_scene_flat.cpp). For scenes whose instances do not move: it cannot be refit.
     bool flatten_instances = false;
     // ... unless that stores more than this many times the meshes' own triangles (instancing-heavy scenes keep the
-    // two-level layout; the built DeviceScene's bvh_options.flatten_instances says which one it got).
+    // two-level layout; the built DeviceScene's bvh_options.flatten_instances says which one it got, false for
+    // every layout but the wide one).
     float flatten_growth_limit = 2.0f;
 };
 

@@ -213,13 +213,11 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
     placements.reserve(scene.meshes.size());
     double triangle_weighted_sah = 0.0;
     size_t bvh_triangles = 0;
-    // Flattened instances trace one world BVH (core/device_scene_flat.cpp): a mesh's own BVH only orders its
-    // triangles, so it stays binary.
+    // Flattened instances trace one world BVH (core/device_scene_flat.cpp): no mesh needs a BVH of its own, its
+    // triangles keep their file order (degenerate ones left out).
     bool flatten = options.layout == BvhLayout::Wide && options.flatten_instances &&
                    flattening_fits(scene, options.flatten_growth_limit);
     device.bvh_options.flatten_instances = flatten;   // what was built: the renderer's frame flag reads it
-    BvhBuildOptions mesh_options = options;
-    if (flatten) mesh_options.layout = BvhLayout::Stack;
     device.mesh_bounds.resize(scene.meshes.size());
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const Mesh& mesh = scene.meshes[m];
@@ -252,7 +250,12 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
             bounds[t].grow(c);
             device.mesh_bounds[m].grow(bounds[t]);
         }
-        placement.bvh = build_bvh(bounds, mesh_options);
+        if (flatten) {
+            for (uint32_t t = 0; t < bounds.size(); ++t)
+                if (!bounds[t].empty()) placement.bvh.primitive_order.push_back(t);
+        } else {
+            placement.bvh = build_bvh(bounds, options);
+        }
         for (uint32_t t : placement.bvh.primitive_order) {
             glm::uvec3 tri = mesh.triangles[t];
             glm::vec3 a = mesh.positions[tri.x], b = mesh.positions[tri.y], c = mesh.positions[tri.z];
@@ -386,7 +389,7 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
 void update_instance_transforms(DeviceScene& device, const std::vector<glm::mat4>& transforms, bool rebuild) {
     if (transforms.size() != device.instances.size())
         throw Error("update_instance_transforms: expected " + std::to_string(device.instances.size()) + " transforms");
-    if (device.bvh_options.layout == BvhLayout::Wide && device.bvh_options.flatten_instances)
+    if (device.bvh_options.flatten_instances)
         throw Error("update_instance_transforms: the instances of this scene are flattened into one BVH and cannot "
                     "move (build it with BvhBuildOptions::flatten_instances off)");
     for (size_t i = 0; i < transforms.size(); ++i) {

@@ -58,7 +58,7 @@ FrameParams make_frame_params(const DeviceScene& scene, const Camera& camera, co
     p.env = uint4{static_cast<uint32_t>(scene.environment_kind), scene.environment_texture, queue_capacity,
                   shadow_capacity};
     if (scene.instances.size() == 1 && scene.top_level.primitive_order.size() == 1) flags |= RT_FLAG_ONE_INSTANCE;
-    if (scene.bvh_options.layout == BvhLayout::Wide && scene.bvh_options.flatten_instances) flags |= RT_FLAG_FLAT_INSTANCES;
+    if (scene.bvh_options.flatten_instances) flags |= RT_FLAG_FLAT_INSTANCES;   // as built (build_device_scene)
     p.scene = uint4{static_cast<uint32_t>(scene.instances.size()), static_cast<uint32_t>(scene.bvh_options.layout),
                     flags, 0};
     return p;
