@@ -234,8 +234,9 @@ TEST(CpuAgreement, FlattenedInstancesReportTheTwoLevelHits) {
         if (a_hit) instances_hit.insert(a[i].instance);
         if (a_hit != b_hit) continue;
         if (!a_hit || (a[i].instance == b[i].instance && a[i].primitive == b[i].primitive)) ++same;
-        if (a_hit && a[i].instance == b[i].instance && a[i].primitive == b[i].primitive)
+        if (a_hit && a[i].instance == b[i].instance && a[i].primitive == b[i].primitive) {
             EXPECT_NEAR(a[i].t, b[i].t, 1e-4f * a[i].t) << "ray " << i;
+        }
     }
     EXPECT_GE(instances_hit.size(), 2u) << "the rays should see more than one instance";
     EXPECT_GE(double(same), 0.999 * double(rays.size()));

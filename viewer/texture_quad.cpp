@@ -1,7 +1,10 @@
 #include "viewer/texture_quad.h"
 
 #include <algorithm>
+#include <initializer_list>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/error.h"
 
@@ -72,15 +75,19 @@ GLuint compile(GLenum type, const char* source) {
     return shader;
 }
 
-GLuint link(const char* fragment_source) {
-    GLuint vertex = compile(GL_VERTEX_SHADER, vertex_source);
-    GLuint fragment = compile(GL_FRAGMENT_SHADER, fragment_source);
+// One program from its shaders' (type, source) pairs; the shaders are not kept.
+GLuint link(std::initializer_list<std::pair<GLenum, const char*>> stages) {
+    std::vector<GLuint> shaders;
+    try {
+        for (auto [type, source] : stages) shaders.push_back(compile(type, source));
+    } catch (...) {
+        for (GLuint shader : shaders) glDeleteShader(shader);
+        throw;
+    }
     GLuint program = glCreateProgram();
-    glAttachShader(program, vertex);
-    glAttachShader(program, fragment);
+    for (GLuint shader : shaders) glAttachShader(program, shader);
     glLinkProgram(program);
-    glDeleteShader(vertex);
-    glDeleteShader(fragment);
+    for (GLuint shader : shaders) glDeleteShader(shader);
     GLint ok = GL_FALSE;
     glGetProgramiv(program, GL_LINK_STATUS, &ok);
     if (!ok) {
@@ -93,38 +100,20 @@ GLuint link(const char* fragment_source) {
 }  // namespace
 
 TextureQuad::TextureQuad() {
-    program_ = link(fragment_source);
-    try {
-        buffer_program_ = link(buffer_fragment_source);
-    } catch (...) {
-        glDeleteProgram(program_);
-        throw;
-    }
     GLint major = 0, minor = 0;
     glGetIntegerv(GL_MAJOR_VERSION, &major);
     glGetIntegerv(GL_MINOR_VERSION, &minor);
-    if (major > 4 || (major == 4 && minor >= 3)) {   // compute shaders: GL 4.3 (a 3.3 context draws instead)
-        GLuint shader = 0;
-        try {
-            shader = compile(GL_COMPUTE_SHADER, compute_source);
-        } catch (...) {
-            glDeleteProgram(buffer_program_);
-            glDeleteProgram(program_);
-            throw;
+    try {
+        program_ = link({{GL_VERTEX_SHADER, vertex_source}, {GL_FRAGMENT_SHADER, fragment_source}});
+        buffer_program_ = link({{GL_VERTEX_SHADER, vertex_source}, {GL_FRAGMENT_SHADER, buffer_fragment_source}});
+        if (major > 4 || (major == 4 && minor >= 3)) {   // compute shaders: GL 4.3 (a 3.3 context draws instead)
+            compute_program_ = link({{GL_COMPUTE_SHADER, compute_source}});
+            compute_size_location_ = glGetUniformLocation(compute_program_, "size");
         }
-        compute_program_ = glCreateProgram();
-        glAttachShader(compute_program_, shader);
-        glLinkProgram(compute_program_);
-        glDeleteShader(shader);
-        GLint ok = GL_FALSE;
-        glGetProgramiv(compute_program_, GL_LINK_STATUS, &ok);
-        if (!ok) {
-            glDeleteProgram(compute_program_);
-            glDeleteProgram(buffer_program_);
-            glDeleteProgram(program_);
-            throw Error("view: display compute shader failed to link");
-        }
-        compute_size_location_ = glGetUniformLocation(compute_program_, "size");
+    } catch (...) {
+        for (GLuint program : {program_, buffer_program_})
+            if (program) glDeleteProgram(program);
+        throw;
     }
     glGenVertexArrays(1, &vertex_array_);   // core profile: drawing needs a bound VAO, even an empty one
     glGenTextures(1, &texture_);
