@@ -25,7 +25,8 @@ void add_bandwidth_command(CLI::App& app) {
                         "Device filters, e.g. opencl:nvidia or vulkan:llvmpipe or h100 (case-insensitive substring)")
         ->delimiter(',');
     command->add_option("--json", options->json_path, "Write the results as JSON (schema in docs/bandwidth.md)");
-    command->add_option("--plot", options->plot_path, "Write a PNG plot of bandwidth against size");
+    command->add_option("--plot", options->plot_path,
+                        "Draw bandwidth against size into this PNG (bench/plot_bench.py; needs python3-matplotlib)");
     command->callback([options] { bandwidth::run_bandwidth(*options); });
 #else
     auto* command = app.add_subcommand("bandwidth", "(not built: configure with PRISM_BENCH=ON)");

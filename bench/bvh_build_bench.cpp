@@ -1,5 +1,5 @@
-// BVH build time and quality over the scaling series (SOURCES.md): binned SAH vs the seed's median split, on one
-// thread and on all of them. Build time is the median of --runs builds (tree + flattening, stack layout);
+// BVH build time and quality over the scaling series (../shared/scenes/SOURCES.md): binned SAH vs the seed's median
+// split, on one thread and on all of them. Build time is the median of --runs builds (tree + flattening, stack layout);
 // quality is the SAH cost (traversal and intersection cost 1). Writes JSON with the common result header.
 // Process CPU time is recorded beside wall time: on a shared machine the wall time includes waiting for a core
 // (the load average at the start is recorded too), while CPU time over wall time shows how parallel a build ran.

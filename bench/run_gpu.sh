@@ -70,7 +70,8 @@ if [ "${PRISM_CPU_BENCH:-1}" = 1 ]; then
 fi
 if [ "${PRISM_SKIP_BANDWIDTH:-0}" != 1 ]; then
   step "bandwidth"
-  $prism bandwidth --json "$out/bandwidth-$tag.json" --plot "$out/bandwidth-$tag.png" 2>&1 | tee "$out/bandwidth-$tag.txt"
+  # No --plot: the GPU machine may lack matplotlib; draw it afterwards with bench/plot_bench.py from the JSON.
+  $prism bandwidth --json "$out/bandwidth-$tag.json" 2>&1 | tee "$out/bandwidth-$tag.txt"
 fi
 if [ "${PRISM_VIEW_BENCH:-0}" = 1 ]; then
   # prism view --headless (no X server there); PRISM_VIEW_* select scene, size, frames, backends.

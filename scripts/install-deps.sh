@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs everything Prism builds and tests with, from Debian 12 packages (toolchain.md lists why each is here).
+# Installs everything Prism builds, tests and plots with, from Debian 12 packages (python3-matplotlib is for
+# bench/plot_bench.py, which draws every chart).
 # CUDA is optional: the CUDA backend is built when /usr/local/cuda/bin/nvcc exists.
 set -euo pipefail
 packages=(
@@ -10,6 +11,7 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers glslang-tools spirv-tools
   libglfw3-dev libgl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri xvfb xauth
   clang libclang-rt-14-dev
+  python3 python3-matplotlib
 )
 missing=()
 for p in "${packages[@]}"; do dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing+=("$p"); done

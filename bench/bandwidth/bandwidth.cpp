@@ -1,11 +1,16 @@
 #include "bench/bandwidth/bandwidth.h"
 
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <unistd.h>
 
 #include "bench/bandwidth/api_runners.h"
 #include "bench/bandwidth/report.h"
 #include "bench/bandwidth/sizes.h"
 #include "bench/bench_json.h"
+#include "bench/plot_script.h"
 #include "core/error.h"
 
 namespace prism::bandwidth {
@@ -54,6 +59,26 @@ Plan make_plan(const Options& options) {
     return plan;
 }
 
+// The chart is drawn from the JSON: the --json file, or a temporary one when only --plot was asked for.
+void write_plot(const nlohmann::json& result, const Options& options) {
+    std::filesystem::path json_path = options.json_path;
+    bool temporary = json_path.empty();
+    if (temporary) {
+        json_path = std::filesystem::temp_directory_path() / ("prism-bandwidth-" + std::to_string(getpid()) + ".json");
+        std::ofstream out(json_path);
+        out << result.dump(2) << "\n";
+        if (!out) throw file_error(json_path.string(), "cannot write the JSON to plot");
+    }
+    try {
+        bench::run_plot_script({json_path}, options.plot_path, "--plot");
+    } catch (...) {
+        if (temporary) std::filesystem::remove(json_path);
+        throw;
+    }
+    if (temporary) std::filesystem::remove(json_path);
+    std::printf("wrote %s\n", options.plot_path.c_str());
+}
+
 }  // namespace
 
 void run_bandwidth(const Options& options) {
@@ -62,17 +87,21 @@ void run_bandwidth(const Options& options) {
     if (apis.empty()) apis.assign(std::begin(known_apis), std::end(known_apis));
     for (const std::string& api : apis)
         if (!known_api(api)) throw Error("--api: unknown API '" + api + "' (use cuda, opencl, vulkan)");
+    if (!options.plot_path.empty()) {
+        std::string extension = std::filesystem::path(options.plot_path).extension().string();
+        if (extension != ".png" && extension != ".PNG")
+            throw Error("--plot: expected a .png file name, got '" + options.plot_path + "'");
+        bench::require_plotting("--plot");   // before measuring, so a missing matplotlib costs no time
+    }
 
     for (const std::string& api : apis) {
         std::fprintf(stderr, "measuring %s...\n", api.c_str());
         report.apis.push_back(measure(api, report.plan));
     }
     print_report(report, stdout);
-    if (!options.json_path.empty()) bench::write_result(options.json_path, report_json(report));
-    if (!options.plot_path.empty()) {
-        write_plot(report, options.plot_path);
-        std::printf("wrote %s\n", options.plot_path.c_str());
-    }
+    nlohmann::json result = report_json(report);
+    if (!options.json_path.empty()) bench::write_result(options.json_path, result);
+    if (!options.plot_path.empty()) write_plot(result, options);
 }
 
 }  // namespace prism::bandwidth

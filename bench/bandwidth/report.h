@@ -1,8 +1,8 @@
-// The outputs of `prism bandwidth`: text tables on stdout, the JSON result file, the PNG plot.
+// The outputs of `prism bandwidth`: text tables on stdout and the JSON result file (bench/plot_bench.py draws the
+// plot from that JSON).
 #pragma once
 
 #include <cstdio>
-#include <filesystem>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -23,10 +23,5 @@ void print_report(const Report& report, std::FILE* out);
 // The result file; its schema is documented in docs/bandwidth.md ("prism-bandwidth/1").
 inline constexpr const char* json_schema_name = "prism-bandwidth/1";
 nlohmann::json report_json(const Report& report);
-
-// Bandwidth against size, log-log, one line per API/device, direction and memory kind, with a legend.
-inline constexpr int plot_width = 1280;
-inline constexpr int plot_height = 800;
-void write_plot(const Report& report, const std::filesystem::path& path);
 
 }  // namespace prism::bandwidth
