@@ -36,7 +36,7 @@ private:
     std::map<int, uint32_t> textures_;
 };
 
-// KHR_materials_dispersion: per-channel IOR (red, green, blue) from the IOR at the sodium d line and
+// KHR_materials_dispersion: per-channel IOR (red, green, blue) from the IOR at the d line (587.6 nm) and
 // `dispersion` = 20 / Abbe number, through Cauchy's n = A + B / lambda^2 (the extension's model).
 glm::vec3 dispersive_ior(float ior, float dispersion);
 

@@ -1,4 +1,4 @@
-// OBJ/MTL through tinyobjloader, mapped onto the seed's material model (docs/materials-obj.md has the mapping).
+// OBJ/MTL through tinyobjloader, mapped onto the seed's material model (docs/materials.md, "OBJ/MTL", has the mapping).
 // tinyobjloader parses; this file finds MTL files and textures case-insensitively, fans polygons itself (so a
 // face with a bad index is reported, not silently dropped), and merges OBJ's separate v/vt/vn index streams
 // into one index per unique corner.
