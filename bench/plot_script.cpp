@@ -102,12 +102,13 @@ void run_plot_script(const std::vector<std::filesystem::path>& results, const st
     if (status != 0) {
         // The script's last line is its one-line error.
         while (!output.empty() && output.back() == '\n') output.pop_back();
-        std::string last = output.substr(output.find_last_of('\n') == std::string::npos ? 0
-                                                                                          : output.find_last_of('\n') + 1);
-        int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        throw Error(option + ": " + (last.empty() ? kScriptName + std::string(" failed (exit ") +
-                                                        std::to_string(code) + ")"
-                                                  : last));
+        size_t newline = output.find_last_of('\n');
+        std::string last = newline == std::string::npos ? output : output.substr(newline + 1);
+        if (last.empty()) {
+            int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+            last = std::string(kScriptName) + " failed (exit " + std::to_string(code) + ")";
+        }
+        throw Error(option + ": " + last);
     }
 }
 

@@ -100,7 +100,7 @@ TEST(DocsSceneFormat, EveryKeyIsDocumentedAndShown) {
     std::string rotate_row = page.substr(row, page.find('\n', row) - row);
     for (const char* key : {"axis", "degrees", "quaternion"}) {
         EXPECT_NE(all_examples.find("\"" + std::string(key) + "\":"), std::string::npos) << key << " in no example";
-        EXPECT_NE(rotate_row.find("\"" + std::string(key) + "\":"), std::string::npos) << key << " not in the rotate row";
+        EXPECT_NE(rotate_row.find("\"" + std::string(key) + "\":"), std::string::npos) << key << " not in its row";
     }
     for (const char* mode : {"replace", "decal", "modulate", "blend"})
         EXPECT_NE(all_examples.find("\"mode\": \"" + std::string(mode) + "\""), std::string::npos) << mode;
