@@ -14,6 +14,7 @@ scripts/install-deps.sh installs). Exit status: 0 drawn, 1 a result file it cann
 3 matplotlib missing."""
 import argparse
 import json
+import math
 import os
 import sys
 
@@ -123,6 +124,8 @@ def frame_backends(data, path):
     backends = {}
     for scene in field(data, path, ["scenes"]):
         for entry in field(scene, path, ["backends"]):
+            if "frames" not in entry:   # a backend that failed on this scene has nothing to draw
+                continue
             name = field(entry, path, ["backend"])
             backends.setdefault(name, (entry.get("api", api_of(name)), entry.get("device", "")))
     return backends
@@ -162,7 +165,8 @@ def draw_seed_table(ax, data, path, palette):
         _, hatch = palette.style(api, device)
         bars = ax.bar(bar_positions(len(scenes), i, len(backends), width), times, width, color=palette.color(api),
                       hatch=hatch, edgecolor="white", label=f"{backend}: {device}")
-        ax.bar_label(bars, labels=[f"{t:.2f}" for t in times], fontsize=7, rotation=90, padding=2)
+        ax.bar_label(bars, labels=[f"{t:.2f}" if math.isfinite(t) else "" for t in times], fontsize=7, rotation=90,
+                     padding=2)
     ax.set_xticks(range(len(scenes)), names)
     ax.set_yscale("log")
     plain_log_axis(ax.yaxis)
