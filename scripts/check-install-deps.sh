@@ -6,11 +6,15 @@
 # The check is stricter than a cloud image with extras preinstalled: a package the build needs is named, not assumed.
 # Usage, from the project root after a build:  scripts/check-install-deps.sh BUILD_DIR
 set -uo pipefail
+if [ $# -ne 1 ]; then
+  echo "usage: scripts/check-install-deps.sh BUILD_DIR (a built ninja build folder, e.g. build/ci)" >&2
+  exit 2
+fi
+build=${1%/}
+[ -f "$build/.ninja_deps" ] || { echo "check-install-deps: $build: not a built ninja build folder (no .ninja_deps)" >&2; exit 2; }
+build=$(realpath "$build")
 cd "$(dirname "$0")/.."
-build=${1:?usage: scripts/check-install-deps.sh BUILD_DIR (a ninja build, e.g. build/ci)}
-build=${build%/}
-[ -f "$build/.ninja_deps" ] || { echo "check-install-deps: $build: not a ninja build folder that has been built (no .ninja_deps)" >&2; exit 2; }
-for tool in ninja dpkg-query apt-cache ldd file; do
+for tool in ninja dpkg-query apt-cache ldd; do
   command -v "$tool" >/dev/null || { echo "check-install-deps: '$tool' not found (this check runs on Debian)" >&2; exit 2; }
 done
 work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
@@ -26,7 +30,7 @@ sort -u "$work/listed" "$work/pulled" "$work/essential" >"$work/provided"
 # Files the build used: headers from the dependency log, libraries from ldd of every program and shared library.
 ninja -C "$build" -t deps 2>/dev/null | sed -n 's|^ *\(/usr/[^ ]*\)$|\1|p' | grep -v '^/usr/local/' >"$work/files"
 find "$build" -type f \( -perm -u+x -o -name '*.so*' \) -print0 2>/dev/null | while IFS= read -r -d '' binary; do
-  file -b "$binary" | grep -q '^ELF' && ldd "$binary" 2>/dev/null | awk '$2 == "=>" && $3 ~ /^\// { print $3 }'
+  [ "$(head -c 4 "$binary" | tail -c 3)" = ELF ] && ldd "$binary" 2>/dev/null | awk '$2 == "=>" && $3 ~ /^\// { print $3 }'
 done | grep -v '^/usr/local/' >>"$work/files"
 sort -u -o "$work/files" "$work/files"
 # A file belongs to its package under its own path or, through /lib -> /usr/lib and other links, its real one.
