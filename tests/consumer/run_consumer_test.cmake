@@ -51,7 +51,13 @@ endfunction()
 
 set(prefix ${WORK_DIR}/prefix)
 set(project ${WORK_DIR}/ray_query)
-set(elsewhere ${WORK_DIR}/elsewhere)
+# A folder outside the source and build trees, for the installed prism to run in.
+set(temp_root "$ENV{TMPDIR}")
+if(NOT temp_root)
+  set(temp_root /tmp)
+endif()
+string(RANDOM LENGTH 8 suffix)
+set(elsewhere ${temp_root}/prism-consumer-${suffix})
 file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR} ${project} ${elsewhere})
 
@@ -68,7 +74,8 @@ file(READ ${SOURCE_DIR}/docs/ray-queries.md doc)
 extract_block("${doc}" cpp program)
 extract_block("${doc}" cmake lists)
 file(WRITE ${project}/ray_query.cpp "${program}")
-file(WRITE ${project}/CMakeLists.txt "${lists}")
+# One line more than the doc shows, to check the list of backends the package announces.
+file(WRITE ${project}/CMakeLists.txt "${lists}" "message(STATUS \"Prism_BACKENDS: \${Prism_BACKENDS}\")\n")
 
 set(configure ${CMAKE_COMMAND} -S ${project} -B ${project}/build -DCMAKE_PREFIX_PATH=${prefix})
 if(GENERATOR)
@@ -79,10 +86,12 @@ foreach(variable CXX_COMPILER CXX_COMPILER_LAUNCHER BUILD_TYPE)
     list(APPEND configure -DCMAKE_${variable}=${${variable}})
   endif()
 endforeach()
-run_checked("configuring the consumer (find_package(Prism))" COMMAND ${configure})
+run_checked("configuring the consumer (find_package(Prism))" COMMAND ${configure} OUTPUT configured)
+string(REGEX MATCH "Prism_BACKENDS: ([^\n]*)" announced "${configured}")
+set(announced "${CMAKE_MATCH_1}")
 run_checked("building the consumer" COMMAND ${CMAKE_COMMAND} --build ${project}/build)
 
-# The installed prism, run where no relative path reaches the source or build tree.
+# The installed prism, run outside the source and build trees.
 run_checked("prism info from ${elsewhere}" COMMAND ${prefix}/bin/prism info --json WORKING_DIRECTORY ${elsewhere}
             OUTPUT info)
 run_checked("prism render from ${elsewhere}"
@@ -110,6 +119,9 @@ foreach(i RANGE ${last})
     message(STATUS "not run on ${name}: ${detail}")
     continue()
   endif()
+  if(NOT name IN_LIST announced)
+    message(FATAL_ERROR "prism info has backend ${name}, but the package's Prism_BACKENDS is '${announced}'")
+  endif()
   run_checked("the example on ${name}" COMMAND ${project}/build/ray_query ${WORK_DIR}/triangle.ply ${name}
               OUTPUT output)
   string(FIND "${output}" "${expected}" at)
@@ -121,4 +133,6 @@ endforeach()
 if(NOT "cpu" IN_LIST ran OR NOT "cpu-ref" IN_LIST ran)
   message(FATAL_ERROR "the example did not run on cpu and cpu-ref (ran on: ${ran})")
 endif()
-message(STATUS "consumer of the installed package ran on: ${ran}")
+message(STATUS "consumer of the installed package (Prism_BACKENDS ${announced}) ran on: ${ran}")
+# The prefix holds a copy of every library; kept only when the test fails, to look at.
+file(REMOVE_RECURSE ${prefix} ${elsewhere})
