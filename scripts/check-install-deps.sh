@@ -23,7 +23,14 @@ scripts/install-deps.sh --list >"$work/listed" || { echo "check-install-deps: sc
 # What a fresh machine has after the script: the listed packages, everything they pull in (Depends and PreDepends,
 # no Recommends: the script installs with --no-recommends), and the packages every Debian system has.
 apt-cache depends --recurse --no-recommends --no-suggests --no-conflicts --no-breaks --no-replaces --no-enhances \
-  $(cat "$work/listed") 2>/dev/null | grep -v '^ ' | sed 's/:amd64$//' >"$work/pulled"
+  $(cat "$work/listed") 2>/dev/null | grep -v '^ ' | sed 's/:amd64$//' | sort -u >"$work/pulled"
+# apt-cache passes over names it does not know: a misspelt package, or no package lists on this machine.
+unknown=$(sort -u "$work/listed" | comm -23 - "$work/pulled")
+if [ -n "$unknown" ]; then
+  echo "check-install-deps: apt-cache does not know $(echo $unknown) (named by scripts/install-deps.sh):" \
+       "a misspelt name, or no package lists here (apt-get update)" >&2
+  exit 2
+fi
 dpkg-query -W -f='${Package} ${Priority}\n' | awk '$2 == "required" || $2 == "important" { print $1 }' >"$work/essential"
 sort -u "$work/listed" "$work/pulled" "$work/essential" >"$work/provided"
 
