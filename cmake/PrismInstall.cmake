@@ -20,15 +20,15 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/core ${PROJECT_SOURCE_DIR}/kernels
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/prism FILES_MATCHING PATTERN "*.h")
 install(FILES ${PROJECT_SOURCE_DIR}/backends/backend_list.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/prism/backends)
 
-# What the exported libraries link, for PrismConfig.cmake to find again.
-set(PRISM_PACKAGE_CUDA ${PRISM_CUDA_ENABLED})
-set(PRISM_PACKAGE_OPENCL ${PRISM_OPENCL_ENABLED})
-set(PRISM_PACKAGE_VULKAN ${PRISM_VULKAN_ENABLED})
+# The backends the exported libraries hold (backends/CMakeLists.txt), for PrismConfig.cmake to find what they link.
 set(PRISM_PACKAGE_BACKENDS cpu-ref cpu)
-foreach(api cuda opencl vulkan)
-  string(TOUPPER ${api} upper)
-  if(PRISM_${upper}_ENABLED)
-    list(APPEND PRISM_PACKAGE_BACKENDS ${api})
+foreach(api CUDA OPENCL VULKAN)
+  if(PRISM_HAVE_${api} IN_LIST PRISM_BACKEND_DEFINITIONS)
+    set(PRISM_PACKAGE_${api} TRUE)
+    string(TOLOWER ${api} name)
+    list(APPEND PRISM_PACKAGE_BACKENDS ${name})
+  else()
+    set(PRISM_PACKAGE_${api} FALSE)
   endif()
 endforeach()
 configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/PrismConfig.cmake.in
