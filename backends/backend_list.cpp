@@ -1,4 +1,5 @@
-// Registers every backend this build has; the prism command, the tests and the bench programs call this once.
+// Registers every backend this build has: before main() in every program that links this file (Prism::prism makes
+// sure it is linked), and again, harmlessly, when a program calls register_builtin_backends() itself.
 #include "backends/backend_list.h"
 
 #include "backends/cpu/cpu_backend.h"
@@ -28,3 +29,6 @@ void register_builtin_backends() {
 }
 
 }  // namespace prism
+
+// A C name, so that the linker option of Prism::prism (backends/CMakeLists.txt) can name it.
+extern "C" const bool prism_builtin_backends_registered = (prism::register_builtin_backends(), true);

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# README command 2: install, build and run the whole test suite, then the AddressSanitizer + UBSan build of the
-# tests, then the loaders' fuzzers for a minute each. CPU, OpenCL (PoCL) and Vulkan (lavapipe) tests run here; CUDA
+# README command 2: install, build, check that scripts/install-deps.sh installs everything the build used (so a
+# missing install step fails here, not on the next fresh machine), run the whole test suite (the CMake package's
+# consumer test included), then the AddressSanitizer + UBSan build of the tests, then the loaders' fuzzers for a
+# minute each. CPU, OpenCL (PoCL) and Vulkan (lavapipe) tests run here; CUDA
 # is compiled (sm_90) and its tests skip visibly without a GPU.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -11,6 +13,8 @@ jobs=$(nproc)
 echo "== build (ci preset)"
 cmake --preset ci
 cmake --build --preset ci -j "$jobs"
+echo "== install completeness (every header and library the build used comes from install-deps.sh)"
+./scripts/check-install-deps.sh build/ci
 echo "== tests"
 ctest --preset ci -j 1
 
