@@ -1,5 +1,6 @@
-// `prism view`: the interactive preview. This file drives it — scene, RenderEngine, backend switching, the moving
-// object, the HUD text — and viewer/ does the window, input and display. Without GLFW/OpenGL at configure time
+// `prism view`: the interactive preview. This file drives it — scene, RenderEngine, backend switching, dropped
+// files, the moving object, when to render (only when something changed; smaller while moving) — and viewer/ does
+// the window, input, camera controls, panel and display. Without GLFW/OpenGL at configure time
 // the command still exists and says why it cannot run.
 #include <cmath>
 #include <cstdio>
@@ -18,15 +19,25 @@
 #include "core/render_engine.h"
 
 #ifdef PRISM_HAVE_VIEWER
+#include <algorithm>
+#include <cctype>
 #include <chrono>
+#include <filesystem>
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "core/environment_maps.h"
+#include "viewer/backend_check.h"
 #include "viewer/camera_controls.h"
 #include "viewer/frame_display.h"
 #include "viewer/frame_timing.h"
 #include "viewer/gl_timer.h"
+#include "viewer/held_keys.h"
+#include "viewer/interactive_scale.h"
 #include "viewer/key_script.h"
+#include "viewer/panel.h"
+#include "viewer/scene_bounds.h"
+#include "viewer/screenshot_names.h"
 #include "viewer/window.h"
 #endif
 
@@ -46,6 +57,10 @@ struct ViewOptions {
     std::string stats;        // --stats: the timing summary as JSON
     bool headless = false;    // an offscreen EGL framebuffer instead of a window (viewer/offscreen_window.h)
     uint32_t alternate = 0;   // --alternate-display N: N frames shown, N only rendered, ... (0: every frame shown)
+    bool no_panel = false;    // --no-panel, or PRISM_VIEW_PANEL=0: the frame alone, as before the panel
+    std::string interactive_scale = "auto";   // resolution while moving: auto (from --target-fps) or a fraction
+    double target_fps = 30.0;
+    std::vector<std::string> drops;   // --drop FRAME:PATH: scripted file drops
 };
 
 #ifdef PRISM_HAVE_VIEWER
@@ -102,6 +117,38 @@ SceneOptions movable(SceneOptions options) {
     return options;
 }
 
+// A dropped (or reloaded) file: a scene, or an environment map for the current scene.
+enum class DroppedKind { Scene, Environment };
+
+// Which kind `path` is, by its name (a cube map is a folder of six faces, or one face inside one); throws
+// prism::Error naming the file when it is neither.
+DroppedKind classify_dropped(const std::filesystem::path& path) {
+    std::string name = path.filename().string();
+    for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));
+    auto ends_with = [&](const char* suffix) {
+        std::string s = suffix;
+        return name.size() >= s.size() && name.compare(name.size() - s.size(), s.size(), s) == 0;
+    };
+    for (const char* suffix : {".gltf", ".glb", ".obj", ".ply", ".ply.gz", ".json"})
+        if (ends_with(suffix)) return DroppedKind::Scene;
+    if (ends_with(".hdr")) return DroppedKind::Environment;
+    std::error_code error;
+    if (std::filesystem::is_directory(path, error) && is_cube_map_folder(path)) return DroppedKind::Environment;
+    if (is_cube_map_folder(path.parent_path())) return DroppedKind::Environment;
+    throw Error(path.string() + ": not a scene (.gltf .glb .obj .ply .ply.gz .json) nor an environment map (.hdr, "
+                "a cube-map folder)");
+}
+
+// Loads an environment map into `scene` (replacing its environment).
+void load_environment(const std::filesystem::path& path, Scene& scene) {
+    std::error_code error;
+    if (std::filesystem::is_directory(path, error)) return load_cube_map(path, scene);
+    std::string name = path.filename().string();
+    for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (name.size() > 4 && name.compare(name.size() - 4, 4, ".hdr") == 0) return load_equirect_map(path, scene);
+    load_cube_map(path.parent_path(), scene);   // a face of a cube map: the folder it is in
+}
+
 class ViewSession {
 public:
     explicit ViewSession(const ViewOptions& options)
@@ -109,103 +156,205 @@ public:
           settings_(options.settings),
           mode_(viewer::parse_display_mode(options.display)),
           script_(viewer::parse_key_script(options.keys)),
+          drops_(parse_drops(options.drops)),
+          scale_(options.interactive_scale, options.target_fps),
           window_(viewer::open_window("Prism", int(settings_.width), int(settings_.height), !options.no_vsync,
                                        options.headless)),
-          loaded_(load_and_build(movable(options.scene), options.backend)),
-          controls_(loaded_.scene.camera),
-          moving_(loaded_) {
+          loaded_(std::make_unique<LoadedScene>(load_and_build(movable(options.scene), options.backend))),
+          controls_(loaded_->scene.camera),
+          moving_(*loaded_),
+          scene_file_(options.scene.scene) {
         // Only the interop modes tell the backend about the GL context: with host-copy (and none) it is created
         // exactly as `prism render` creates it.
         if (mode_ == viewer::DisplayMode::Auto || mode_ == viewer::DisplayMode::Interop)
             gl_ = window_->gl_context_handles();
+        full_width_ = settings_.width;
+        full_height_ = settings_.height;
+        controls_.set_scene_bounds(viewer::world_bounds(loaded_->scene));
+        backend_spec_ = options.backend;
         device_ = &device_for(options.backend);
         engine_ = make_engine(options.backend, *device_);
         display_ = make_display(*engine_);
         ablate_ = ablation(display_->path());
+        if (!options.no_panel) panel_ = std::make_unique<viewer::Panel>(*window_);
         BackendInfo info = engine_->info();
         std::printf("prism view: %s (%zu triangles, %zu instances) on %s [%s]\n", options.scene.scene.c_str(),
-                    loaded_.device.traced_triangles, loaded_.device.instances.size(), info.name.c_str(),
+                    loaded_->device.traced_triangles, loaded_->device.instances.size(), info.name.c_str(),
                     info.device.c_str());
         std::printf("  %s %dx%d, %s\n", options.headless ? "offscreen" : "window", window_->framebuffer_width(),
                     window_->framebuffer_height(), window_->context_description().c_str());
         std::printf("  %s\n", display_->path().describe().c_str());
         std::fflush(stdout);
+        update_title();
     }
 
     void run() {
-        auto last_present = std::chrono::steady_clock::now();
-        started_ = last_present;
-        size_t next_key = 0;
-        for (uint32_t frame = 0; options_.frames == 0 || frame < options_.frames; ++frame) {
+        using Clock = std::chrono::steady_clock;
+        started_ = Clock::now();
+        auto last_present = started_;
+        // --frames N renders a frame on every pass (benchmarks, scripted runs); otherwise the session renders only
+        // when something changed, and waits for events in between.
+        const bool continuous = options_.frames != 0;
+        bool counted_interval = false;   // last_present ends an interval fps may use (not an idle wait)
+        for (;;) {
             if (window_->should_close()) break;
-            if (options_.seconds > 0.0 &&
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count() >= options_.seconds)
-                break;
-            viewer::Input input = window_->poll();
-            auto now = std::chrono::steady_clock::now();
-            float seconds = std::chrono::duration<float>(now - last_present).count();
-            while (next_key < script_.size() && script_[next_key].frame <= frame)
-                input.actions.push_back(script_[next_key++].action);
+            double elapsed = std::chrono::duration<double>(Clock::now() - started_).count();
+            if (options_.seconds > 0.0 && elapsed >= options_.seconds) break;
+            if (continuous && frames_rendered_ >= options_.frames) break;
+            const uint32_t frame = frames_rendered_;
+
+            // Scripted drops go through the window as a real drop does (Window::receive_drop).
+            while (next_drop_ < drops_.size() && drops_[next_drop_].first <= frame)
+                window_->receive_drop({drops_[next_drop_++].second});
+            bool script_left = next_key_ < script_.size() || next_drop_ < drops_.size();
+            bool busy = continuous || need_render_ || last_render_scaled_ || moving_on_ || held_keys_.any_down() ||
+                        script_left;
+            viewer::Input input;
+            if (busy) {
+                input = window_->poll();
+            } else {
+                double timeout = options_.seconds > 0.0 ? options_.seconds - elapsed : 60.0;
+                input = window_->wait(std::max(timeout, 0.001));
+                counted_interval = false;   // the time spent waiting is not a frame interval
+            }
+            const double now = viewer::input_clock();
+            for (const viewer::FlyKeyEvent& event : input.fly_keys) {
+                if (event.pressed) held_keys_.press(event.key, event.time);
+                else held_keys_.release(event.key, event.time);
+            }
+            // A scripted fly key is held for its time, ending now: the same presses and releases as the window's.
+            while (next_key_ < script_.size() && script_[next_key_].frame <= frame) {
+                const viewer::ScriptedKey& key = script_[next_key_++];
+                viewer::FlyKey fly;
+                if (viewer::fly_key_for(key.action, &fly)) {
+                    held_keys_.press(fly, now - key.hold_seconds);
+                    held_keys_.release(fly, now);
+                } else {
+                    input.actions.push_back(key.action);
+                }
+            }
+
             bool screenshot = false;
+            bool redraw = input.resized || (panel_ && input.any());
             for (Action action : input.actions) {
                 if (action == Action::Quit) return finish();
-                screenshot |= action == Action::Screenshot;
-                apply(action);
+                if (action == Action::Screenshot) screenshot = true;
+                else need_render_ |= apply(action);
+                redraw = true;
             }
-            controls_.orbit(0.005f * input.drag.x, 0.005f * input.drag.y);
-            controls_.zoom(input.scroll);
-            if (input.fly != glm::vec3(0.0f)) controls_.fly(input.fly * std::min(seconds, 0.1f) * 0.5f);
-            if (moving_on_) engine_->update_instances(*device_, moving_.advance(), false);
+            for (const std::string& path : input.dropped) need_render_ |= load_file(path, true);
+            if (input.resized && !options_.headless) {
+                full_width_ = uint32_t(std::max(window_->framebuffer_width(), 1));
+                full_height_ = uint32_t(std::max(window_->framebuffer_height(), 1));
+                need_render_ = true;
+            }
+            bool moving = false;
+            if (input.drag != glm::vec2(0.0f)) {
+                controls_.orbit(0.005f * input.drag.x, 0.005f * input.drag.y);
+                moving = true;
+            }
+            if (input.pan != glm::vec2(0.0f)) {
+                controls_.pan(input.pan, window_->framebuffer_height());
+                moving = true;
+            }
+            if (input.scroll != 0.0f) {
+                controls_.zoom(input.scroll);
+                moving = true;
+            }
+            glm::vec3 held = held_keys_.collect(now);
+            if (held != glm::vec3(0.0f)) {
+                controls_.fly_for(held);
+                moving = true;
+            }
+            if (moving_on_) {
+                engine_->update_instances(*device_, moving_.advance(), false);
+                moving = true;
+            }
+            moving |= held_keys_.any_down();
 
-            using Clock = std::chrono::steady_clock;
-            auto ms = [](Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); };
-            bool last = options_.frames != 0 && frame + 1 == options_.frames;
+            bool render = continuous || moving || need_render_ || last_render_scaled_;
+            if (!render && !redraw && !screenshot) continue;   // nothing changed: back to waiting
+
             viewer::FrameTiming timing;
-            // --alternate-display: blocks of frames shown and only rendered, measuring within one run what showing
-            // adds (the last frame is always shown, for --screenshot, and left out of the comparison).
-            bool hidden_block = options_.alternate != 0 && (frame / options_.alternate) % 2 == 1;
-            if (options_.alternate != 0 && !(last && hidden_block)) {
-                timing.block = hidden_block ? viewer::FrameTiming::Block::Hidden : viewer::FrameTiming::Block::Shown;
-                timing.first_of_block = frame % options_.alternate == 0;
-            }
-            bool shows = display_->path().kind != viewer::DisplayPath::Kind::None && (!hidden_block || last);
-            viewer::set_read_back(display_->path(), settings_, shows);
-            if (ablate_ == "gl") settings_.copy_to_gl = false;   // GL shows the shared buffer as it is
-            if (ablate_ == "copy") shows = false;                  // the frame copies, GL does nothing
+            auto ms = [](Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); };
+            bool last = continuous && frame + 1 == options_.frames;
+            bool shows = display_->path().kind != viewer::DisplayPath::Kind::None;
             auto start = Clock::now();
-            last_frame_ = engine_->render(controls_.camera(), settings_);
+            if (render) {
+                // --alternate-display: blocks of frames shown and only rendered, measuring within one run what
+                // showing adds (the last frame is always shown, for --screenshot, and left out of the comparison).
+                bool hidden_block = options_.alternate != 0 && (frame / options_.alternate) % 2 == 1;
+                if (options_.alternate != 0 && !(last && hidden_block)) {
+                    timing.block =
+                        hidden_block ? viewer::FrameTiming::Block::Hidden : viewer::FrameTiming::Block::Shown;
+                    timing.first_of_block = frame % options_.alternate == 0;
+                }
+                shows = shows && (!hidden_block || last);
+                double scale = moving ? scale_.moving_scale() : 1.0;
+                resize_render(scale);
+                viewer::set_read_back(display_->path(), settings_, shows);
+                if (ablate_ == "gl") settings_.copy_to_gl = false;   // GL shows the shared buffer as it is
+                if (ablate_ == "copy") shows = false;                  // the frame copies, GL does nothing
+                start = Clock::now();
+                last_frame_ = engine_->render(controls_.camera(), settings_);
+                scale_.record(settings_.width, settings_.height, last_frame_.stats.frame_ms);
+                last_render_scaled_ = settings_.width != full_width_ || settings_.height != full_height_;
+                need_render_ = false;
+                ++frames_rendered_;
+            }
             auto rendered = Clock::now();
-            timing.render_ms = ms(rendered - start);
             if (shows) {
                 // GL runs the display asynchronously, as a viewer should: its GPU time comes from a timer query a
                 // few frames later (a glFinish here would add its own latency to every frame).
-                gl_timer_.begin(stats_.frames());
-                display_->update(last_frame_);
+                if (render) gl_timer_.begin(stats_.frames());
+                if (render) display_->update(last_frame_);
                 display_->draw(window_->framebuffer_width(), window_->framebuffer_height());
-                gl_timer_.end();
-                for (auto [index, ms] : gl_timer_.collect(false)) stats_.set_gpu_display(index, ms);
+                if (panel_) apply(panel_->draw(panel_view(moving), help_));
+                if (render) {
+                    gl_timer_.end();
+                    for (auto [index, gpu_ms] : gl_timer_.collect(false)) stats_.set_gpu_display(index, gpu_ms);
+                }
             }
             auto drawn = Clock::now();
-            if (screenshot) save_screenshot(screenshot_path(frame));
+            if (screenshot) save_screenshot(interactive_screenshot_path());
             if (last && !options_.screenshot.empty()) save_screenshot(options_.screenshot);
             auto swap_start = Clock::now();
-            if (shows) window_->swap();
-
-            now = Clock::now();
+            if (shows) {
+                window_->swap();
+                ++frames_shown_;
+            }
+            auto presented = Clock::now();
+            if (!render) continue;   // the panel drawn again over the same frame: no frame timing
+            timing.render_ms = ms(rendered - start);
             timing.display_ms = ms(drawn - rendered);   // a screenshot's read-back is in neither
-            timing.present_ms = ms(now - swap_start);
-            timing.frame_ms = ms(now - last_present);
+            timing.present_ms = ms(presented - swap_start);
+            timing.frame_ms = ms(presented - last_present);
             stats_.add(timing);
-            double frame_seconds = std::chrono::duration<double>(now - last_present).count();
-            last_present = now;
-            fps_ = fps_ == 0.0 ? 1.0 / frame_seconds : 0.9 * fps_ + 0.1 / frame_seconds;
-            window_->set_title(hud());
-            ++frames_rendered_;
+            if (counted_interval) {
+                double interval_ms = timing.frame_ms;
+                frame_interval_ms_ = frame_interval_ms_ == 0.0 ? interval_ms : 0.9 * frame_interval_ms_ + 0.1 * interval_ms;
+            }
+            last_present = presented;
+            counted_interval = true;
         }
         finish();
     }
 
 private:
+    static std::vector<std::pair<uint32_t, std::string>> parse_drops(const std::vector<std::string>& items) {
+        std::vector<std::pair<uint32_t, std::string>> drops;
+        for (const std::string& item : items) {
+            size_t colon = item.find(':');
+            std::string frame = colon == std::string::npos ? "" : item.substr(0, colon);
+            if (frame.empty() || frame.size() > 9 || colon + 1 >= item.size() ||
+                !std::all_of(frame.begin(), frame.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }))
+                throw Error("view: --drop expects FRAME:PATH, got '" + item + "'");
+            drops.emplace_back(uint32_t(std::stoul(frame)), item.substr(colon + 1));
+        }
+        std::stable_sort(drops.begin(), drops.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+        return drops;
+    }
+
     // PRISM_VIEW_ABLATE (bench/view_gpu.sh) splits what showing a frame through interop costs in two: "copy" — shown
     // frames copy into the shared buffer and GL does nothing; "gl" — GL shows the shared buffer and the frame copies
     // nothing into it (the image stays the first one). Not with shared semaphores, which pair every copy with a GL
@@ -226,7 +375,8 @@ private:
     void finish() {
         if (options_.frames != 0 || options_.seconds > 0.0) {
             double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
-            std::printf("  rendered %u frames in %.1f s\n", frames_rendered_, elapsed);
+            std::printf("  rendered %u frames in %.1f s (%llu shown)\n", frames_rendered_, elapsed,
+                        static_cast<unsigned long long>(frames_shown_));
         }
         for (auto [index, ms] : gl_timer_.collect(true)) stats_.set_gpu_display(index, ms);
         if ((options_.frames != 0 || options_.seconds > 0.0) && stats_.frames() != 0)
@@ -241,12 +391,12 @@ private:
     // switch that needs another layout builds it once from the loaded scene.
     DeviceScene& device_for(const std::string& spec) {
         BvhLayout layout = resolve_bvh_layout(options_.scene.layout, spec);
-        if (layout == loaded_.device.bvh_options.layout) return loaded_.device;
+        if (layout == loaded_->device.bvh_options.layout) return loaded_->device;
         auto found = other_layouts_.find(layout);
         if (found == other_layouts_.end()) {
             std::printf("  building the %s BVH for %s\n", bvh_layout_name(layout).c_str(), spec.c_str());
             std::fflush(stdout);
-            found = other_layouts_.emplace(layout, build_device_scene_for(loaded_.scene, movable(options_.scene), layout)).first;
+            found = other_layouts_.emplace(layout, build_device_scene_for(loaded_->scene, movable(options_.scene), layout)).first;
         }
         return found->second;
     }
@@ -255,14 +405,31 @@ private:
         return std::make_unique<RenderEngine>(spec, device, gl_ ? &*gl_ : nullptr);
     }
 
-    // The display path for `engine` and the read-back it needs. Throws prism::Error with --display interop when
-    // the engine has no interop (or it fails to set up).
+    // The display path for `engine` and the read-back it needs, for frames of the current render size. Throws
+    // prism::Error with --display interop when the engine has no interop (or it fails to set up).
     std::unique_ptr<viewer::FrameDisplay> make_display(RenderEngine& engine) {
         GlInteropOffer offer = engine.gl_interop();
         viewer::DisplayPath path = viewer::choose_display_path(mode_, engine.info(), offer);
         auto display = viewer::open_frame_display(mode_, path, offer.interop, settings_.width, settings_.height);
         viewer::set_read_back(display->path(), settings_);
+        display_width_ = settings_.width;
+        display_height_ = settings_.height;
         return display;
+    }
+
+    // Renders the next frame at `scale` of the window's size; an interop display is made again for a new size
+    // (its shared buffer holds exactly one frame).
+    void resize_render(double scale) {
+        settings_.width = viewer::InteractiveScale::scaled(full_width_, scale);
+        settings_.height = viewer::InteractiveScale::scaled(full_height_, scale);
+        if (settings_.width == display_width_ && settings_.height == display_height_) return;
+        if (display_->path().kind != viewer::DisplayPath::Kind::Interop) {
+            display_width_ = settings_.width;
+            display_height_ = settings_.height;
+            return;
+        }
+        display_.reset();   // it holds the shared buffer of the old size
+        display_ = make_display(*engine_);
     }
 
     void write_stats() {
@@ -271,9 +438,10 @@ private:
         nlohmann::json json = stats_.json();
         json["tool"] = "prism view";
         json["commit"] = build_commit();
-        json["scene"] = options_.scene.scene;
+        json["scene"] = scene_file_;
         json["width"] = settings_.width;
         json["height"] = settings_.height;
+        json["window"] = {{"width", full_width_}, {"height", full_height_}};
         json["max_depth"] = settings_.max_depth;
         json["vsync"] = !options_.no_vsync;
         json["backend"] = {{"name", info.name}, {"device", info.device}, {"driver", info.driver},
@@ -281,6 +449,18 @@ private:
         json["backend_switches"] = backend_switches_;
         json["gl"] = window_->context_description();
         json["headless"] = options_.headless;
+        json["panel"] = panel_ != nullptr;
+        json["frames_rendered"] = frames_rendered_;
+        json["frames_shown"] = frames_shown_;
+        json["interactive_scale"] = {{"setting", options_.interactive_scale},
+                                     {"target_fps", options_.target_fps},
+                                     {"moving_scale", scale_.moving_scale()}};
+        const Camera& camera = controls_.camera();
+        json["camera"] = {{"position", {camera.position.x, camera.position.y, camera.position.z}},
+                          {"target", {camera.target.x, camera.target.y, camera.target.z}},
+                          {"fly_speed", controls_.fly_speed()}};
+        json["files_loaded"] = files_loaded_;
+        json["load_errors"] = load_errors_;
         json["ablate"] = ablate_.empty() ? nlohmann::json() : nlohmann::json(ablate_);
         json["display"] = {{"requested", viewer::display_mode_name(mode_)},
                            {"path", path.kind_name()},
@@ -291,62 +471,152 @@ private:
         std::printf("  wrote %s (timing summary)\n", options_.stats.c_str());
     }
 
-    void apply(Action action) {
-        const float step = 0.05f;   // scripted fly keys: 5% of the eye-target distance per press
+    // Applies a key (or panel) action; true when the frame must be rendered again.
+    bool apply(Action action) {
+        bool changed = true;
         switch (action) {
-        case Action::DepthUp: settings_.max_depth = std::min(settings_.max_depth + 1, 32u); say_depth(); break;
-        case Action::DepthDown: settings_.max_depth = std::max(settings_.max_depth - 1, 1u); say_depth(); break;
+        case Action::DepthUp: set_depth(std::min(settings_.max_depth + 1, 32u)); break;
+        case Action::DepthDown: set_depth(std::max(settings_.max_depth - 1, 1u)); break;
         case Action::ResetCamera: controls_.reset(); break;
+        case Action::FrameScene: controls_.frame_scene(float(full_width_) / float(std::max(full_height_, 1u))); break;
+        case Action::ToggleHelp: help_ = !help_; changed = false; break;
+        case Action::Reload: changed = reload(); break;
         case Action::ToggleMoving:
             if (moving_.empty()) break;
             moving_on_ = !moving_on_;
             std::printf("  moving object '%s': %s\n", moving_.name().c_str(), moving_on_ ? "on" : "off");
             break;
-        case Action::FlyForward: controls_.fly({0.0f, 0.0f, step}); break;
-        case Action::FlyBack: controls_.fly({0.0f, 0.0f, -step}); break;
-        case Action::FlyLeft: controls_.fly({-step, 0.0f, 0.0f}); break;
-        case Action::FlyRight: controls_.fly({step, 0.0f, 0.0f}); break;
-        case Action::FlyDown: controls_.fly({0.0f, -step, 0.0f}); break;
-        case Action::FlyUp: controls_.fly({0.0f, step, 0.0f}); break;
         default:
-            if (viewer::is_backend_key(action)) switch_backend(viewer::backend_for_key(action));
+            if (viewer::is_backend_key(action)) changed = switch_backend(viewer::backend_for_key(action));
             break;
         }
         std::fflush(stdout);
+        return changed;
     }
 
-    void say_depth() { std::printf("  depth %u\n", settings_.max_depth); }
+    // What the panel asked for: applied before the next frame (the loop polls again at once).
+    void apply(const viewer::PanelRequest& request) {
+        if (request.depth) set_depth(*request.depth);
+        if (request.backend) switch_backend(*request.backend);
+        if (request.reload) reload();
+        if (request.toggle_help) help_ = !help_;
+        if (request.depth || request.backend || request.reload) need_render_ = true;
+    }
+
+    void set_depth(uint32_t depth) {
+        settings_.max_depth = std::clamp(depth, 1u, 32u);
+        std::printf("  depth %u\n", settings_.max_depth);
+    }
 
     // Keeps the device the user named on the command line when the key selects the same API (4 after
-    // --backend opencl:pocl stays on PoCL).
-    void switch_backend(const std::string& api) {
+    // --backend opencl:pocl stays on PoCL). Asks the backend's probe first, so an unavailable one costs nothing.
+    bool switch_backend(const std::string& api) {
         std::string spec = api;
         if (parse_backend_spec(options_.backend).api == api) spec = options_.backend;
         std::string current = engine_->info().name;
-        if (current == api) return;
-        RenderSettings previous = settings_;
-        try {
-            DeviceScene& next_device = device_for(spec);
-            auto next = make_engine(spec, next_device);
-            auto next_display = make_display(*next);
-            // The old display goes first: it may hold the old backend's shared buffer.
-            display_ = std::move(next_display);
-            engine_ = std::move(next);
-            device_ = &next_device;
-        } catch (const Error& e) {
-            settings_ = previous;   // make_display set the read-back for a display that is not used
-            std::printf("  backend %s unavailable (%s); keeping %s\n", api.c_str(), e.what(), current.c_str());
-            return;
+        if (current == api) return false;
+        std::string why = viewer::why_backend_unavailable(spec);
+        if (why.empty()) {
+            RenderSettings previous = settings_;
+            try {
+                DeviceScene& next_device = device_for(spec);
+                auto next = make_engine(spec, next_device);
+                auto next_display = make_display(*next);
+                // The old display goes first: it may hold the old backend's shared buffer.
+                display_ = std::move(next_display);
+                engine_ = std::move(next);
+                device_ = &next_device;
+                backend_spec_ = spec;
+            } catch (const Error& e) {
+                settings_ = previous;   // make_display set the read-back for a display that is not used
+                why = e.what();
+            }
+        }
+        if (!why.empty()) {
+            std::printf("  backend %s unavailable (%s); keeping %s\n", api.c_str(), why.c_str(), current.c_str());
+            say("backend " + api + " unavailable: " + why, true);
+            return false;
         }
         ++backend_switches_;
         BackendInfo info = engine_->info();
         std::printf("  switched to %s [%s], %s\n", info.name.c_str(), info.device.c_str(),
                     display_->path().describe().c_str());
+        say("switched to " + info.name, false);
+        update_title();
+        return true;
     }
 
-    std::string screenshot_path(uint32_t frame) const {
-        if (!options_.screenshot.empty()) return options_.screenshot;
-        return "prism-view-" + std::to_string(frame) + ".png";
+    // A dropped file (or L: the current one again). Errors go to the panel and the console; the session goes on
+    // with what it had. True when something new was loaded.
+    bool load_file(const std::string& path, bool dropped) {
+        try {
+            DroppedKind kind = classify_dropped(path);
+            std::printf("  loading %s\n", path.c_str());
+            std::fflush(stdout);
+            auto next = std::make_unique<LoadedScene>();
+            if (kind == DroppedKind::Scene) {
+                SceneOptions scene = movable(options_.scene);
+                scene.scene = path;
+                *next = load_and_build(scene, backend_spec_);
+                if (!environment_file_.empty() && !dropped) load_environment(environment_file_, next->scene);
+            } else {
+                next->scene = loaded_->scene;
+                load_environment(path, next->scene);
+                next->device = build_device_scene_for(next->scene, movable(options_.scene),
+                                                      loaded_->device.bvh_options.layout);
+            }
+            replace_scene(std::move(next), kind == DroppedKind::Scene && dropped);
+            if (kind == DroppedKind::Scene) {
+                scene_file_ = path;
+                if (dropped) environment_file_.clear();
+            } else {
+                environment_file_ = path;
+            }
+            ++files_loaded_;
+            say("loaded " + path, false);
+            update_title();
+            return true;
+        } catch (const std::exception& e) {
+            ++load_errors_;
+            std::printf("  cannot load: %s\n", e.what());
+            std::fflush(stdout);
+            say(e.what(), true);
+            return false;
+        }
+    }
+
+    bool reload() {
+        bool ok = load_file(scene_file_, false);
+        if (ok && !environment_file_.empty()) say("reloaded " + scene_file_ + " with " + environment_file_, false);
+        return ok;
+    }
+
+    // Swaps in a new scene: a new engine on it (the same backend), a new display; `new_camera`: the scene's own
+    // camera (a dropped scene), else the current view is kept (an environment, a reload).
+    void replace_scene(std::unique_ptr<LoadedScene> next, bool new_camera) {
+        auto engine = make_engine(backend_spec_, next->device);
+        auto display = make_display(*engine);
+        display_ = std::move(display);
+        engine_ = std::move(engine);
+        other_layouts_.clear();
+        loaded_ = std::move(next);
+        device_ = &loaded_->device;
+        if (new_camera) controls_ = viewer::CameraControls(loaded_->scene.camera);
+        controls_.set_scene_bounds(viewer::world_bounds(loaded_->scene));
+        moving_ = MovingObject(*loaded_);
+        moving_on_ = false;
+    }
+
+    void say(const std::string& message, bool error) {
+        message_ = message;
+        message_is_error_ = error;
+    }
+
+    void update_title() { window_->set_title("Prism - " + scene_file_ + " - " + engine_->info().name); }
+
+    std::string interactive_screenshot_path() const {
+        if (!options_.screenshot.empty() && options_.frames != 0) return options_.screenshot;
+        return viewer::next_screenshot_path().string();
     }
 
     void save_screenshot(const std::string& path) {
@@ -358,25 +628,64 @@ private:
         write_png(path, window_->framebuffer_width(), window_->framebuffer_height(), pixels);
         std::printf("  wrote %s (window read-back, %dx%d)\n", path.c_str(), window_->framebuffer_width(),
                     window_->framebuffer_height());
+        say("wrote " + path, false);
         std::fflush(stdout);
     }
 
-    // The window title is the HUD: backend and device, fps, ms per stage, Mrays/s, display path.
+    double mrays_per_second() const {
+        const FrameStats& stats = last_frame_.stats;
+        return stats.frame_ms > 0.0 ? double(stats.total_rays()) / (stats.frame_ms * 1e3) : 0.0;
+    }
+
+    viewer::PanelView panel_view(bool moving) const {
+        viewer::PanelView view;
+        BackendInfo info = engine_->info();
+        view.scene = scene_file_ + (environment_file_.empty() ? "" : " + " + environment_file_);
+        view.backend = info.name;
+        view.device = info.device;
+        view.display_path = display_->path().describe();
+        view.frame_ms = frame_interval_ms_;
+        view.fps = frame_interval_ms_ > 0.0 ? 1000.0 / frame_interval_ms_ : 0.0;
+        view.render_ms = last_frame_.stats.frame_ms;
+        view.mrays_per_second = mrays_per_second();
+        StageTotals totals = stage_totals(last_frame_.stats);
+        for (size_t i = 0; i < stage_count; ++i) view.stage_ms.emplace_back(stage_name(Stage(i)), totals.by_stage[i]);
+        view.render_width = last_frame_.width;
+        view.render_height = last_frame_.height;
+        view.window_width = full_width_;
+        view.window_height = full_height_;
+        view.depth = settings_.max_depth;
+        char activity[96];
+        if (moving)
+            std::snprintf(activity, sizeof activity, "moving (%.3g of full resolution)",
+                          double(settings_.width) / double(full_width_));
+        else
+            std::snprintf(activity, sizeof activity, "still: full resolution, idle until a change");
+        view.activity = activity;
+        view.frames_rendered = frames_rendered_;
+        view.frames_shown = frames_shown_ + 1;   // this one
+        view.message = message_;
+        view.message_is_error = message_is_error_;
+        view.backends = {"cpu-ref", "cpu", "cuda", "opencl", "vulkan"};
+        return view;
+    }
+
+    // The one-line summary a --frames/--seconds run ends with: backend and device, the frame's time per stage,
+    // Mrays/s, depth and display path.
     std::string hud() const {
         BackendInfo info = engine_->info();
         const FrameStats& stats = last_frame_.stats;
         StageTotals totals = stage_totals(stats);
-        std::string text = "Prism - " + info.name + " [" + info.device + "]";
+        std::string text = info.name + " [" + info.device + "]";
         char part[256];
-        std::snprintf(part, sizeof part, " | %.1f fps | frame %.1f ms:", fps_, stats.frame_ms);
+        std::snprintf(part, sizeof part, " | render %.1f ms:", stats.frame_ms);
         text += part;
         for (size_t i = 0; i < stage_count; ++i) {
             std::snprintf(part, sizeof part, " %s %.1f", stage_name(Stage(i)), totals.by_stage[i]);
             text += part;
         }
-        double mrays = stats.frame_ms > 0.0 ? double(stats.total_rays()) / (stats.frame_ms * 1e3) : 0.0;
-        std::snprintf(part, sizeof part, " | %.1f Mrays/s | depth %u | %s", mrays, settings_.max_depth,
-                      display_->path().describe().c_str());
+        std::snprintf(part, sizeof part, " | %.1f Mrays/s | %ux%u | depth %u | %s", mrays_per_second(),
+                      last_frame_.width, last_frame_.height, settings_.max_depth, display_->path().describe().c_str());
         return text + part;
     }
 
@@ -384,22 +693,39 @@ private:
     RenderSettings settings_;
     viewer::DisplayMode mode_;
     std::vector<viewer::ScriptedKey> script_;
+    std::vector<std::pair<uint32_t, std::string>> drops_;   // --drop, by frame
+    viewer::InteractiveScale scale_;
     std::unique_ptr<viewer::Window> window_;   // first: no display fails fast, and the GL context outlives
-                                               // the FrameDisplay
+                                               // the FrameDisplay and the panel
     std::optional<GlContextHandles> gl_;   // given to backends in the interop modes
-    LoadedScene loaded_;
+    std::unique_ptr<LoadedScene> loaded_;
     std::map<BvhLayout, DeviceScene> other_layouts_;   // built on a backend switch that needs another layout;
                                                        // before engine_, which traces one of them
     DeviceScene* device_ = nullptr;                     // the scene the current engine traces
     viewer::CameraControls controls_;
     MovingObject moving_;
     bool moving_on_ = false;
+    std::string scene_file_;         // what L reloads
+    std::string environment_file_;   // a dropped environment map, kept on reload
+    std::string backend_spec_;       // the current engine's, as created
     std::unique_ptr<RenderEngine> engine_;
     std::unique_ptr<viewer::FrameDisplay> display_;
+    std::unique_ptr<viewer::Panel> panel_;   // null with --no-panel
+    viewer::HeldKeys held_keys_;
+    size_t next_key_ = 0, next_drop_ = 0;
+    bool help_ = false;
+    bool need_render_ = true;   // something changed that the frame shown does not have yet (the first frame too)
+    bool last_render_scaled_ = false;   // the last frame was rendered below full resolution: refine when still
+    uint32_t full_width_ = 0, full_height_ = 0;         // the window's framebuffer (offscreen: --width/--height)
+    uint32_t display_width_ = 0, display_height_ = 0;   // the frame size the display was made for
+    std::string message_;
+    bool message_is_error_ = false;
     FrameResult last_frame_;
     std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();   // the first frame
     uint32_t frames_rendered_ = 0;
-    double fps_ = 0.0;
+    uint64_t frames_shown_ = 0;
+    double frame_interval_ms_ = 0.0;   // smoothed time between presented frames while rendering continuously
+    int files_loaded_ = 0, load_errors_ = 0;
     viewer::FrameTimings stats_;
     viewer::GlTimer gl_timer_;
     int backend_switches_ = 0;
@@ -438,7 +764,7 @@ void add_view_command(CLI::App& app) {
     command->add_option("--height", options->settings.height, "window and frame height")->capture_default_str();
     command->add_option("--depth", options->settings.max_depth, "ray generations traced (+/- change it)")
         ->capture_default_str();
-    command->add_option("--frames", options->frames, "render this many frames and exit (0: until Esc)")
+    command->add_option("--frames", options->frames, "render this many frames, one on every pass, and exit (0: until Esc, rendering only when something changes)")
         ->capture_default_str();
     command->add_option("--seconds", options->seconds,
                         "stop after this many seconds of wall-clock time (0: no limit; with --frames, whichever ends first)")
@@ -448,7 +774,18 @@ void add_view_command(CLI::App& app) {
                         "with --frames: save the last frame as read back from the window (.png)");
     command->add_flag("--no-vsync", options->no_vsync, "present without waiting for vertical sync");
     command->add_option("--keys", options->keys,
-                        "scripted key presses FRAME:KEY,... (keys 1-5 + - P R M Esc W A S D Q E), e.g. 0:M,3:2");
+                        "scripted key presses FRAME:KEY,... (keys 1-5 + - P R M F H L Esc W A S D Q E; a fly key held "
+                        "for SECONDS with FRAME:KEY:SECONDS), e.g. 0:M,3:2,4:W:1.5");
+    command->add_option("--drop", options->drops,
+                        "scripted file drop FRAME:PATH (repeatable): loaded as if dropped onto the window");
+    command->add_flag("--no-panel", options->no_panel,
+                      "no on-screen panel: the frame alone (also PRISM_VIEW_PANEL=0)");
+    command->add_option("--interactive-scale", options->interactive_scale,
+                        "resolution while the camera or scene moves: auto (to hold --target-fps) or a fraction in "
+                        "(0, 1] of the window's; full resolution once it stops")
+        ->capture_default_str();
+    command->add_option("--target-fps", options->target_fps, "frame rate --interactive-scale auto aims for while moving")
+        ->capture_default_str();
     command->add_option("--display", options->display,
                         "how frames reach the window: auto (GPU buffer interop where the backend and GL allow it, "
                         "else host copy), interop (required), host-copy, none (render only)")
@@ -463,6 +800,8 @@ void add_view_command(CLI::App& app) {
                       "draw into an offscreen framebuffer of an EGL context (an EGL device, else Mesa's surfaceless "
                       "platform) instead of a window: no X server needed; input only from --keys");
     command->callback([options] {
+        if (const char* panel = std::getenv("PRISM_VIEW_PANEL"); panel && std::string(panel) == "0")
+            options->no_panel = true;
         if (options->headless && options->frames == 0 && options->seconds <= 0.0)
             throw Error("view: --headless needs --frames or --seconds (there is no window to close)");
         run_view(*options);

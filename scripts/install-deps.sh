@@ -21,8 +21,11 @@ packages=(
   # build and check the embedded SPIR-V, vulkaninfo and the validation layers to debug it.
   libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers glslang-tools spirv-tools
   # Viewer: GLFW, GL and EGL (the offscreen context of --headless), Xrandr (<GLFW/glfw3native.h> includes its
-  # header for the X11 handles), Mesa's GL drivers, and an X server for tests on machines without a display.
-  libglfw3-dev libxrandr-dev libgl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri xvfb xauth
+  # header for the X11 handles), Mesa's GL drivers, Dear ImGui with its GLFW/OpenGL 3 backends (the on-screen
+  # panel), and an X server for tests on machines without a display, with xdotool for real keyboard and mouse
+  # input and Xlib for the tests' XDND drag source (tests/xdnd_drop.cpp).
+  libglfw3-dev libxrandr-dev libgl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libimgui-dev xvfb xauth xdotool
+  libx11-dev
   # Fuzzing the loaders (scripts/fuzz.sh): clang with libFuzzer and the sanitizer runtimes.
   clang libclang-rt-14-dev
   # Plots of the benchmark results (bench/plot_bench.py draws every chart).

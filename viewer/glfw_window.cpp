@@ -5,9 +5,13 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include <imgui.h>
+#include <backends/imgui_impl_glfw.h>
+
 #include "core/error.h"
 #include "viewer/gl_external.h"
 #include "viewer/native_handles.h"
+#include "viewer/panel.h"
 
 namespace prism::viewer {
 namespace {
@@ -31,8 +35,8 @@ GLFWwindow* create_window(const std::string& title, int width, int height, int m
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, minor);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
     glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-    // The frame is shown 1:1; a resized window would need a re-render at the new size (not done yet).
-    glfwWindowHint(GLFW_RESIZABLE, GLFW_FALSE);
+    // Resizable: the session renders at the framebuffer's new size (Input::resized).
+    glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);
     glfwWindowHint(GLFW_SRGB_CAPABLE, GLFW_FALSE);   // the frame is already sRGB-encoded: pass bytes through
     return glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
 }
@@ -61,6 +65,11 @@ GlfwWindow::GlfwWindow(const std::string& title, int width, int height, bool vsy
     glfwSetCursorPosCallback(window_, on_cursor);
     glfwSetMouseButtonCallback(window_, on_mouse_button);
     glfwSetScrollCallback(window_, on_scroll);
+    glfwSetDropCallback(window_, on_drop);
+    glfwSetFramebufferSizeCallback(window_, on_framebuffer_size);
+    glfwSetCharCallback(window_, on_char);
+    glfwSetWindowFocusCallback(window_, on_focus);
+    glfwSetCursorEnterCallback(window_, on_cursor_enter);
 }
 
 GlfwWindow::~GlfwWindow() {
@@ -73,13 +82,22 @@ bool GlfwWindow::should_close() const { return glfwWindowShouldClose(window_); }
 
 Input GlfwWindow::poll() {
     glfwPollEvents();
+    return take_pending();
+}
+
+Input GlfwWindow::wait(double timeout_seconds) {
+    if (timeout_seconds > 0.0) glfwWaitEventsTimeout(timeout_seconds);
+    else glfwPollEvents();
+    return take_pending();
+}
+
+Input GlfwWindow::take_pending() {
     Input input = std::move(pending_);
     pending_ = Input{};
-    auto held = [&](int key) { return glfwGetKey(window_, key) == GLFW_PRESS ? 1.0f : 0.0f; };
-    input.fly = {held(GLFW_KEY_D) - held(GLFW_KEY_A), held(GLFW_KEY_E) - held(GLFW_KEY_Q),
-                 held(GLFW_KEY_W) - held(GLFW_KEY_S)};
     return input;
 }
+
+void* GlfwWindow::glfw_window() const { return window_; }
 
 void GlfwWindow::set_title(const std::string& title) { glfwSetWindowTitle(window_, title.c_str()); }
 void GlfwWindow::swap() { glfwSwapBuffers(window_); }
@@ -102,9 +120,29 @@ void GlfwWindow::native_handles(GlContextHandles& gl) const {
     gl.glx_context = native.glx_context;
 }
 
-void GlfwWindow::on_key(GLFWwindow* window, int key, int, int action, int mods) {
-    if (action != GLFW_PRESS && action != GLFW_REPEAT) return;
+// Fly keys are held keys: their presses and releases go to viewer/held_keys.h with the time they were seen.
+static bool fly_key(int key, FlyKey* fly) {
+    switch (key) {
+    case GLFW_KEY_W: *fly = FlyKey::Forward; return true;
+    case GLFW_KEY_S: *fly = FlyKey::Back; return true;
+    case GLFW_KEY_A: *fly = FlyKey::Left; return true;
+    case GLFW_KEY_D: *fly = FlyKey::Right; return true;
+    case GLFW_KEY_Q: *fly = FlyKey::Down; return true;
+    case GLFW_KEY_E: *fly = FlyKey::Up; return true;
+    default: return false;
+    }
+}
+
+void GlfwWindow::on_key(GLFWwindow* window, int key, int scancode, int action, int mods) {
+    if (ImGui::GetCurrentContext()) ImGui_ImplGlfw_KeyCallback(window, key, scancode, action, mods);
     GlfwWindow* self = owner(window);
+    self->pending_.other = true;
+    FlyKey fly;
+    if (fly_key(key, &fly)) {
+        if (action != GLFW_REPEAT) self->pending_.fly_keys.push_back({fly, action == GLFW_PRESS, input_clock()});
+        return;
+    }
+    if (action != GLFW_PRESS && action != GLFW_REPEAT) return;
     auto push = [&](Action a) { self->pending_.actions.push_back(a); };
     bool repeat = action == GLFW_REPEAT;
     switch (key) {
@@ -120,26 +158,65 @@ void GlfwWindow::on_key(GLFWwindow* window, int key, int, int action, int mods) 
     case GLFW_KEY_P: if (!repeat) push(Action::Screenshot); break;
     case GLFW_KEY_R: if (!repeat) push(Action::ResetCamera); break;
     case GLFW_KEY_M: if (!repeat) push(Action::ToggleMoving); break;
+    case GLFW_KEY_F: if (!repeat) push(Action::FrameScene); break;
+    case GLFW_KEY_H: if (!repeat) push(Action::ToggleHelp); break;
+    case GLFW_KEY_F1: if (!repeat) push(Action::ToggleHelp); break;
+    case GLFW_KEY_L: if (!repeat) push(Action::Reload); break;
     case GLFW_KEY_ESCAPE: push(Action::Quit); break;
     default: break;
     }
-    (void)mods;
 }
 
+// The cursor's position in framebuffer pixels (window coordinates scaled, for displays that scale windows).
 void GlfwWindow::on_cursor(GLFWwindow* window, double x, double y) {
     GlfwWindow* self = owner(window);
+    self->pending_.other = true;
     glm::dvec2 cursor{x, y};
-    if (self->dragging_) self->pending_.drag += glm::vec2(cursor - self->last_cursor_);
+    glm::vec2 moved(cursor - self->last_cursor_);
+    if (self->drag_ == Drag::Orbit) self->pending_.drag += moved;
+    if (self->drag_ == Drag::Pan) self->pending_.pan += moved;
     self->last_cursor_ = cursor;
 }
 
-void GlfwWindow::on_mouse_button(GLFWwindow* window, int button, int action, int) {
-    if (button != GLFW_MOUSE_BUTTON_LEFT) return;
+void GlfwWindow::on_mouse_button(GLFWwindow* window, int button, int action, int mods) {
+    if (ImGui::GetCurrentContext()) ImGui_ImplGlfw_MouseButtonCallback(window, button, action, mods);
     GlfwWindow* self = owner(window);
-    self->dragging_ = action == GLFW_PRESS;
+    self->pending_.other = true;
     glfwGetCursorPos(window, &self->last_cursor_.x, &self->last_cursor_.y);
+    if (action == GLFW_RELEASE) {
+        self->drag_ = Drag::None;
+        return;
+    }
+    if (Panel::wants_mouse()) return;   // a click on the panel is the panel's
+    if (button == GLFW_MOUSE_BUTTON_MIDDLE) self->drag_ = Drag::Pan;
+    if (button == GLFW_MOUSE_BUTTON_LEFT) self->drag_ = (mods & GLFW_MOD_SHIFT) ? Drag::Pan : Drag::Orbit;
 }
 
-void GlfwWindow::on_scroll(GLFWwindow* window, double, double y) { owner(window)->pending_.scroll += float(y); }
+void GlfwWindow::on_scroll(GLFWwindow* window, double x, double y) {
+    if (ImGui::GetCurrentContext()) ImGui_ImplGlfw_ScrollCallback(window, x, y);
+    GlfwWindow* self = owner(window);
+    self->pending_.other = true;
+    if (!Panel::wants_mouse()) self->pending_.scroll += float(y);
+}
+
+void GlfwWindow::on_drop(GLFWwindow* window, int count, const char** paths) {
+    owner(window)->receive_drop(std::vector<std::string>(paths, paths + count));
+}
+
+void GlfwWindow::on_framebuffer_size(GLFWwindow* window, int, int) { owner(window)->pending_.resized = true; }
+
+void GlfwWindow::on_char(GLFWwindow* window, unsigned int codepoint) {
+    if (ImGui::GetCurrentContext()) ImGui_ImplGlfw_CharCallback(window, codepoint);
+}
+
+void GlfwWindow::on_focus(GLFWwindow* window, int focused) {
+    if (ImGui::GetCurrentContext()) ImGui_ImplGlfw_WindowFocusCallback(window, focused);
+    owner(window)->pending_.other = true;
+}
+
+void GlfwWindow::on_cursor_enter(GLFWwindow* window, int entered) {
+    if (ImGui::GetCurrentContext()) ImGui_ImplGlfw_CursorEnterCallback(window, entered);
+    owner(window)->pending_.other = true;
+}
 
 }  // namespace prism::viewer

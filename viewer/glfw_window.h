@@ -1,4 +1,5 @@
-// The GLFW window (X11 or Wayland) and its OpenGL core context, with mouse and keyboard input.
+// The GLFW window (X11 or Wayland) and its OpenGL core context, with mouse and keyboard input, file drops and
+// resizing; its callbacks also feed Dear ImGui's GLFW backend when the panel is up (viewer/panel.h).
 #pragma once
 
 #include <string>
@@ -19,6 +20,8 @@ public:
 
     bool should_close() const override;
     Input poll() override;
+    Input wait(double timeout_seconds) override;
+    void* glfw_window() const override;
     void set_title(const std::string& title) override;
     void swap() override;
     int framebuffer_width() const override;
@@ -32,10 +35,16 @@ private:
     static void on_cursor(GLFWwindow* window, double x, double y);
     static void on_mouse_button(GLFWwindow* window, int button, int action, int mods);
     static void on_scroll(GLFWwindow* window, double x, double y);
+    static void on_drop(GLFWwindow* window, int count, const char** paths);
+    static void on_framebuffer_size(GLFWwindow* window, int width, int height);
+    static void on_char(GLFWwindow* window, unsigned int codepoint);
+    static void on_focus(GLFWwindow* window, int focused);
+    static void on_cursor_enter(GLFWwindow* window, int entered);
+    Input take_pending();
 
     GLFWwindow* window_ = nullptr;
-    Input pending_;
-    bool dragging_ = false;
+    enum class Drag { None, Orbit, Pan };
+    Drag drag_ = Drag::None;
     glm::dvec2 last_cursor_{0.0};
 };
 

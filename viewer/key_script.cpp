@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
 
 #include "core/error.h"
 
@@ -20,6 +21,18 @@ const char* backend_for_key(Action action) {
 
 bool is_backend_key(Action action) { return backend_for_key(action) != nullptr; }
 
+bool fly_key_for(Action action, FlyKey* key) {
+    switch (action) {
+    case Action::FlyForward: *key = FlyKey::Forward; return true;
+    case Action::FlyBack: *key = FlyKey::Back; return true;
+    case Action::FlyLeft: *key = FlyKey::Left; return true;
+    case Action::FlyRight: *key = FlyKey::Right; return true;
+    case Action::FlyDown: *key = FlyKey::Down; return true;
+    case Action::FlyUp: *key = FlyKey::Up; return true;
+    default: return false;
+    }
+}
+
 Action parse_key(const std::string& name) {
     std::string key;
     for (char c : name) key += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
@@ -27,12 +40,13 @@ Action parse_key(const std::string& name) {
         {"1", Action::Backend1}, {"2", Action::Backend2}, {"3", Action::Backend3}, {"4", Action::Backend4},
         {"5", Action::Backend5}, {"+", Action::DepthUp},  {"-", Action::DepthDown}, {"P", Action::Screenshot},
         {"R", Action::ResetCamera}, {"M", Action::ToggleMoving}, {"ESC", Action::Quit},
+        {"F", Action::FrameScene}, {"H", Action::ToggleHelp}, {"F1", Action::ToggleHelp}, {"L", Action::Reload},
         {"W", Action::FlyForward}, {"S", Action::FlyBack}, {"A", Action::FlyLeft}, {"D", Action::FlyRight},
         {"Q", Action::FlyDown}, {"E", Action::FlyUp},
     };
     for (const auto& [text, action] : table)
         if (key == text) return action;
-    throw Error("--keys: unknown key '" + name + "' (use 1-5, +, -, P, R, M, Esc, W, A, S, D, Q, E)");
+    throw Error("--keys: unknown key '" + name + "' (use 1-5, +, -, P, R, M, F, H, L, Esc, W, A, S, D, Q, E)");
 }
 
 std::vector<ScriptedKey> parse_key_script(const std::string& text) {
@@ -49,7 +63,24 @@ std::vector<ScriptedKey> parse_key_script(const std::string& text) {
         if (!std::all_of(frame.begin(), frame.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }) ||
             frame.size() > 9)
             throw Error("--keys: bad frame number '" + frame + "' in '" + item + "'");
-        script.push_back({static_cast<uint32_t>(std::stoul(frame)), parse_key(item.substr(colon + 1))});
+        std::string key = item.substr(colon + 1);
+        double hold = 0.0;
+        size_t second_colon = key.find(':');
+        if (second_colon != std::string::npos) {
+            std::string seconds = key.substr(second_colon + 1);
+            key = key.substr(0, second_colon);
+            char* end = nullptr;
+            hold = std::strtod(seconds.c_str(), &end);
+            if (seconds.empty() || *end != '\0' || !(hold > 0.0 && hold <= 3600.0))
+                throw Error("--keys: bad hold time '" + seconds + "' in '" + item + "' (seconds, > 0, at most 3600)");
+        }
+        Action action = parse_key(key);
+        FlyKey fly;
+        bool is_fly = fly_key_for(action, &fly);
+        if (hold > 0.0 && !is_fly)
+            throw Error("--keys: only the fly keys W A S D Q E take a hold time, not '" + item + "'");
+        if (is_fly && hold == 0.0) hold = kScriptedTapSeconds;
+        script.push_back({static_cast<uint32_t>(std::stoul(frame)), action, hold});
         start = end + 1;
     }
     std::stable_sort(script.begin(), script.end(),

@@ -1,6 +1,8 @@
 #include "viewer/offscreen_window.h"
 
+#include <chrono>
 #include <cstdio>
+#include <thread>
 #include <cstring>
 #include <vector>
 
@@ -157,6 +159,18 @@ void OffscreenWindow::release() {
 
 // No buffer to present: submit the frame's GL commands, as a swap would, so they run while the next frame renders.
 void OffscreenWindow::swap() { glFlush(); }
+
+Input OffscreenWindow::poll() {
+    Input input = std::move(pending_);
+    pending_ = Input{};
+    return input;
+}
+
+Input OffscreenWindow::wait(double timeout_seconds) {
+    if (pending_.any()) return poll();
+    if (timeout_seconds > 0.0) std::this_thread::sleep_for(std::chrono::duration<double>(timeout_seconds));
+    return poll();
+}
 
 void OffscreenWindow::native_handles(GlContextHandles& gl) const {
     gl.egl_display = reinterpret_cast<uintptr_t>(display_);

@@ -1,7 +1,7 @@
 // `prism view --headless`: the frame display draws into a framebuffer object of the frame's size in an offscreen
 // EGL context, created on an EGL device (EGL_EXT_platform_device) or Mesa's surfaceless platform. This is how
 // NVIDIA's GL runs on a GPU server without an X server: its GLX client needs NVIDIA's own X server (it asks the
-// server for NV-GLX and gives up without it, so Xvfb cannot serve it). Input comes only from --keys.
+// server for NV-GLX and gives up without it, so Xvfb cannot serve it). Input comes only from --keys and --drop.
 #pragma once
 
 #include <cstdint>
@@ -20,7 +20,8 @@ public:
     OffscreenWindow& operator=(const OffscreenWindow&) = delete;
 
     bool should_close() const override { return false; }
-    Input poll() override { return {}; }
+    Input poll() override;
+    Input wait(double timeout_seconds) override;   // no events come: sleeps the timeout
     void set_title(const std::string&) override {}
     void swap() override;
     int framebuffer_width() const override { return width_; }

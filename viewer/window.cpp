@@ -1,5 +1,6 @@
 #include "viewer/window.h"
 
+#include <chrono>
 #include <cstring>
 
 #include "core/error.h"
@@ -58,6 +59,14 @@ GlContextHandles Window::gl_context_handles() const {
     while (glGetError() != GL_NO_ERROR) {
     }
     return gl;
+}
+
+void Window::receive_drop(const std::vector<std::string>& paths) {
+    pending_.dropped.insert(pending_.dropped.end(), paths.begin(), paths.end());
+}
+
+double input_clock() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 std::unique_ptr<Window> open_window(const std::string& title, int width, int height, bool vsync, bool headless) {
