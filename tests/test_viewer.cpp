@@ -92,10 +92,10 @@ TEST(ViewerCamera, PitchStopsShortOfThePoles) {
 
 TEST(ViewerCamera, FlyMovesEyeAndTargetTogetherAndZoomApproaches) {
     prism::viewer::CameraControls controls(test_camera());
-    controls.fly({0.0f, 0.0f, 0.1f});   // forward: -z here, 10% of the distance
+    controls.fly({0.0f, 0.0f, 0.5f});   // forward: -z here, 0.5 world units
     EXPECT_NEAR(controls.camera().position.z, 4.5f, 1e-4f);
     EXPECT_NEAR(controls.camera().target.z, -0.5f, 1e-4f);
-    controls.fly({0.2f, 0.0f, 0.0f});   // right: +x
+    controls.fly({1.0f, 0.0f, 0.0f});   // right: +x
     EXPECT_NEAR(controls.camera().position.x, 1.0f, 1e-4f);
     controls.zoom(1.0f);
     EXPECT_NEAR(glm::length(controls.camera().position - controls.camera().target), 4.5f, 1e-4f);

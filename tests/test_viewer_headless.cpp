@@ -19,7 +19,8 @@ using prism::test::psnr_against_render;
 using prism::test::read_json;
 
 prism::test::CommandResult headless(const std::string& arguments) {
-    return prism::test::run_prism("view " + kScene + " --headless " + arguments, "env -u DISPLAY -u WAYLAND_DISPLAY");
+    return prism::test::run_prism("view " + kScene + " --headless --no-panel " + arguments,
+                                  "env -u DISPLAY -u WAYLAND_DISPLAY");
 }
 
 TEST(ViewerHeadless, RendersOffscreenWithoutADisplay) {
@@ -63,7 +64,7 @@ TEST(ViewerHeadless, CudaGlShowsTheRenderedFrameBothWays) {
     for (std::string way : {"external", "register"}) {
         std::filesystem::path shot = dir / ("cuda-" + way + ".png"), stats = dir / ("stats-" + way + ".json");
         prism::test::CommandResult result = prism::test::run_prism(
-            "view " + kScene + " --headless --backend cuda --frames 3 --display interop --screenshot '" +
+            "view " + kScene + " --headless --no-panel --backend cuda --frames 3 --display interop --screenshot '" +
                 shot.string() + "' --stats '" + stats.string() + "'",
             "env -u DISPLAY -u WAYLAND_DISPLAY" + std::string(way == "register" ? " PRISM_CUDA_GL=register" : ""));
         ASSERT_EQ(result.exit_code, 0) << result.output;

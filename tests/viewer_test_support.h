@@ -79,8 +79,10 @@ inline std::vector<uint32_t> read_png(const std::filesystem::path& path, int* wi
 
 inline const std::string kScene = "--scene builtin:sphere --width 320 --height 180";
 
+// Without the panel: these runs compare the window's pixels with `prism render` (test_viewer_live.cpp tests the
+// panel itself).
 inline CommandResult view(const std::string& arguments) {
-    return run_prism("view " + kScene + " " + arguments, "xvfb-run -a");
+    return run_prism("view " + kScene + " --no-panel " + arguments, "xvfb-run -a");
 }
 
 // PSNR of a viewer screenshot against `prism render` of the same scene, size and camera on `render_backend`.

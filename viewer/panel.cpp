@@ -62,6 +62,20 @@ Panel::~Panel() {
 bool Panel::wants_mouse() { return ImGui::GetCurrentContext() && ImGui::GetIO().WantCaptureMouse; }
 
 PanelRequest Panel::draw(const PanelView& view, bool help) {
+    // Dear ImGui measures a window that fits its contents in its first frame and shows it from the next: the
+    // first panel is laid out once unseen, so that even a one-frame session shows it.
+    if (!laid_out_) {
+        build(view, help);
+        ImGui::EndFrame();
+        laid_out_ = true;
+    }
+    PanelRequest request = build(view, help);
+    ImGui::Render();
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    return request;
+}
+
+PanelRequest Panel::build(const PanelView& view, bool help) {
     PanelRequest request;
     ImGui_ImplOpenGL3_NewFrame();
     if (glfw_) {
@@ -115,9 +129,6 @@ PanelRequest Panel::draw(const PanelView& view, bool help) {
     }
     ImGui::End();
     if (help) help_overlay();
-
-    ImGui::Render();
-    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     return request;
 }
 

@@ -54,7 +54,10 @@ public:
     static bool wants_mouse();
 
 private:
+    PanelRequest build(const PanelView& view, bool help);   // one ImGui frame, up to ImGui::Render
+
     Window& window_;
+    bool laid_out_ = false;
     bool glfw_ = false;
     double last_time_ = 0.0;
 };
