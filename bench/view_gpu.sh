@@ -14,6 +14,8 @@
 #   PRISM_VIEW_ALTERNATE blocks of --alternate-display for the interop and host-copy runs (default 10)
 #   PRISM_VIEW_ABLATION  backends whose interop cost is also split into its two halves, the device copy alone and GL
 #                        alone (PRISM_VIEW_ABLATE=copy|gl, apps/cmd_view.cpp; not with shared semaphores). Default cuda
+#   PRISM_VIEW_PANEL     1: every run draws the on-screen panel (Dear ImGui) over the frame, to measure what it
+#                        costs against a run without; default 0 (the frame alone, as the results before the panel)
 #   PRISM_VIEW_ANY_GL=1  run even when GL is not NVIDIA's (to check this script on a machine without a GPU:
 #                        PRISM_BUILD=build PRISM_DATA=../shared/scenes OUT=/tmp/view PRISM_VIEW_ANY_GL=1
 #                        PRISM_VIEW_BACKENDS=vulkan:llvmpipe PRISM_VIEW_SIZE=160x90 PRISM_VIEW_FRAMES=5 ...)
@@ -34,6 +36,7 @@ ablation=${PRISM_VIEW_ABLATION-cuda}
 prism=$PWD/$build/apps/prism
 target_ms=0.2   # issue 7: interop may add at most this much to a frame over the render alone
 mkdir -p "$out/view"
+export PRISM_VIEW_PANEL=${PRISM_VIEW_PANEL:-0}   # read by prism view itself; its --stats record "panel"
 export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-$(mktemp -d)} XDG_CACHE_HOME=${XDG_CACHE_HOME:-$(mktemp -d)}
 chmod 700 "$XDG_RUNTIME_DIR"
 tag=${PRISM_TAG:-$(nvidia-smi --query-gpu=name --format=csv,noheader 2>/dev/null | head -1 | tr ' ' '-' | tr -cd 'A-Za-z0-9-')}

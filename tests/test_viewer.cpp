@@ -208,7 +208,7 @@ TEST(Viewer, SwitchesBackendLiveAndKeepsTheCamera) {
         view("--backend cpu --frames 4 --keys 2:1 --screenshot '" + shot.string() + "'");
     ASSERT_EQ(result.exit_code, 0) << result.output;
     EXPECT_NE(result.output.find("switched to cpu-ref"), std::string::npos) << result.output;
-    EXPECT_NE(result.output.find("Prism - cpu-ref ["), std::string::npos) << result.output;   // the final HUD
+    EXPECT_NE(result.output.find("last frame (cpu-ref ["), std::string::npos) << result.output;   // the final HUD line
     EXPECT_GE(psnr_against_render(shot, "cpu-ref"), 45.0);
 }
 
