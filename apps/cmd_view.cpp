@@ -120,9 +120,10 @@ SceneOptions movable(SceneOptions options) {
 // A dropped (or reloaded) file: a scene, or an environment map for the current scene.
 enum class DroppedKind { Scene, Environment };
 
-// Which kind `path` is, by its name (a cube map is a folder of six faces, or one face inside one); throws
+// Which kind `path` is, by its name (or "builtin:...") (a cube map is a folder of six faces, or one face inside one); throws
 // prism::Error naming the file when it is neither.
 DroppedKind classify_dropped(const std::filesystem::path& path) {
+    if (path.string().rfind("builtin:", 0) == 0) return DroppedKind::Scene;   // L on a builtin scene
     std::string name = path.filename().string();
     for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));
     auto ends_with = [&](const char* suffix) {
@@ -573,7 +574,7 @@ private:
                 environment_file_ = path;
             }
             ++files_loaded_;
-            say("loaded " + path, false);
+            say("loaded " + std::filesystem::path(path).filename().string(), false);
             update_title();
             return true;
         } catch (const std::exception& e) {
@@ -640,7 +641,8 @@ private:
     viewer::PanelView panel_view(bool moving) const {
         viewer::PanelView view;
         BackendInfo info = engine_->info();
-        view.scene = scene_file_ + (environment_file_.empty() ? "" : " + " + environment_file_);
+        auto name = [](const std::string& file) { return std::filesystem::path(file).filename().string(); };
+        view.scene = name(scene_file_) + (environment_file_.empty() ? "" : " + " + name(environment_file_));
         view.backend = info.name;
         view.device = info.device;
         view.display_path = display_->path().describe();

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -109,6 +110,41 @@ TEST(ViewerLive, DropLoadsTheFileAndABadOneOnlySaysWhy) {
     EXPECT_EQ(json["frames_rendered"], 4);
 }
 
+// F frames the scene (the target moves to the centre of its bounds), L reloads it (a builtin scene too), keeping
+// the camera.
+TEST(ViewerLive, FrameAndReloadKeys) {
+    REQUIRE_XVFB();
+    std::filesystem::path stats = prism::test::temp_dir("viewer-live") / "frame-reload.json";
+    CommandResult result = prism::test::run_prism(
+        "view " + kSmall + " --no-panel --frames 3 --keys 0:F,1:L --stats '" + stats.string() + "'", "xvfb-run -a");
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    nlohmann::json json = read_json(stats);
+    EXPECT_EQ(json["files_loaded"], 1) << result.output;
+    EXPECT_EQ(json["load_errors"], 0) << result.output;
+    glm::vec3 target = json_vec3(json["camera"]["target"]);
+    EXPECT_GT(glm::length(target - glm::vec3(0.0f, 0.8f, 0.0f)), 1e-3f);   // no longer the scene's own target
+    EXPECT_EQ(json["scene"], "builtin:sphere");
+}
+
+// P in a session saves prism-view-NNNN.png in the working directory, never over an existing file.
+TEST(ViewerLive, ScreenshotsGetNumberedNamesAndNeverOverwrite) {
+    REQUIRE_XVFB();
+    std::filesystem::path dir = prism::test::temp_dir("viewer-live") / "screenshots";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "prism-view-0001.png") << "an earlier screenshot";
+    CommandResult result = prism::test::run_prism("view " + kSmall + " --no-panel --frames 3 --keys 0:P,1:P",
+                                                  "xvfb-run -a sh -c 'cd \"$0\" && exec \"$@\"' '" + dir.string() + "'");
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    std::ifstream earlier(dir / "prism-view-0001.png");
+    std::string text((std::istreambuf_iterator<char>(earlier)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(text, "an earlier screenshot");
+    for (const char* name : {"prism-view-0002.png", "prism-view-0003.png"}) {
+        int width = 0, height = 0;
+        EXPECT_EQ(read_png(dir / name, &width, &height).size(), 160u * 90u) << name << "\n" << result.output;
+    }
+}
+
 // The panel's text is drawn over the frame: where it stands the pixels differ from the frame alone, elsewhere
 // they do not.
 TEST(ViewerLive, PanelIsDrawnOverTheFrame) {
@@ -134,6 +170,32 @@ TEST(ViewerLive, PanelIsDrawnOverTheFrame) {
     };
     EXPECT_GT(differing(10, 10, 200, 60), 0.5);   // the panel's title and first lines
     EXPECT_EQ(differing(400, 240, 480, 270), 0.0);   // the bottom-right corner, far from it
+}
+
+// A left drag orbits (the target stays, the direction turns), a middle drag pans (the target moves, the direction
+// stays), both keep the distance; resizing the window makes the render follow the framebuffer's size.
+TEST(ViewerLive, DragsAndResizeFollowRealInput) {
+    REQUIRE_XDOTOOL();
+    std::filesystem::path stats = prism::test::temp_dir("viewer-live") / "drag.json";
+    CommandResult result = view_with_input(
+        kSmall + " --no-panel --seconds 6 --stats '" + stats.string() + "'",
+        "xdotool mousemove --window \"$win\" 80 45; sleep 0.2; xdotool mousedown 1; sleep 0.2\n"
+        "xdotool mousemove_relative -- 40 0; sleep 0.2; xdotool mouseup 1; sleep 0.3\n"
+        "xdotool mousedown 2; sleep 0.2; xdotool mousemove_relative -- 0 20; sleep 0.2; xdotool mouseup 2; sleep 0.3\n"
+        "xdotool windowsize \"$win\" 200 120",
+        "drag");
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    nlohmann::json json = read_json(stats);
+    ASSERT_TRUE(json.is_object()) << result.output;
+    glm::vec3 start{0.0f, 2.2f, 5.5f}, start_target{0.0f, 0.8f, 0.0f};
+    glm::vec3 position = json_vec3(json["camera"]["position"]), target = json_vec3(json["camera"]["target"]);
+    EXPECT_NEAR(glm::length(position - target), glm::length(start - start_target), 1e-3f);
+    EXPECT_GT(glm::length(target - start_target), 0.01f) << "the middle drag did not pan";
+    EXPECT_LT(glm::dot(glm::normalize(position - target), glm::normalize(start - start_target)), 0.999f)
+        << "the left drag did not orbit";
+    EXPECT_EQ(json["window"]["width"], 200) << result.output;
+    EXPECT_EQ(json["window"]["height"], 120);
+    EXPECT_EQ(json["width"], 200);   // the last frame: full size once the moves ended
 }
 
 // Still: one frame, then nothing until an event. A pointer moving over the window without a button changes

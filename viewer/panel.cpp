@@ -92,7 +92,9 @@ PanelRequest Panel::build(const PanelView& view, bool help) {
     ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowBgAlpha(0.75f);
     ImGui::Begin("Prism", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings);
-    ImGui::Text("%s", view.scene.c_str());
+    // Wrapped lines at a fixed width: a window that fits its contents has no width of its own to wrap at.
+    ImGui::PushTextWrapPos(ImGui::GetFontSize() * 22.0f);
+    ImGui::TextWrapped("%s", view.scene.c_str());
     ImGui::Text("%s [%s]", view.backend.c_str(), view.device.c_str());
     if (view.frame_ms > 0.0) ImGui::Text("%.1f fps (%.1f ms per frame)", view.fps, view.frame_ms);
     else ImGui::TextUnformatted("fps: - (no frames in a row yet)");
@@ -127,6 +129,7 @@ PanelRequest Panel::build(const PanelView& view, bool help) {
         ImGui::TextWrapped("%s", view.message.c_str());
         if (view.message_is_error) ImGui::PopStyleColor();
     }
+    ImGui::PopTextWrapPos();
     ImGui::End();
     if (help) help_overlay();
     return request;
