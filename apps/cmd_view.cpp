@@ -177,7 +177,15 @@ public:
         engine_ = make_engine(options.backend, *device_);
         display_ = make_display(*engine_);
         ablate_ = ablation(display_->path());
-        if (!options.no_panel) panel_ = std::make_unique<viewer::Panel>(*window_);
+        if (!options.no_panel) {
+            // The panel is a help, not the point: without it (its GL loader finds no libGL.so.1) the frames still
+            // show, and the console and --stats say why it is missing.
+            try {
+                panel_ = std::make_unique<viewer::Panel>(*window_);
+            } catch (const Error& e) {
+                panel_error_ = e.what();
+            }
+        }
         BackendInfo info = engine_->info();
         std::printf("prism view: %s (%zu triangles, %zu instances) on %s [%s]\n", options.scene.scene.c_str(),
                     loaded_->device.traced_triangles, loaded_->device.instances.size(), info.name.c_str(),
@@ -185,6 +193,7 @@ public:
         std::printf("  %s %dx%d, %s\n", options.headless ? "offscreen" : "window", window_->framebuffer_width(),
                     window_->framebuffer_height(), window_->context_description().c_str());
         std::printf("  %s\n", display_->path().describe().c_str());
+        if (!panel_error_.empty()) std::printf("  no panel: %s\n", panel_error_.c_str());
         std::fflush(stdout);
         update_title();
     }
@@ -451,6 +460,7 @@ private:
         json["gl"] = window_->context_description();
         json["headless"] = options_.headless;
         json["panel"] = panel_ != nullptr;
+        if (!panel_error_.empty()) json["panel_error"] = panel_error_;
         json["frames_rendered"] = frames_rendered_;
         json["frames_shown"] = frames_shown_;
         json["interactive_scale"] = {{"setting", options_.interactive_scale},
@@ -712,7 +722,8 @@ private:
     std::string backend_spec_;       // the current engine's, as created
     std::unique_ptr<RenderEngine> engine_;
     std::unique_ptr<viewer::FrameDisplay> display_;
-    std::unique_ptr<viewer::Panel> panel_;   // null with --no-panel
+    std::unique_ptr<viewer::Panel> panel_;   // null with --no-panel, or when it cannot start (panel_error_)
+    std::string panel_error_;
     viewer::HeldKeys held_keys_;
     size_t next_key_ = 0, next_drop_ = 0;
     bool help_ = false;

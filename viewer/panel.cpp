@@ -48,7 +48,8 @@ Panel::Panel(Window& window) : window_(window) {
     if (!ImGui_ImplOpenGL3_Init("#version 330 core")) {
         if (glfw_) ImGui_ImplGlfw_Shutdown();
         ImGui::DestroyContext();
-        throw Error("view: the panel cannot start (Dear ImGui's OpenGL 3 backend failed; --no-panel runs without)");
+        throw Error("view: the panel cannot start (Dear ImGui's OpenGL 3 backend could not load GL's functions "
+                    "through libGL.so.1)");
     }
     last_time_ = input_clock();
 }
