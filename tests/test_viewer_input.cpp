@@ -105,15 +105,15 @@ prism::Aabb box(glm::vec3 lower, glm::vec3 upper) {
     return bounds;
 }
 
-TEST(ViewerCamera, FlySpeedIsAQuarterOfTheSceneDiagonalPerSecond) {
+TEST(ViewerCamera, FlySpeedIsATenthOfTheSceneDiagonalPerSecond) {
     prism::viewer::CameraControls controls(camera_at({0, 0, 10}, {0, 0, 0}));
     controls.set_scene_bounds(box({0, 0, 0}, {3, 4, 0}));   // diagonal 5
-    EXPECT_NEAR(controls.fly_speed(), 1.25f, 1e-6f);
+    EXPECT_NEAR(controls.fly_speed(), 0.5f, 1e-6f);
     controls.fly_for({0.0f, 0.0f, 2.0f});   // 2 s forward (-z)
-    EXPECT_NEAR(controls.camera().position.z, 7.5f, 1e-5f);
-    EXPECT_NEAR(controls.camera().target.z, -2.5f, 1e-5f);
+    EXPECT_NEAR(controls.camera().position.z, 9.0f, 1e-5f);
+    EXPECT_NEAR(controls.camera().target.z, -1.0f, 1e-5f);
     controls.set_scene_bounds(box({0, 0, 0}, {30, 40, 0}));   // ten times the scene: ten times the speed
-    EXPECT_NEAR(controls.fly_speed(), 12.5f, 1e-5f);
+    EXPECT_NEAR(controls.fly_speed(), 5.0f, 1e-5f);
     controls.set_scene_bounds(prism::Aabb{});   // no geometry: a speed still
     EXPECT_GT(controls.fly_speed(), 0.0f);
 }

@@ -63,7 +63,7 @@ void CameraControls::set_scene_bounds(const Aabb& bounds) {
     bounds_ = bounds;
     glm::vec3 extent = bounds.upper - bounds.lower;
     float diagonal = glm::all(glm::greaterThanEqual(extent, glm::vec3(0.0f))) ? glm::length(extent) : 0.0f;
-    fly_speed_ = diagonal > 0.0f && std::isfinite(diagonal) ? 0.25f * diagonal : 1.0f;
+    fly_speed_ = diagonal > 0.0f && std::isfinite(diagonal) ? 0.1f * diagonal : 1.0f;
 }
 
 void CameraControls::pan(const glm::vec2& pixels, int viewport_height) {

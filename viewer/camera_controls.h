@@ -24,8 +24,8 @@ public:
     void fly(const glm::vec3& camera_axes_distance);
     // Held fly keys: `seconds` held per camera axis (viewer/held_keys.h) at fly_speed() units per second.
     void fly_for(const glm::vec3& seconds) { fly(seconds * fly_speed_); }
-    // The scene's bounds set the fly speed (a quarter of their diagonal per second: any scene is crossed in a
-    // few seconds) and what frame_scene() shows.
+    // The scene's bounds set the fly speed (a tenth of their diagonal per second: any scene, large or small, is
+    // crossed in about ten seconds) and what frame_scene() shows.
     void set_scene_bounds(const Aabb& bounds);
     float fly_speed() const { return fly_speed_; }
     // Middle-button or Shift drag: moves eye and target together in the view plane so that what lies at the
