@@ -1,7 +1,7 @@
 // `prism view` in a real window under Xvfb, driven by real X input (xdotool's XTEST events, as a keyboard and a
-// mouse make them): a held key moves the camera by its time, a dropped file loads (through the drop callback's
-// own path: see DropLoadsTheFileAndABadOneOnlySaysWhy), the panel is drawn over the frame, a still window renders
-// no new frames, and a moving camera renders below full resolution, then refines.
+// mouse make them; an XDND drag source, tests/xdnd_drop.cpp, for drops): a held key moves the camera by its time,
+// drags orbit and pan, the window resizes, a dropped file loads, the panel is drawn over the frame, a still window
+// renders no new frames, and a moving camera renders below full resolution, then refines.
 #ifdef PRISM_HAVE_VIEWER
 
 #include <cmath>
@@ -87,8 +87,35 @@ TEST(ViewerLive, ScriptedHoldMovesByItsTime) {
     EXPECT_NEAR(glm::length(json_vec3(json["camera"]["position"]) - start), 1.5f * speed, 1e-3f * speed);
 }
 
-// XDND (the X drag-and-drop protocol) needs a drag source client; the viewer's --drop hands paths to
-// Window::receive_drop, the function GLFW's drop callback calls, so everything after the X protocol is the same.
+// A real X drop: tests/xdnd_drop.cpp speaks XDND as a file manager does (enter, position, drop, the URI list
+// through the XdndSelection selection); GLFW's X11 code takes it and calls the drop callback. A file that is not a
+// scene only says why; then the model loads.
+TEST(ViewerLive, XdndDropLoadsTheFile) {
+    REQUIRE_XDOTOOL();
+#ifndef PRISM_XDND_DROP
+    GTEST_SKIP() << "prism_xdnd_drop was not built (no Xlib headers: apt-get install libx11-dev)";
+#else
+    std::filesystem::path model = std::filesystem::path(PRISM_SCENES_DIR) / "stanford" / "bunny_res2.ply";
+    if (!std::filesystem::exists(model)) GTEST_SKIP() << model << " is missing";
+    std::filesystem::path dir = prism::test::temp_dir("viewer-live");
+    std::filesystem::path bad = dir / "not a scene.txt", stats = dir / "xdnd.json";
+    std::ofstream(bad) << "not a scene";
+    const std::string tool = std::string("'") + PRISM_XDND_DROP + "'";
+    CommandResult result = view_with_input(
+        kSmall + " --no-panel --seconds 6 --stats '" + stats.string() + "'",
+        tool + " \"$win\" '" + bad.string() + "' && sleep 0.5 && " + tool + " \"$win\" '" + model.string() + "'",
+        "xdnd");
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_NE(result.output.find("cannot load: " + bad.string() + ": not a scene"), std::string::npos)
+        << result.output;   // the space in the name survived the URI's encoding
+    nlohmann::json json = read_json(stats);
+    EXPECT_EQ(json["scene"], model.string()) << result.output;
+    EXPECT_EQ(json["files_loaded"], 1);
+    EXPECT_EQ(json["load_errors"], 1);
+#endif
+}
+
+// --drop hands paths to Window::receive_drop, the function GLFW's drop callback calls: drops at given frames.
 TEST(ViewerLive, DropLoadsTheFileAndABadOneOnlySaysWhy) {
     REQUIRE_XVFB();
     std::filesystem::path model = std::filesystem::path(PRISM_SCENES_DIR) / "stanford" / "bunny_res2.ply";
