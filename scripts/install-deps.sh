@@ -5,6 +5,7 @@ set -euo pipefail
 packages=(
   cmake ninja-build g++ pkg-config git
   libglm-dev libtinygltf-dev libstb-dev nlohmann-json3-dev libtinyobjloader-dev libcli11-dev zlib1g-dev
+  libpng-dev libtinyexr-dev
   libgtest-dev libgmock-dev libembree-dev
   ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
   libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers glslang-tools spirv-tools
