@@ -12,7 +12,7 @@
 
 int main(int argc, char** argv) {
     prism::register_builtin_backends();
-    CLI::App app{"Prism: one ray-tracing source, four compute APIs (CPU, CUDA, OpenCL, Vulkan)"};
+    CLI::App app{"Prism: one ray-tracing source, four compute APIs (CPU, CUDA, OpenCL, Vulkan)", "prism"};
     app.require_subcommand(1);
     app.set_help_all_flag("--help-all", "Show help for every subcommand");
     prism::app::add_global_options(app);

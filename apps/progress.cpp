@@ -93,7 +93,12 @@ std::string Progress::status_line(Clock::time_point now) const {
 
 void Progress::draw(Clock::time_point now) {
     last_draw_ = now;
-    std::fprintf(stderr, "\r\033[K  %s", status_line(now).c_str());
+    std::string bar;
+    if (fraction_ >= 0.0) {
+        const int width = 20, filled = int(fraction_ * width + 0.5);
+        bar = "[" + std::string(size_t(filled), '#') + std::string(size_t(width - filled), ' ') + "] ";
+    }
+    std::fprintf(stderr, "\r\033[K  %s%s", bar.c_str(), status_line(now).c_str());
     std::fflush(stderr);
 }
 
