@@ -300,7 +300,7 @@ void run_bench(BenchOptions options) {
             record_failure(result, scene_name, backend, e.what());
         }
 #ifdef PRISM_HAVE_EMBREE
-        if (embree) {
+        if (embree) try {
             std::vector<QueryMethod> methods;
             for (auto& engine : query_engines)
                 methods.push_back([&engine](const std::vector<RayQuery>& set) {
@@ -328,6 +328,8 @@ void run_bench(BenchOptions options) {
                             b["queries"]["diffuse_mrays_per_s"].get<double>() /
                                 scene_json["embree"]["intersect1"]["diffuse_mrays_per_s"].get<double>());
             }
+        } catch (const std::exception& e) {
+            record_failure(result, scene_name, "embree queries", e.what());
         }
 #endif
         result["scenes"].push_back(scene_json);
