@@ -339,3 +339,45 @@ TEST(Cli, RenderWritesExrAndSixteenBitPngOfTheSameFrame) {
     }
     EXPECT_GT(sum, 0.0) << "the frame is not black";
 }
+
+// A sky brighter than 1 seen directly: the EXR and .hdr keep it, the 8-bit PNG clips it.
+TEST(Cli, ExrAndHdrKeepRadianceAboveOne) {
+    prism::test::write_file("bright-triangle.ply",
+                            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                            "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    fs::path scene = prism::test::write_file(
+        "bright-sky.json",
+        R"({"camera": {"position": [0.3, 0.3, 3.0], "target": [0.3, 0.3, 0.0], "up": [0, 1, 0], "fov": 45},
+            "environment": {"color": [6.0, 3.0, 0.5]},
+            "objects": [{"name": "triangle", "file": "bright-triangle.ply"}]})");
+    fs::path dir = prism::test::temp_dir("cli-bright");
+    for (const char* name : {"sky.exr", "sky.hdr", "sky.png"}) {
+        prism::test::CommandResult r = run_prism("render --scene '" + scene.string() +
+                                                 "' --backend cpu --width 16 --height 16 --depth 2 -o '" +
+                                                 (dir / name).string() + "'");
+        ASSERT_EQ(r.exit_code, 0) << name << ": " << r.output;
+    }
+    float* exr = nullptr;
+    int width = 0, height = 0;
+    const char* error = nullptr;
+    ASSERT_EQ(LoadEXR(&exr, &width, &height, (dir / "sky.exr").c_str(), &error), TINYEXR_SUCCESS) << (error ? error : "");
+    std::unique_ptr<float, decltype(&std::free)> exr_owned(exr, &std::free);
+    // The top-left pixel sees only the sky.
+    EXPECT_FLOAT_EQ(exr[0], 6.0f);
+    EXPECT_FLOAT_EQ(exr[1], 3.0f);
+    EXPECT_FLOAT_EQ(exr[2], 0.5f);
+
+    int channels = 0;
+    std::unique_ptr<float, decltype(&stbi_image_free)> hdr(
+        stbi_loadf((dir / "sky.hdr").c_str(), &width, &height, &channels, 3), &stbi_image_free);
+    ASSERT_TRUE(hdr);
+    EXPECT_NEAR(hdr.get()[0], 6.0f, 6.0f / 128.0f);   // RGBE: 8 bits of mantissa shared
+    EXPECT_NEAR(hdr.get()[1], 3.0f, 6.0f / 128.0f);
+
+    std::unique_ptr<uint8_t, decltype(&stbi_image_free)> png(
+        stbi_load((dir / "sky.png").c_str(), &width, &height, &channels, 3), &stbi_image_free);
+    ASSERT_TRUE(png);
+    EXPECT_EQ(png.get()[0], 255);
+    EXPECT_EQ(png.get()[1], 255);
+    EXPECT_NEAR(png.get()[2], 188, 1);   // sRGB of 0.5
+}
