@@ -33,12 +33,13 @@ CLI::Option* add_data_dir_option(CLI::App* command, std::string& data_dir) {
                                "folder of this build or install, else ../shared/scenes)");
 }
 
-DeviceScene build_device_scene_for(const Scene& scene, const SceneOptions& options, BvhLayout layout) {
+DeviceScene build_device_scene_for(const Scene& scene, const SceneOptions& options, BvhLayout layout,
+                                   const BvhProgress& progress) {
     BvhBuildOptions bvh;
     bvh.method = options.bvh == "median" ? BvhMethod::Median : BvhMethod::BinnedSah;
     bvh.layout = layout;
     bvh.flatten_instances = !options.moving_instances;
-    return build_device_scene(scene, bvh);
+    return build_device_scene(scene, bvh, progress);
 }
 
 LoadedScene load_and_build(const SceneOptions& options, const std::string& backend) {
@@ -52,7 +53,9 @@ LoadedScene load_and_build(const SceneOptions& options, const std::string& backe
     loading.finish();
     loaded.load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     Progress building("building the " + bvh_layout_name(layout) + " BVH of " + options.scene);
-    loaded.device = build_device_scene_for(loaded.scene, options, layout);
+    loaded.device = build_device_scene_for(loaded.scene, options, layout, [&building](double fraction) {
+        building.update(fraction, "triangles in leaves");
+    });
     building.finish();
     loaded.layout = bvh_layout_name(layout);
     return loaded;

@@ -35,6 +35,7 @@ struct LoadedScene {
 // Loads the scene and builds its device arrays with the BVH layout `options.layout` resolves to for `backend`,
 // showing the progress of both steps (apps/progress.h).
 LoadedScene load_and_build(const SceneOptions& options, const std::string& backend = "auto");
-DeviceScene build_device_scene_for(const Scene& scene, const SceneOptions& options, BvhLayout layout);
+DeviceScene build_device_scene_for(const Scene& scene, const SceneOptions& options, BvhLayout layout,
+                                   const BvhProgress& progress = {});
 
 }  // namespace prism::app

@@ -280,7 +280,8 @@ TEST(Cli, ProgressIsPlainLinesWithElapsedAndEtaWhenNotATerminal) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(r.err.find('\r'), std::string::npos) << "no redrawn line on a pipe: " << r.err;
     EXPECT_NE(r.err.find("prism: loading builtin:sphere: done in "), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find("prism: building the "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("prism: building the wide BVH of builtin:sphere: triangles in leaves ("), std::string::npos)
+        << r.err;
     EXPECT_NE(r.err.find("prism: rendering 48x32: depth 1/3 (33%), "), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("elapsed, ETA "), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("depth 3/3 (100%)"), std::string::npos) << r.err;
