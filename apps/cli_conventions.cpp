@@ -31,7 +31,7 @@ const CLI::App* innermost_subcommand(const CLI::App& app) {
 std::string command_path(const CLI::App* command) {
     std::string path;
     for (const CLI::App* c = command; c->get_parent(); c = c->get_parent()) path = " " + c->get_name() + path;
-    return "prism" + path;   // the top-level name is argv[0], a path
+    return "prism" + path;   // as typed, whatever path the binary was run by
 }
 
 // CLI11 names a missing required option by its first long name; name every spelling, so "-o" is found too.

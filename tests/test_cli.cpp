@@ -1,14 +1,16 @@
-// The prism command as a user meets it: the main job works, and bad input of every kind gives one line on stderr,
-// an exit code from 1 to 127 (never a crash), and no output file.
-#include <filesystem>
-#include <fstream>
-#include <iterator>
-#include <random>
-
+// The prism command as a user meets it: the main job works, bad input of every kind gives one line on stderr, an
+// exit code from 1 to 127 (never a crash), and no output file; and the conventions every subcommand shares
+// (docs/cli.md) and the output formats hold.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <memory>
+#include <random>
+
+#include <sys/wait.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -2,6 +2,7 @@
 // 16-bit PNG through stb_image's 16-bit loader, and the choice of format by extension and --png-depth.
 #include "core/image_output.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <memory>
