@@ -1,5 +1,6 @@
 // `prism bandwidth`: the seed's bandwidth test (thesis Figure 8-1) across CUDA, OpenCL and Vulkan.
 // The measuring lives in bench/bandwidth/ (prism_bench_lib); this file is the command line.
+#include "apps/cli_conventions.h"
 #include "apps/commands.h"
 #include "core/error.h"
 
@@ -24,10 +25,13 @@ void add_bandwidth_command(CLI::App& app) {
     command->add_option("--device", options->devices,
                         "Device filters, e.g. opencl:nvidia or vulkan:llvmpipe or h100 (case-insensitive substring)")
         ->delimiter(',');
-    command->add_option("--json", options->json_path, "Write the results as JSON (schema in docs/bandwidth.md)");
+    add_json_option(command, options->json_path, "Write the results as JSON (schema in docs/bandwidth.md)");
     command->add_option("--plot", options->plot_path,
                         "Draw bandwidth against size into this PNG (bench/plot_bench.py; needs python3-matplotlib)");
-    command->callback([options] { bandwidth::run_bandwidth(*options); });
+    command->callback([options] {
+        route_output(options->json_path);
+        bandwidth::run_bandwidth(*options);
+    });
 #else
     auto* command = app.add_subcommand("bandwidth", "(not built: configure with PRISM_BENCH=ON)");
     command->callback([] { throw Error("prism bandwidth: not built (configure with -DPRISM_BENCH=ON)"); });

@@ -3,6 +3,8 @@
 // warm-up — and, with --embree, ray-query throughput of each backend against Embree on the same rays (the methods
 // interleaved round by round).
 // Every backend traces the same rays: frames are deterministic, and the ray counts per depth are checked equal.
+// A backend or scene that fails is recorded with its error and the others still run: the JSON of every finished run
+// is written, and only then does the command fail.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -14,8 +16,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "apps/cli_conventions.h"
 #include "apps/commands.h"
 #include "apps/frame_report.h"
+#include "apps/progress.h"
 #include "apps/scene_options.h"
 #include "bench/bench_json.h"
 #include "core/error.h"
@@ -86,13 +90,24 @@ struct FirstFrame {
 };
 
 nlohmann::json bench_frames(RenderEngine& engine, const Scene& scene, const BenchOptions& options,
-                            FirstFrame& first) {
-    for (uint32_t i = 0; i < options.warmup; ++i) engine.render(scene.camera, options.settings);
+                            FirstFrame& first, Progress& progress) {
+    const uint32_t frames = options.warmup + options.runs;
+    auto report = [&](uint32_t done) {
+        progress.update(double(done) / frames, done <= options.warmup
+                                                   ? "warm-up " + std::to_string(done) + "/" + std::to_string(options.warmup)
+                                                   : "run " + std::to_string(done - options.warmup) + "/" +
+                                                         std::to_string(options.runs));
+    };
+    for (uint32_t i = 0; i < options.warmup; ++i) {
+        engine.render(scene.camera, options.settings);
+        report(i + 1);
+    }
     std::vector<double> frame_ms, enqueue_ms, wait_ms, readback_ms;
     StageMedians stages;
     FrameResult last;
     for (uint32_t i = 0; i < options.runs; ++i) {
         last = engine.render(scene.camera, options.settings);
+        report(options.warmup + i + 1);
         frame_ms.push_back(last.stats.frame_ms);
         enqueue_ms.push_back(last.stats.enqueue_ms);
         wait_ms.push_back(last.stats.device_wait_ms);
@@ -190,7 +205,18 @@ std::vector<nlohmann::json> bench_queries(const std::vector<QueryMethod>& method
 }
 #endif
 
+// A scene that did not load (no backend) or a backend that failed on a scene: the run goes on without it.
+void record_failure(nlohmann::json& result, const std::string& scene, const std::string& backend,
+                    const std::string& error) {
+    nlohmann::json failure = {{"scene", scene}, {"error", error}};
+    if (!backend.empty()) failure["backend"] = backend;
+    result["failures"].push_back(failure);
+    std::printf("  %s%s failed: %s\n", scene.c_str(), backend.empty() ? "" : (" on " + backend).c_str(), error.c_str());
+    std::fflush(stdout);
+}
+
 void run_bench(BenchOptions options) {
+    route_output(options.json);
     if (options.seed_setting) {
         // The seed framed each scene for about 100,000 intersections (thesis ch. 7): 400x250 primary rays.
         options.settings.width = 400;
@@ -208,11 +234,18 @@ void run_bench(BenchOptions options) {
                           {"bvh", options.scene.bvh}, {"bvh_layout", options.scene.layout},
                           {"queries_interleaved", true}};
     result["scenes"] = nlohmann::json::array();
+    result["failures"] = nlohmann::json::array();
     for (const std::string& scene_name : split(options.scenes)) {
         SceneOptions scene_options = options.scene;
         scene_options.scene = scene_name;
         std::vector<std::string> backends = split(options.backends);
-        LoadedScene loaded = load_and_build(scene_options, backends.empty() ? "auto" : backends.front());
+        LoadedScene loaded;
+        try {
+            loaded = load_and_build(scene_options, backends.empty() ? "auto" : backends.front());
+        } catch (const std::exception& e) {
+            record_failure(result, scene_name, "", e.what());
+            continue;
+        }
         // Each backend traces the layout --bvh-layout resolves to for it (auto: wide on cpu, stack on GPUs); the
         // scene's first build serves every backend that wants its layout.
         std::map<BvhLayout, DeviceScene> other_layouts;
@@ -239,7 +272,7 @@ void run_bench(BenchOptions options) {
         }
 #endif
         std::vector<std::unique_ptr<RenderEngine>> query_engines;   // kept for the interleaved query rounds
-        for (const std::string& backend : backends) {
+        for (const std::string& backend : backends) try {
             const DeviceScene& device = device_for(backend);
             auto engine_owner = std::make_unique<RenderEngine>(backend, device);
             RenderEngine& engine = *engine_owner;
@@ -252,7 +285,9 @@ void run_bench(BenchOptions options) {
                                     {"device", info.device},     {"driver", info.driver},
                                     {"api_version", info.api_version},
                                     {"bvh_layout", layout},      {"bvh_build_ms", device.bvh_build_ms}};
-            entry["frames"] = bench_frames(engine, loaded.scene, options, first);
+            Progress progress("bench " + scene_name + " on " + backend);
+            entry["frames"] = bench_frames(engine, loaded.scene, options, first, progress);
+            progress.finish();
 #ifdef PRISM_HAVE_EMBREE
             if (embree) query_engines.push_back(std::move(engine_owner));
 #endif
@@ -261,9 +296,11 @@ void run_bench(BenchOptions options) {
                         f["frame_ms"].get<double>(), f["fps"].get<double>(), f["primary_mrays_per_s"].get<double>(),
                         f["secondary_mrays_per_s"].get<double>(), f["shadow_mrays_per_s"].get<double>());
             scene_json["backends"].push_back(entry);
+        } catch (const std::exception& e) {
+            record_failure(result, scene_name, backend, e.what());
         }
 #ifdef PRISM_HAVE_EMBREE
-        if (embree) {
+        if (embree) try {
             std::vector<QueryMethod> methods;
             for (auto& engine : query_engines)
                 methods.push_back([&engine](const std::vector<RayQuery>& set) {
@@ -291,11 +328,21 @@ void run_bench(BenchOptions options) {
                             b["queries"]["diffuse_mrays_per_s"].get<double>() /
                                 scene_json["embree"]["intersect1"]["diffuse_mrays_per_s"].get<double>());
             }
+        } catch (const std::exception& e) {
+            record_failure(result, scene_name, "embree queries", e.what());
         }
 #endif
         result["scenes"].push_back(scene_json);
     }
     if (!options.json.empty()) bench::write_result(options.json, result);
+    const nlohmann::json& failures = result["failures"];
+    if (!failures.empty())
+        throw Error("bench: " + std::to_string(failures.size()) + " run" + (failures.size() > 1 ? "s" : "") +
+                    " failed (first: " +
+                    failures[0]["scene"].get<std::string>() +
+                    (failures[0].contains("backend") ? " on " + failures[0]["backend"].get<std::string>() : "") +
+                    ": " + failures[0]["error"].get<std::string>() + ")" +
+                    (options.json.empty() ? "" : "; the finished runs and every error are in " + options.json));
 }
 
 }  // namespace
@@ -307,8 +354,7 @@ void add_bench_command(CLI::App& app) {
     auto* command = app.add_subcommand("bench", "Frame times and Mrays/s per ray type, per backend and scene");
     command->add_option("--scenes", options->scenes, "comma-separated scenes")->capture_default_str();
     command->add_option("--backends", options->backends, "comma-separated backends")->capture_default_str();
-    command->add_option("--data-dir", options->scene.data_dir, "where builtin scenes find their assets")
-        ->capture_default_str();
+    add_data_dir_option(command, options->scene.data_dir);
     command->add_option("--bvh", options->scene.bvh, "sah or median")->check(CLI::IsMember({"sah", "median"}));
     command->add_option("--bvh-layout", options->scene.layout,
                         "stack, escape, wide or auto (per backend: wide on cpu, stack on GPUs; PRISM_BVH_LAYOUT "
@@ -325,7 +371,7 @@ void add_bench_command(CLI::App& app) {
     command->add_flag("--embree", options->embree, "also ray queries against Embree (rtcIntersect1/8)");
     command->add_option("--query-rays", options->query_rays, "rays for --embree (half primary, half diffuse)")
         ->capture_default_str();
-    command->add_option("--json", options->json, "write results (bench/results/...)");
+    add_json_option(command, options->json, "write results (bench/results/...), failures included");
     command->callback([options] { run_bench(*options); });
 }
 

@@ -5,8 +5,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "apps/cli_conventions.h"
 #include "apps/commands.h"
 #include "apps/scene_options.h"
+#include "bench/bench_json.h"
 #include "core/backend.h"
 #include "core/build_info.h"
 
@@ -16,7 +18,7 @@ namespace {
 struct InfoOptions {
     SceneOptions scene;
     bool scene_given = false;
-    bool json = false;
+    std::string json;   // "-": standard output
 };
 
 nlohmann::json backends_json() {
@@ -42,6 +44,7 @@ nlohmann::json backends_json() {
 }
 
 void run_info(const InfoOptions& options) {
+    route_output(options.json);
     nlohmann::json info = {{"commit", build_commit()}, {"build_type", build_type()}, {"backends", backends_json()}};
     if (options.scene_given) {
         LoadedScene loaded = load_and_build(options.scene);
@@ -68,8 +71,8 @@ void run_info(const InfoOptions& options) {
                          {"device_bytes", d.byte_size()},
                          {"warnings", loaded.scene.warnings}};
     }
-    if (options.json) {
-        std::printf("%s\n", info.dump(2).c_str());
+    if (!options.json.empty()) {
+        bench::write_result(options.json, info);
         return;
     }
     std::printf("Prism %s (%s)\nBackends:\n", build_commit(), build_type());
@@ -99,7 +102,8 @@ void add_info_command(CLI::App& app) {
     auto options = std::make_shared<InfoOptions>();
     auto* command = app.add_subcommand("info", "Backends and devices found; with --scene, the scene and its BVH");
     add_scene_options(command, options->scene);
-    command->add_flag("--json", options->json, "print JSON");
+    // A bare --json (the older spelling) means standard output too.
+    add_json_option(command, options->json, "write the report as JSON to a file")->expected(0, 1)->default_str("-");
     command->callback([options, command] {
         options->scene_given = command->count("--scene") > 0;
         run_info(*options);

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <iterator>
 
+#include "apps/cli_conventions.h"
 #include "apps/commands.h"
 #include "apps/scene_options.h"
 #include "core/error.h"
@@ -47,6 +48,7 @@ std::vector<RayQuery> read_rays(const std::string& path) {
 }
 
 void run_rays(const RaysOptions& options) {
+    route_output();
     std::vector<RayQuery> rays = read_rays(options.in);
     LoadedScene loaded = load_and_build(options.scene, options.backend);
     RenderEngine engine(options.backend, loaded.device);
@@ -70,7 +72,7 @@ void add_rays_command(CLI::App& app) {
     add_scene_options(command, options->scene, true);
     command->add_option("--backend", options->backend, "backend (as for render)")->capture_default_str();
     command->add_option("--rays", options->in, "input rays: 8 float32 each")->required();
-    command->add_option("--out", options->out, "output hits: 20 bytes each")->required();
+    add_output_option(command, options->out, "output hits: 20 bytes each")->required();
     command->add_flag("--any-hit", options->any_hit, "report any hit (occlusion) instead of the closest");
     command->callback([options] { run_rays(*options); });
 }

@@ -1,14 +1,16 @@
-// `prism render`: one frame of a scene on one backend, written as PNG (8-bit sRGB) or .hdr (linear float).
+// `prism render`: one frame of a scene on one backend, written as PNG (8- or 16-bit sRGB), OpenEXR or .hdr (the
+// linear radiance, unclamped).
 #include <chrono>
 #include <cstdio>
-#include <unistd.h>
 
+#include "apps/cli_conventions.h"
 #include "apps/commands.h"
 #include "apps/frame_report.h"
+#include "apps/progress.h"
 #include "apps/scene_options.h"
 #include "core/build_info.h"
 #include "core/error.h"
-#include "core/image_io.h"
+#include "core/image_output.h"
 #include "core/output_file.h"
 #include "core/render_engine.h"
 
@@ -20,18 +22,13 @@ struct RenderOptions {
     std::string backend = "auto";
     RenderSettings settings;
     std::string out;
+    int png_depth = 8;
     std::string stats;
 };
 
-void print_progress(double fraction) {
-    int filled = static_cast<int>(fraction * 30.0 + 0.5);
-    std::fprintf(stderr, "\r  [%.*s%*s] %3d%%", filled, "##############################", 30 - filled, "",
-                 static_cast<int>(fraction * 100.0 + 0.5));
-    std::fflush(stderr);
-}
-
 void run_render(const RenderOptions& options) {
-    check_output_extension(options.out);   // fail before any work
+    route_output();
+    ImageFormat format = output_image_format(options.out, options.png_depth);   // fail before any work
     auto start = std::chrono::steady_clock::now();
     LoadedScene loaded = load_and_build(options.scene, options.backend);
     auto built = std::chrono::steady_clock::now();
@@ -46,18 +43,20 @@ void run_render(const RenderOptions& options) {
                 loaded.device.sah_cost, upload_ms);
     std::fflush(stdout);
 
-    std::string extension = std::filesystem::path(options.out).extension().string();
-    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     RenderSettings settings = options.settings;
-    settings.read_radiance = extension == ".hdr";
-    bool terminal = isatty(STDERR_FILENO);
-    FrameResult frame = engine.render(loaded.scene.camera, settings,
-                                      terminal ? std::function<void(double)>(print_progress) : nullptr);
-    if (terminal) std::fprintf(stderr, "\r%*s\r", 44, "");
+    settings.read_radiance = needs_linear_radiance(format);
+    Progress rendering("rendering " + std::to_string(settings.width) + "x" + std::to_string(settings.height));
+    bool by_depth = info.name != "cpu-ref";   // the wavefront backends report each depth; cpu-ref its tiles
+    FrameResult frame = engine.render(loaded.scene.camera, settings, [&](double fraction) {
+        uint32_t depths_done = uint32_t(fraction * settings.max_depth + 1e-6);
+        rendering.update(fraction, by_depth ? "depth " + std::to_string(depths_done) + "/" +
+                                                  std::to_string(settings.max_depth)
+                                            : "tiles");
+    });
+    rendering.finish();
     std::printf("%s", frame_summary(frame, options.settings).c_str());
 
-    if (extension == ".hdr") write_hdr(options.out, int(frame.width), int(frame.height), frame.radiance);
-    else write_png(options.out, int(frame.width), int(frame.height), frame.image);
+    write_image(options.out, format, int(frame.width), int(frame.height), frame.image, frame.radiance);
     if (!options.stats.empty()) {
         nlohmann::json stats = frame_json(frame, options.settings, info);
         stats["scene"] = options.scene.scene;
@@ -74,7 +73,8 @@ void run_render(const RenderOptions& options) {
 
 void add_render_command(CLI::App& app) {
     auto options = std::make_shared<RenderOptions>();
-    auto* command = app.add_subcommand("render", "Render one frame to a PNG (8-bit sRGB) or .hdr (linear float)");
+    auto* command = app.add_subcommand(
+        "render", "Render one frame to a PNG (8- or 16-bit sRGB), OpenEXR or .hdr (both linear and unclamped)");
     add_scene_options(command, options->scene);
     command->add_option("--backend", options->backend,
                         "auto, cpu-ref, cpu, cuda, opencl, vulkan; a device after a colon (opencl:pocl, vulkan:nvidia)")
@@ -85,7 +85,10 @@ void add_render_command(CLI::App& app) {
         ->capture_default_str();
     command->add_option("--min-weight", options->settings.min_weight, "smallest ray weight still traced")
         ->capture_default_str();
-    command->add_option("--out", options->out, "output image: .png or .hdr")->required();
+    add_output_option(command, options->out, "output image: .png (sRGB), .exr (half float) or .hdr (RGBE)")->required();
+    command->add_option("--png-depth", options->png_depth, "bits per channel of .png output: 8 or 16")
+        ->check(CLI::IsMember({8, 16}))
+        ->capture_default_str();
     command->add_option("--stats", options->stats, "write frame statistics as JSON");
     command->callback([options] { run_render(*options); });
 }

@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 
+#include "apps/cli_conventions.h"
 #include "apps/commands.h"
 #include "apps/frame_report.h"
 #include "apps/scene_options.h"
@@ -813,6 +814,7 @@ void add_view_command(CLI::App& app) {
                       "draw into an offscreen framebuffer of an EGL context (an EGL device, else Mesa's surfaceless "
                       "platform) instead of a window: no X server needed; input only from --keys");
     command->callback([options] {
+        route_output();
         if (const char* panel = std::getenv("PRISM_VIEW_PANEL"); panel && std::string(panel) == "0")
             options->no_panel = true;
         if (options->headless && options->frames == 0 && options->seconds <= 0.0)

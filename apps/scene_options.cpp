@@ -2,6 +2,9 @@
 
 #include <chrono>
 
+#include "apps/data_dir.h"
+#include "apps/progress.h"
+
 #include "core/render_engine.h"
 #include "core/scene_loader.h"
 
@@ -13,8 +16,7 @@ void add_scene_options(CLI::App* command, SceneOptions& options, bool scene_requ
                                       "(.gltf .glb .obj .ply .ply.gz)");
     if (scene_required) scene->required();
     else scene->capture_default_str();
-    command->add_option("--data-dir", options.data_dir, "where builtin scenes find their assets")
-        ->capture_default_str();
+    add_data_dir_option(command, options.data_dir);
     command->add_option("--bvh", options.bvh, "BVH builder: sah (binned SAH) or median (the seed's split)")
         ->check(CLI::IsMember({"sah", "median"}))
         ->capture_default_str();
@@ -25,12 +27,19 @@ void add_scene_options(CLI::App* command, SceneOptions& options, bool scene_requ
         ->capture_default_str();
 }
 
-DeviceScene build_device_scene_for(const Scene& scene, const SceneOptions& options, BvhLayout layout) {
+CLI::Option* add_data_dir_option(CLI::App* command, std::string& data_dir) {
+    return command->add_option("--data-dir", data_dir,
+                               "where builtin scenes find their assets (default: $PRISM_DATA_DIR, else the scenes "
+                               "folder of this build or install, else ../shared/scenes)");
+}
+
+DeviceScene build_device_scene_for(const Scene& scene, const SceneOptions& options, BvhLayout layout,
+                                   const BvhProgress& progress) {
     BvhBuildOptions bvh;
     bvh.method = options.bvh == "median" ? BvhMethod::Median : BvhMethod::BinnedSah;
     bvh.layout = layout;
     bvh.flatten_instances = !options.moving_instances;
-    return build_device_scene(scene, bvh);
+    return build_device_scene(scene, bvh, progress);
 }
 
 LoadedScene load_and_build(const SceneOptions& options, const std::string& backend) {
@@ -38,10 +47,16 @@ LoadedScene load_and_build(const SceneOptions& options, const std::string& backe
     BvhLayout layout = resolve_bvh_layout(options.layout, backend);   // a bad PRISM_BVH_LAYOUT fails before loading
     auto start = std::chrono::steady_clock::now();
     LoadOptions load_options;
-    load_options.data_dir = options.data_dir;
+    load_options.data_dir = options.data_dir.empty() ? default_data_dir() : std::filesystem::path(options.data_dir);
+    Progress loading("loading " + options.scene);
     loaded.scene = load_scene(options.scene, load_options);
+    loading.finish();
     loaded.load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    loaded.device = build_device_scene_for(loaded.scene, options, layout);
+    Progress building("building the " + bvh_layout_name(layout) + " BVH of " + options.scene);
+    loaded.device = build_device_scene_for(loaded.scene, options, layout, [&building](double fraction) {
+        building.update(fraction, "triangles in leaves");
+    });
+    building.finish();
     loaded.layout = bvh_layout_name(layout);
     return loaded;
 }

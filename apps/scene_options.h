@@ -13,7 +13,7 @@ namespace prism::app {
 
 struct SceneOptions {
     std::string scene = "builtin:sphere";
-    std::string data_dir = "../shared/scenes";
+    std::string data_dir;   // empty: default_data_dir() (apps/data_dir.h)
     std::string bvh = "sah";
     std::string layout = "auto";   // stack, escape, wide, or auto: per backend (core/render_engine.h)
     // Instances may move after the build (the viewer's moving object): the wide layout then keeps its top level
@@ -22,6 +22,8 @@ struct SceneOptions {
 };
 
 void add_scene_options(CLI::App* command, SceneOptions& options, bool scene_required = false);
+// --data-dir alone (for commands that take several scenes).
+CLI::Option* add_data_dir_option(CLI::App* command, std::string& data_dir);
 
 struct LoadedScene {
     Scene scene;
@@ -30,8 +32,10 @@ struct LoadedScene {
     std::string layout;   // the node layout built (options.layout resolved for the backend)
 };
 
-// Loads the scene and builds its device arrays with the BVH layout `options.layout` resolves to for `backend`.
+// Loads the scene and builds its device arrays with the BVH layout `options.layout` resolves to for `backend`,
+// showing the progress of both steps (apps/progress.h).
 LoadedScene load_and_build(const SceneOptions& options, const std::string& backend = "auto");
-DeviceScene build_device_scene_for(const Scene& scene, const SceneOptions& options, BvhLayout layout);
+DeviceScene build_device_scene_for(const Scene& scene, const SceneOptions& options, BvhLayout layout,
+                                   const BvhProgress& progress = {});
 
 }  // namespace prism::app

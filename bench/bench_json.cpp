@@ -8,6 +8,7 @@
 
 #include "core/build_info.h"
 #include "core/error.h"
+#include "core/standard_output.h"
 
 namespace prism::bench {
 
@@ -34,6 +35,10 @@ nlohmann::json result_header() {
 }
 
 void write_result(const std::filesystem::path& path, const nlohmann::json& result) {
+    if (path == "-") {
+        write_standard_output(result.dump(2) + "\n");
+        return;
+    }
     if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
     std::ofstream out(path);
     if (!out) throw Error(path.string() + ": cannot open for writing");

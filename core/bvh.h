@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <span>
 #include <vector>
@@ -77,7 +78,10 @@ BvhNodeView decode_bvh_node(const Bvh& bvh, uint32_t index);
 // test the root box before descending. Throws prism::Error on invalid options (max_leaf_size 0, bins < 2) and on
 // inputs the escape layout cannot index (2^24 primitives or more).
 // Deterministic: the same input and options give the same nodes for any thread count.
-Bvh build_bvh(std::span<const Aabb> primitive_bounds, const BvhBuildOptions& options);
+// `progress` (optional) hears the fraction of primitives placed in leaves so far, at most once per percent, from
+// any of the build's threads (prism render shows it with an ETA: apps/progress.h).
+using BvhProgress = std::function<void(double fraction)>;
+Bvh build_bvh(std::span<const Aabb> primitive_bounds, const BvhBuildOptions& options, const BvhProgress& progress = {});
 
 // Recomputes every node box (wide nodes too) from new primitive bounds keeping the topology (dynamic rigid scenes: the top level
 // is refit when instances move; rebuild when the quality drops). Primitives left out at build time stay out

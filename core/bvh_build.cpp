@@ -109,8 +109,9 @@ struct Task {
 
 class TreeBuilder {
 public:
-    TreeBuilder(std::span<const Aabb> bounds, const BvhBuildOptions& options, BvhTree& tree, int threads)
-        : options_(options), tree_(tree), budget_(threads - 1) {
+    TreeBuilder(std::span<const Aabb> bounds, const BvhBuildOptions& options, BvhTree& tree, int threads,
+                const BvhProgress& progress)
+        : options_(options), tree_(tree), budget_(threads - 1), progress_(progress) {
         max_leaf_ = options.max_leaf_size;
         if (options.layout == BvhLayout::Escape) max_leaf_ = std::min<uint32_t>(max_leaf_, 255u);
         // The wide layout packs a leaf's count in 3 bits and tests its primitives four at a time: its SAH counts
@@ -181,6 +182,7 @@ private:
         if (!split(task, left, right)) {
             node.first = task.begin;
             node.count = count;
+            if (progress_) report_leaf(count);
             return &node;
         }
 
@@ -327,6 +329,16 @@ private:
 
     // Thesis Algorithm 6-1: pivot at the middle of the node box on an axis cycling x, y, z per level; primitives
     // go left when their centroid lies below it. An empty side falls back to the index median.
+    // Primitives in leaves so far, reported when a whole percent more of them is placed (whichever thread crosses it).
+    void report_leaf(uint32_t count) {
+        const uint64_t total = references_.size();
+        uint64_t placed = placed_.fetch_add(count, std::memory_order_relaxed) + count;
+        uint32_t percent = uint32_t(placed * 100 / total);
+        uint32_t reported = reported_percent_.load(std::memory_order_relaxed);
+        if (percent > reported && reported_percent_.compare_exchange_strong(reported, percent))
+            progress_(double(placed) / double(total));
+    }
+
     bool split_at_box_median(const Task& task, Task& left, Task& right) {
         int axis = int(task.depth % 3);
         float pivot = task.bounds.box.center()[axis];
@@ -350,6 +362,9 @@ private:
     std::atomic<uint32_t> node_count_{0};
     std::atomic<uint32_t> depth_{0};
     uint32_t leaf_block_ = 1;
+    const BvhProgress& progress_;
+    std::atomic<uint64_t> placed_{0};
+    std::atomic<uint32_t> reported_percent_{0};
 };
 
 int resolve_threads(uint32_t requested) {
@@ -382,17 +397,18 @@ bool bvh_usable_bounds(const Aabb& box) {
     return true;
 }
 
-BvhTree build_bvh_tree(std::span<const Aabb> primitive_bounds, const BvhBuildOptions& options) {
+BvhTree build_bvh_tree(std::span<const Aabb> primitive_bounds, const BvhBuildOptions& options,
+                       const BvhProgress& progress) {
     check_options(primitive_bounds, options);
     BvhTree tree;
-    TreeBuilder builder(primitive_bounds, options, tree, resolve_threads(options.threads));
+    TreeBuilder builder(primitive_bounds, options, tree, resolve_threads(options.threads), progress);
     builder.build();
     return tree;
 }
 
-Bvh build_bvh(std::span<const Aabb> primitive_bounds, const BvhBuildOptions& options) {
+Bvh build_bvh(std::span<const Aabb> primitive_bounds, const BvhBuildOptions& options, const BvhProgress& progress) {
     auto start = std::chrono::steady_clock::now();
-    BvhTree tree = build_bvh_tree(primitive_bounds, options);
+    BvhTree tree = build_bvh_tree(primitive_bounds, options, progress);
     Bvh bvh;
     bvh.nodes = flatten_bvh_tree(tree, options.layout == BvhLayout::Wide ? BvhLayout::Stack : options.layout);
     if (options.layout == BvhLayout::Wide) bvh.wide_nodes = collapse_bvh_wide(bvh.nodes, options.wide_leaf_size);

@@ -32,7 +32,8 @@ struct BvhTree {
 // Bounds that can go into a tree: not empty on any axis and finite. Others (degenerate triangles) are left out.
 bool bvh_usable_bounds(const Aabb& box);
 
-BvhTree build_bvh_tree(std::span<const Aabb> primitive_bounds, const BvhBuildOptions& options);
+BvhTree build_bvh_tree(std::span<const Aabb> primitive_bounds, const BvhBuildOptions& options,
+                       const BvhProgress& progress = {});
 
 std::vector<BvhNode> flatten_bvh_tree(const BvhTree& tree, BvhLayout layout);
 

@@ -199,7 +199,7 @@ static bool flattening_fits(const Scene& scene, float growth_limit) {
     return flattened <= double(growth_limit) * std::max(own, 1.0);
 }
 
-DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& options) {
+DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& options, const BvhProgress& progress) {
     auto start = std::chrono::steady_clock::now();
     DeviceScene device;
     device.bvh_options = options;
@@ -219,6 +219,9 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
                    flattening_fits(scene, options.flatten_growth_limit);
     device.bvh_options.flatten_instances = flatten;   // what was built: the renderer's frame flag reads it
     device.mesh_bounds.resize(scene.meshes.size());
+    // The meshes' builds report their share of every triangle the scene's BVHs will hold.
+    double triangles_to_place = 0.0, triangles_placed = 0.0;
+    for (const Mesh& mesh : scene.meshes) triangles_to_place += double(mesh.triangles.size());
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const Mesh& mesh = scene.meshes[m];
         MeshPlacement placement{static_cast<uint32_t>(device.vertices.size()),
@@ -254,7 +257,14 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
             for (uint32_t t = 0; t < bounds.size(); ++t)
                 if (!bounds[t].empty()) placement.bvh.primitive_order.push_back(t);
         } else {
-            placement.bvh = build_bvh(bounds, options);
+            const double share = double(mesh.triangles.size());
+            BvhProgress mesh_progress;
+            if (progress)
+                mesh_progress = [&progress, triangles_placed, share, triangles_to_place](double fraction) {
+                    progress((triangles_placed + fraction * share) / triangles_to_place);
+                };
+            placement.bvh = build_bvh(bounds, options, mesh_progress);
+            triangles_placed += share;
         }
         for (uint32_t t : placement.bvh.primitive_order) {
             glm::uvec3 tri = mesh.triangles[t];
@@ -293,7 +303,7 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
             triangle_count.push_back(uint32_t(placement.bvh.primitive_order.size()));
             placement.first_vertex = 0;   // reused below as the mesh's root: no mesh has its own
         }
-        build_flat_instances(device, scene, first_triangle, triangle_count);
+        build_flat_instances(device, scene, first_triangle, triangle_count, progress);
         BvhNode unused{};
         set_node_box(unused, Aabb{});
         device.nodes.assign(1, unused);

@@ -49,7 +49,9 @@ struct DeviceScene {
 };
 
 // Throws prism::Error (naming scene.source) when nothing traceable remains or an index exceeds a GPU format limit.
-DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& options = {});
+// `progress` hears the fraction of the scene's triangles placed in BVH leaves so far (build_bvh's, over all meshes).
+DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& options = {},
+                               const BvhProgress& progress = {});
 
 // New instance transforms (same instances, same meshes): refits the top level, or rebuilds it when `rebuild`.
 // Throws prism::Error for a scene built with flattened instances (BvhBuildOptions::flatten_instances).

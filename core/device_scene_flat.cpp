@@ -28,7 +28,7 @@ auto& lane(auto& v, uint32_t k) { return k == 0 ? v.x : k == 1 ? v.y : k == 2 ? 
 }  // namespace
 
 void build_flat_instances(DeviceScene& device, const Scene& scene, const std::vector<uint32_t>& first_triangle,
-                          const std::vector<uint32_t>& triangle_count) {
+                          const std::vector<uint32_t>& triangle_count, const BvhProgress& progress) {
     std::vector<WorldTriangle> triangles;
     for (uint32_t i = 0; i < scene.instances.size(); ++i) {
         const prism::Instance& instance = scene.instances[i];
@@ -53,7 +53,7 @@ void build_flat_instances(DeviceScene& device, const Scene& scene, const std::ve
     // scene's model fell into one or two bins at the top of the tree and its diffuse rays tested a third more
     // triangles. 32 bins (as Embree bins) gave the two-level layout's leaf tests back.
     options.bins = std::max(options.bins, 32u);
-    Bvh bvh = build_bvh(bounds, options);
+    Bvh bvh = build_bvh(bounds, options, progress);
 
     // Leaves become blocks of four world-space triangles; each lane remembers its instance, primitive and slot.
     device.triangle_blocks.clear();

@@ -12,6 +12,6 @@ namespace prism {
 // device.triangles must hold each mesh's triangles at [first_triangle[m], first_triangle[m] + triangle_count[m])
 // (degenerate ones left out), as build_device_scene lays them out.
 void build_flat_instances(DeviceScene& device, const Scene& scene, const std::vector<uint32_t>& first_triangle,
-                          const std::vector<uint32_t>& triangle_count);
+                          const std::vector<uint32_t>& triangle_count, const BvhProgress& progress = {});
 
 }  // namespace prism

@@ -9,10 +9,10 @@ set -euo pipefail
 packages=(
   # Build tools. pkg-config finds stb; git stamps the commit into result files.
   cmake ninja-build g++ pkg-config git
-  # Host libraries of core/ and apps/: GLM, the glTF/OBJ/stb/zlib loaders, JSON, the command line; tinyexr for
-  # OpenEXR output.
+  # Host libraries of core/ and apps/: GLM, the glTF/OBJ/stb/zlib loaders, JSON, the command line; libpng
+  # (16-bit PNG) and tinyexr (OpenEXR) for image output.
   libglm-dev libtinygltf-dev libstb-dev nlohmann-json3-dev libtinyobjloader-dev libcli11-dev zlib1g-dev
-  libtinyexr-dev
+  libpng-dev libtinyexr-dev
   # Tests (GoogleTest) and the hit-level oracle of the tests and `prism bench --embree` (Embree).
   libgtest-dev libgmock-dev libembree-dev
   # OpenCL backend: headers, the ICD loader, PoCL as the device on machines without a GPU, clinfo to look at it.

@@ -1,11 +1,21 @@
-// The prism command as a user meets it: the main job works, and bad input of every kind gives one line on stderr,
-// an exit code from 1 to 127 (never a crash), and no output file.
+// The prism command as a user meets it: the main job works, bad input of every kind gives one line on stderr, an
+// exit code from 1 to 127 (never a crash), and no output file; and the conventions every subcommand shares
+// (docs/cli.md) and the output formats hold.
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <memory>
 #include <random>
 
+#include <sys/wait.h>
+
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <stb_image.h>
+#include <tinyexr.h>
 
 #include "tests/test_support.h"
 
@@ -26,6 +36,38 @@ std::string random_bytes(size_t n, unsigned seed) {
     std::string bytes(n, '\0');
     for (char& c : bytes) c = static_cast<char>(rng() & 255u);
     return bytes;
+}
+
+std::string binary() { return std::getenv("PRISM_BINARY") ? std::getenv("PRISM_BINARY") : PRISM_BINARY; }
+
+// Standard output and standard error apart (run_prism merges them).
+struct SplitResult {
+    int exit_code = -1;
+    std::string out, err;
+};
+SplitResult run_prism_split(const std::string& arguments) {
+    fs::path err = prism::test::temp_dir("cli-split") / "stderr.txt";
+    SplitResult result;
+    FILE* pipe = popen(("'" + binary() + "' " + arguments + " 2>'" + err.string() + "'").c_str(), "r");
+    if (!pipe) return result;
+    char buffer[4096];
+    size_t n;
+    while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) result.out.append(buffer, n);
+    int status = pclose(pipe);
+    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    result.err = read_bytes(err);
+    return result;
+}
+
+size_t line_count(const std::string& text) {
+    size_t lines = 0;
+    for (char c : text) lines += c == '\n';
+    return lines + (!text.empty() && text.back() != '\n');
+}
+
+nlohmann::json parse_json_file(const fs::path& path) {
+    std::ifstream file(path);
+    return nlohmann::json::parse(file, nullptr, false);
 }
 
 }  // namespace
@@ -109,4 +151,236 @@ TEST(Cli, RaysFileOfWrongSizeFailsCleanly) {
     EXPECT_EQ(r.exit_code, 1) << r.output;
     EXPECT_NE(r.output.find("odd.bin"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(out));
+}
+
+// --- Command-line conventions (docs/cli.md) ---
+
+TEST(Cli, ShortAndLongOutputAliasesWriteTheImage) {
+    for (const char* spelling : {"-o", "--output", "--out"}) {
+        fs::path out = prism::test::temp_dir("cli") / (std::string("alias") + spelling + ".png");
+        fs::remove(out);
+        prism::test::CommandResult r =
+            run_prism("render --backend cpu --width 32 --height 16 --depth 2 " + std::string(spelling) + " '" +
+                      out.string() + "'");
+        ASSERT_EQ(r.exit_code, 0) << spelling << ": " << r.output;
+        EXPECT_EQ(read_bytes(out).substr(1, 3), "PNG") << spelling;
+    }
+}
+
+TEST(Cli, MissingOutputNamesEverySpellingAndExits2) {
+    prism::test::CommandResult r = run_prism("render --backend cpu --width 8 --height 8");
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_EQ(line_count(r.output), 1u) << r.output;
+    EXPECT_NE(r.output.find("-o,--out,--output is required"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("prism render --help"), std::string::npos) << r.output;
+}
+
+TEST(Cli, VersionNamesVersionCommitAndBackendsBuilt) {
+    SplitResult r = run_prism_split("--version");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.out.rfind("prism 0.", 0), 0u) << r.out;
+    EXPECT_NE(r.out.find("\ncommit "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("backends built: cpu-ref cpu"), std::string::npos) << r.out;
+#ifdef PRISM_HAVE_VULKAN
+    EXPECT_NE(r.out.find(" vulkan"), std::string::npos) << r.out;
+#endif
+#ifdef PRISM_HAVE_CUDA
+    EXPECT_NE(r.out.find(" cuda"), std::string::npos) << r.out;
+#endif
+}
+
+TEST(Cli, UnknownOptionExits2AndNamesIt) {
+    prism::test::CommandResult r = run_prism("render --backend cpu --frobnicate 3 --out /tmp/prism-never.png");
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_EQ(line_count(r.output), 1u) << r.output;
+    EXPECT_NE(r.output.find("--frobnicate"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("--help"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists("/tmp/prism-never.png"));
+}
+
+TEST(Cli, UnknownSubcommandExits2AndNamesIt) {
+    prism::test::CommandResult r = run_prism("rendr --backend cpu");
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_EQ(line_count(r.output), 1u) << r.output;
+    EXPECT_NE(r.output.find("unknown subcommand 'rendr'"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("render"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("prism --help"), std::string::npos) << r.output;
+
+    prism::test::CommandResult none = run_prism("");
+    EXPECT_EQ(none.exit_code, 2) << none.output;
+}
+
+TEST(Cli, JsonDashWritesOnlyJsonToStandardOutput) {
+    SplitResult info = run_prism_split("info --json -");
+    ASSERT_EQ(info.exit_code, 0) << info.err;
+    nlohmann::json parsed = nlohmann::json::parse(info.out, nullptr, false);
+    ASSERT_FALSE(parsed.is_discarded()) << info.out;
+    EXPECT_TRUE(parsed["backends"].is_array());
+
+    SplitResult bench = run_prism_split(
+        "bench --scenes builtin:sphere --backends cpu --width 24 --height 16 --depth 2 --runs 1 --warmup 0 --json -");
+    ASSERT_EQ(bench.exit_code, 0) << bench.err;
+    parsed = nlohmann::json::parse(bench.out, nullptr, false);
+    ASSERT_FALSE(parsed.is_discarded()) << bench.out;
+    EXPECT_EQ(parsed["scenes"][0]["backends"][0]["backend"], "cpu");
+    EXPECT_NE(bench.err.find("builtin:sphere on cpu"), std::string::npos) << "the human text goes to stderr: " << bench.err;
+    EXPECT_FALSE(fs::exists("-"));
+}
+
+TEST(Cli, BenchWritesFinishedRunsAndEachFailureThenFails) {
+    fs::path json = prism::test::temp_dir("cli") / "bench-with-failure.json";
+    fs::remove(json);
+    prism::test::CommandResult r = run_prism(
+        "bench --scenes builtin:sphere,/nonexistent/scene.ply --backends cpu,vulkan:no-such-device --width 24 "
+        "--height 16 --depth 2 --runs 1 --warmup 0 --json '" + json.string() + "'");
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("prism: error: bench: 2 runs failed"), std::string::npos) << r.output;
+    nlohmann::json result = parse_json_file(json);
+    ASSERT_FALSE(result.is_discarded()) << read_bytes(json);
+    ASSERT_EQ(result["scenes"].size(), 1u);
+    ASSERT_EQ(result["scenes"][0]["backends"].size(), 1u);
+    EXPECT_EQ(result["scenes"][0]["backends"][0]["backend"], "cpu");
+    EXPECT_GT(result["scenes"][0]["backends"][0]["frames"]["frame_ms"].get<double>(), 0.0);
+    ASSERT_EQ(result["failures"].size(), 2u) << result["failures"].dump();
+    EXPECT_EQ(result["failures"][0]["scene"], "builtin:sphere");
+    EXPECT_EQ(result["failures"][0]["backend"], "vulkan:no-such-device");
+    EXPECT_FALSE(result["failures"][0]["error"].get<std::string>().empty());
+    EXPECT_EQ(result["failures"][1]["scene"], "/nonexistent/scene.ply");
+    EXPECT_FALSE(result["failures"][1].contains("backend"));
+    EXPECT_NE(result["failures"][1]["error"].get<std::string>().find("/nonexistent/scene.ply"), std::string::npos);
+}
+
+TEST(Cli, DataDirComesFromTheEnvironment) {
+    fs::path empty = prism::test::temp_dir("cli-empty-data");
+    prism::test::CommandResult missing =
+        run_prism("info --scene builtin:bunny", "cd / && PRISM_DATA_DIR='" + empty.string() + "'");
+    EXPECT_EQ(missing.exit_code, 1) << missing.output;
+    EXPECT_NE(missing.output.find(empty.string()), std::string::npos) << missing.output;
+
+    prism::test::CommandResult found = run_prism("info --scene builtin:bunny --json",
+                                                 "cd / && PRISM_DATA_DIR='" + prism::test::scenes_dir().string() + "'");
+    ASSERT_EQ(found.exit_code, 0) << found.output;
+    EXPECT_NE(found.output.find("\"mesh_triangles\""), std::string::npos) << found.output;
+
+    // --data-dir still wins over the variable.
+    prism::test::CommandResult overridden =
+        run_prism("info --scene builtin:bunny --data-dir '" + prism::test::scenes_dir().string() + "'",
+                  "cd / && PRISM_DATA_DIR='" + empty.string() + "'");
+    EXPECT_EQ(overridden.exit_code, 0) << overridden.output;
+}
+
+TEST(Cli, BuiltinScenesFindTheirDataFromAnyFolder) {
+    if (std::getenv("PRISM_BINARY")) GTEST_SKIP() << "a copied binary is outside the build tree it was configured in";
+    prism::test::CommandResult r = run_prism("info --scene builtin:bunny", "cd / && env -u PRISM_DATA_DIR");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("Scene builtin:bunny"), std::string::npos) << r.output;
+}
+
+TEST(Cli, ProgressIsPlainLinesWithElapsedAndEtaWhenNotATerminal) {
+    fs::path out = prism::test::temp_dir("cli") / "progress.png";
+    SplitResult r = run_prism_split("render --backend cpu --width 48 --height 32 --depth 3 --out '" + out.string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err.find('\r'), std::string::npos) << "no redrawn line on a pipe: " << r.err;
+    EXPECT_NE(r.err.find("prism: loading builtin:sphere: done in "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("prism: building the wide BVH of builtin:sphere: triangles in leaves ("), std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("prism: rendering 48x32: depth 1/3 (33%), "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("elapsed, ETA "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("depth 3/3 (100%)"), std::string::npos) << r.err;
+    EXPECT_EQ(r.out.find("prism: "), std::string::npos) << "progress stays off stdout: " << r.out;
+    EXPECT_NE(r.out.find("prism render: "), std::string::npos) << r.out;
+}
+
+TEST(Cli, QuietPrintsNothingButWritesTheImage) {
+    fs::path out = prism::test::temp_dir("cli") / "quiet.png";
+    fs::remove(out);
+    prism::test::CommandResult r =
+        run_prism("render --backend cpu --width 32 --height 16 --depth 2 --quiet --out '" + out.string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(r.output, "");
+    EXPECT_TRUE(fs::exists(out));
+    prism::test::CommandResult error = run_prism("--quiet render --scene /nonexistent/x.ply --out /tmp/x.png");
+    EXPECT_EQ(error.exit_code, 1);
+    EXPECT_EQ(line_count(error.output), 1u) << "errors still show: " << error.output;
+}
+
+// --- Output formats: the same frame as 8-bit PNG, 16-bit PNG, OpenEXR and .hdr ---
+
+TEST(Cli, RenderWritesExrAndSixteenBitPngOfTheSameFrame) {
+    fs::path dir = prism::test::temp_dir("cli-formats");
+    std::string common = "render --backend cpu --width 40 --height 24 --depth 3 ";
+    ASSERT_EQ(run_prism(common + "--out '" + (dir / "f.exr").string() + "'").exit_code, 0);
+    ASSERT_EQ(run_prism(common + "--png-depth 16 -o '" + (dir / "f16.png").string() + "'").exit_code, 0);
+    ASSERT_EQ(run_prism(common + "-o '" + (dir / "f8.png").string() + "'").exit_code, 0);
+    prism::test::CommandResult wrong = run_prism(common + "--png-depth 16 -o '" + (dir / "x.exr").string() + "'");
+    EXPECT_EQ(wrong.exit_code, 1) << wrong.output;
+    EXPECT_NE(wrong.output.find("--png-depth"), std::string::npos) << wrong.output;
+
+    float* exr = nullptr;
+    int width = 0, height = 0;
+    const char* error = nullptr;
+    ASSERT_EQ(LoadEXR(&exr, &width, &height, (dir / "f.exr").c_str(), &error), TINYEXR_SUCCESS) << (error ? error : "");
+    std::unique_ptr<float, decltype(&std::free)> exr_owned(exr, &std::free);
+    ASSERT_EQ(width, 40);
+    ASSERT_EQ(height, 24);
+    int w16 = 0, h16 = 0, c16 = 0, w8 = 0, h8 = 0, c8 = 0;
+    std::unique_ptr<uint16_t, decltype(&stbi_image_free)> png16(
+        stbi_load_16((dir / "f16.png").c_str(), &w16, &h16, &c16, 3), &stbi_image_free);
+    std::unique_ptr<uint8_t, decltype(&stbi_image_free)> png8(stbi_load((dir / "f8.png").c_str(), &w8, &h8, &c8, 3),
+                                                              &stbi_image_free);
+    ASSERT_TRUE(png16 && png8);
+    ASSERT_EQ(w16 * h16, width * height);
+    double sum = 0.0;
+    for (size_t i = 0; i < size_t(width * height) * 3; ++i) {
+        float linear = exr[i / 3 * 4 + i % 3];
+        float encoded = std::clamp(linear, 0.0f, 1.0f);
+        encoded = encoded <= 0.0031308f ? encoded * 12.92f : 1.055f * std::pow(encoded, 1.0f / 2.4f) - 0.055f;
+        // The EXR holds half floats (11 bits); the 16-bit PNG the full value, encoded.
+        ASSERT_NEAR(png16.get()[i] / 65535.0f, encoded, 2e-3f) << "value " << i;
+        ASSERT_NEAR(png16.get()[i] / 257.0f, png8.get()[i], 0.51f) << "value " << i;
+        sum += linear;
+    }
+    EXPECT_GT(sum, 0.0) << "the frame is not black";
+}
+
+// A sky brighter than 1 seen directly: the EXR and .hdr keep it, the 8-bit PNG clips it.
+TEST(Cli, ExrAndHdrKeepRadianceAboveOne) {
+    prism::test::write_file("bright-triangle.ply",
+                            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                            "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    fs::path scene = prism::test::write_file(
+        "bright-sky.json",
+        R"({"camera": {"position": [0.3, 0.3, 3.0], "target": [0.3, 0.3, 0.0], "up": [0, 1, 0], "fov": 45},
+            "environment": {"color": [6.0, 3.0, 0.5]},
+            "objects": [{"name": "triangle", "file": "bright-triangle.ply"}]})");
+    fs::path dir = prism::test::temp_dir("cli-bright");
+    for (const char* name : {"sky.exr", "sky.hdr", "sky.png"}) {
+        prism::test::CommandResult r = run_prism("render --scene '" + scene.string() +
+                                                 "' --backend cpu --width 16 --height 16 --depth 2 -o '" +
+                                                 (dir / name).string() + "'");
+        ASSERT_EQ(r.exit_code, 0) << name << ": " << r.output;
+    }
+    float* exr = nullptr;
+    int width = 0, height = 0;
+    const char* error = nullptr;
+    ASSERT_EQ(LoadEXR(&exr, &width, &height, (dir / "sky.exr").c_str(), &error), TINYEXR_SUCCESS) << (error ? error : "");
+    std::unique_ptr<float, decltype(&std::free)> exr_owned(exr, &std::free);
+    // The top-left pixel sees only the sky.
+    EXPECT_FLOAT_EQ(exr[0], 6.0f);
+    EXPECT_FLOAT_EQ(exr[1], 3.0f);
+    EXPECT_FLOAT_EQ(exr[2], 0.5f);
+
+    int channels = 0;
+    std::unique_ptr<float, decltype(&stbi_image_free)> hdr(
+        stbi_loadf((dir / "sky.hdr").c_str(), &width, &height, &channels, 3), &stbi_image_free);
+    ASSERT_TRUE(hdr);
+    EXPECT_NEAR(hdr.get()[0], 6.0f, 6.0f / 128.0f);   // RGBE: 8 bits of mantissa shared
+    EXPECT_NEAR(hdr.get()[1], 3.0f, 6.0f / 128.0f);
+
+    std::unique_ptr<uint8_t, decltype(&stbi_image_free)> png(
+        stbi_load((dir / "sky.png").c_str(), &width, &height, &channels, 3), &stbi_image_free);
+    ASSERT_TRUE(png);
+    EXPECT_EQ(png.get()[0], 255);
+    EXPECT_EQ(png.get()[1], 255);
+    EXPECT_NEAR(png.get()[2], 188, 1);   // sRGB of 0.5
 }

@@ -200,7 +200,8 @@ TEST(ViewerInterop, PoclFallsBackToHostCopy) {
 
 TEST(ViewerInterop, ForcedInteropWithoutItFailsInOneLine) {
     REQUIRE_XVFB();
-    prism::test::CommandResult result = view("--backend cpu --frames 2 --display interop");
+    // --quiet keeps the loading steps' progress lines (docs/cli.md) out: the error must be all that is left.
+    prism::test::CommandResult result = view("--backend cpu --frames 2 --display interop --quiet");
     EXPECT_EQ(result.exit_code, 1) << result.output;
     EXPECT_EQ(result.output.rfind("prism: error: view: --display interop: no GL interop for cpu [", 0), 0u)
         << result.output;
