@@ -1,10 +1,13 @@
 // `prism render`: one frame of a scene on one backend, written as PNG (8-bit sRGB) or .hdr (linear float).
 #include <chrono>
 #include <cstdio>
+#include <new>
+#include <optional>
 #include <unistd.h>
 
 #include "apps/commands.h"
 #include "apps/frame_report.h"
+#include "apps/option_checks.h"
 #include "apps/scene_options.h"
 #include "core/build_info.h"
 #include "core/error.h"
@@ -31,7 +34,11 @@ void print_progress(double fraction) {
 }
 
 void run_render(const RenderOptions& options) {
-    check_output_extension(options.out);   // fail before any work
+    std::string extension = std::filesystem::path(options.out).extension().string();
+    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    RenderSettings settings = options.settings;
+    settings.read_radiance = extension == ".hdr";
+    check_render_options(options.backend, settings, options.out, options.stats);   // fail before any work
     auto start = std::chrono::steady_clock::now();
     LoadedScene loaded = load_and_build(options.scene, options.backend);
     auto built = std::chrono::steady_clock::now();
@@ -46,25 +53,37 @@ void run_render(const RenderOptions& options) {
                 loaded.device.sah_cost, upload_ms);
     std::fflush(stdout);
 
-    std::string extension = std::filesystem::path(options.out).extension().string();
-    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    RenderSettings settings = options.settings;
-    settings.read_radiance = extension == ".hdr";
     bool terminal = isatty(STDERR_FILENO);
-    FrameResult frame = engine.render(loaded.scene.camera, settings,
-                                      terminal ? std::function<void(double)>(print_progress) : nullptr);
+    FrameResult frame;
+    try {
+        frame = engine.render(loaded.scene.camera, settings,
+                              terminal ? std::function<void(double)>(print_progress) : nullptr);
+    } catch (const std::bad_alloc&) {
+        throw Error(options.scene.scene + ": out of host memory while rendering on " + info.name);
+    }
     if (terminal) std::fprintf(stderr, "\r%*s\r", 44, "");
     std::printf("%s", frame_summary(frame, options.settings).c_str());
 
-    if (extension == ".hdr") write_hdr(options.out, int(frame.width), int(frame.height), frame.radiance);
-    else write_png(options.out, int(frame.width), int(frame.height), frame.image);
+    // The stats wait under a temporary name until the image is written: both appear, or neither.
+    std::optional<StagedOutput> stats_file;
     if (!options.stats.empty()) {
         nlohmann::json stats = frame_json(frame, options.settings, info);
         stats["scene"] = options.scene.scene;
         stats["commit"] = build_commit();
         stats["bvh"] = {{"method", options.scene.bvh}, {"layout", loaded.layout},
                         {"build_ms", loaded.device.bvh_build_ms}, {"sah_cost", loaded.device.sah_cost}};
-        write_file_atomically(options.stats, stats.dump(2) + "\n");
+        stats_file.emplace(options.stats, stats.dump(2) + "\n");
+    }
+    if (extension == ".hdr") write_hdr(options.out, int(frame.width), int(frame.height), frame.radiance);
+    else write_png(options.out, int(frame.width), int(frame.height), frame.image);
+    if (stats_file) {
+        try {
+            stats_file->commit();
+        } catch (const Error&) {
+            std::error_code ignored;
+            std::filesystem::remove(options.out, ignored);
+            throw;
+        }
     }
     std::printf("  wrote %s (total %.0f ms)\n", options.out.c_str(),
                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());

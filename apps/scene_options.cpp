@@ -1,7 +1,9 @@
 #include "apps/scene_options.h"
 
 #include <chrono>
+#include <new>
 
+#include "core/error.h"
 #include "core/render_engine.h"
 #include "core/scene_loader.h"
 
@@ -23,6 +25,8 @@ void add_scene_options(CLI::App* command, SceneOptions& options, bool scene_requ
                         "cpu/cpu-ref, stack on GPUs; PRISM_BVH_LAYOUT overrides auto)")
         ->check(CLI::IsMember({"stack", "escape", "wide", "auto"}))
         ->capture_default_str();
+    command->add_flag("--allow-any-path", options.allow_any_path,
+                      "let the scene read files outside its own folder (absolute or ../ URIs and paths)");
 }
 
 DeviceScene build_device_scene_for(const Scene& scene, const SceneOptions& options, BvhLayout layout) {
@@ -39,9 +43,14 @@ LoadedScene load_and_build(const SceneOptions& options, const std::string& backe
     auto start = std::chrono::steady_clock::now();
     LoadOptions load_options;
     load_options.data_dir = options.data_dir;
+    load_options.allow_any_path = options.allow_any_path;
     loaded.scene = load_scene(options.scene, load_options);
     loaded.load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    loaded.device = build_device_scene_for(loaded.scene, options, layout);
+    try {
+        loaded.device = build_device_scene_for(loaded.scene, options, layout);
+    } catch (const std::bad_alloc&) {
+        throw Error(options.scene + ": out of host memory while building the BVH and device arrays");
+    }
     loaded.layout = bvh_layout_name(layout);
     return loaded;
 }
