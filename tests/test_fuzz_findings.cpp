@@ -28,10 +28,14 @@ std::string texture_error(const fs::path& file) {
     return prism::test::error_message([&] { (void)prism::load_texture(file); });
 }
 
-// A scene file whose one material uses `texture` (by absolute path): how an image reaches `prism render`.
+// A scene file whose one material uses a copy of `texture` beside it (a scene reads only files in its folder):
+// how an image reaches `prism render`.
 fs::path scene_with_texture(const fs::path& texture) {
-    const fs::path scene = prism::test::temp_dir("fuzz-findings") / (texture.stem().string() + ".json");
-    std::ofstream(scene) << R"({"materials": {"m": {"textures": [{"file": ")" << texture.string() << R"("}]}}})";
+    const fs::path folder = prism::test::temp_dir("fuzz-findings");
+    fs::copy_file(texture, folder / texture.filename(), fs::copy_options::overwrite_existing);
+    const fs::path scene = folder / (texture.stem().string() + ".json");
+    std::ofstream(scene) << R"({"materials": {"m": {"textures": [{"file": ")" << texture.filename().string()
+                         << R"("}]}}})";
     return scene;
 }
 
@@ -148,8 +152,10 @@ TEST(FuzzFindings, HdrRunLengthDataEndingInsideAScanlineIsTruncated) {
     const fs::path file = finding("hdr-rle-ends-inside-a-scanline.hdr");
     EXPECT_EQ(texture_error(file), file.string() + ": truncated HDR (8x1 pixels need at least 12 bytes of pixel "
                                                    "data; the file has 4)");
-    const fs::path scene = prism::test::temp_dir("fuzz-findings") / "hdr-sky.json";
-    std::ofstream(scene) << R"({"environment": {"equirect": ")" << file.string() << R"("}})";
+    const fs::path folder = prism::test::temp_dir("fuzz-findings");
+    fs::copy_file(file, folder / file.filename(), fs::copy_options::overwrite_existing);
+    const fs::path scene = folder / "hdr-sky.json";
+    std::ofstream(scene) << R"({"environment": {"equirect": ")" << file.filename().string() << R"("}})";
     prism::test::expect_clean_failure(scene.string(), "truncated HDR");
 }
 
