@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "core/bvh.h"
 #include "core/error.h"
 #include "core/scene_loader.h"
 #include "tests/gltf_builder.h"
@@ -132,6 +133,28 @@ TEST(HostileInput, DeeplyNestedGltfJsonIsRefused) {
     const fs::path scene = write(folder / "deep.json", R"({"lights": )" + nesting + "}");
     const std::string message = load_error(scene);
     EXPECT_EQ(message.rfind(scene.string() + ": lights[0]", 0), 0u) << message;
+}
+
+TEST(HostileInput, BvhDepthStaysBoundedOnAdversarialGeometry) {
+    // Geometric spacing tempts SAH to peel off one primitive per level; identical boxes give it nothing to split.
+    // Either way the build stops at depth 40 + log2(primitives) (index medians below depth 40), within the
+    // traversal stack, and the build itself recurses no deeper than that.
+    constexpr size_t kCount = 100000;
+    std::vector<prism::Aabb> peeling(kCount), identical(kCount);
+    for (size_t i = 0; i < kCount; ++i) {
+        const float x = std::ldexp(1.0f, int(i % 200) - 100) * (1.0f + float(i) / kCount);
+        peeling[i].lower = glm::vec3(x, 0.0f, 0.0f);
+        peeling[i].upper = glm::vec3(x * 1.0001f, 1.0f, 1.0f);
+        identical[i].lower = glm::vec3(0.0f);
+        identical[i].upper = glm::vec3(1.0f);
+    }
+    for (const auto* bounds : {&peeling, &identical})
+        for (prism::BvhMethod method : {prism::BvhMethod::BinnedSah, prism::BvhMethod::Median}) {
+            prism::BvhBuildOptions options;
+            options.method = method;
+            const prism::Bvh bvh = prism::build_bvh(*bounds, options);
+            EXPECT_LE(bvh.depth, 40u + 17u + 1u);
+        }
 }
 
 // ---- memory bounded by the input -----------------------------------------------------------------------------
