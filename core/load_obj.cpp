@@ -51,6 +51,16 @@ void add_warnings(const std::string& file, const std::string& text, std::vector<
     }
 }
 
+// find_file_case_insensitive finds regular files only; a FIFO or device under the exact name is refused as
+// what it is (after the folder rule), not reported missing.
+void refuse_if_not_regular(const std::string& referring_file, const std::string& name,
+                           const std::filesystem::path& path) {
+    std::error_code error;
+    if (!std::filesystem::exists(path, error)) return;
+    check_scene_reference(referring_file, name, path);
+    require_regular_file(path);
+}
+
 // tinyobjloader's own file reader wants exact names and one search folder; real MTL references are neither.
 class CaseInsensitiveMaterialReader : public tinyobj::MaterialReader {
 public:
@@ -60,6 +70,7 @@ public:
     bool operator()(const std::string& mtl_name, std::vector<tinyobj::material_t>* materials,
                     std::map<std::string, int>* name_to_index, std::string* warnings, std::string*) override {
         const std::filesystem::path path = find_file_case_insensitive(obj_directory_, trim(mtl_name));
+        if (path.empty()) refuse_if_not_regular(obj_file_, trim(mtl_name), obj_directory_ / trim(mtl_name));
         if (path.empty()) {
             *warnings += "material library '" + shorten(mtl_name) + "' not found\n";
             return false;
@@ -174,6 +185,9 @@ void load_obj(const std::filesystem::path& path, Scene& scene) {
             const std::filesystem::path mtl_file = i < origins.mtl_file.size() ? origins.mtl_file[i] : path;
             const std::filesystem::path texture_path =
                 find_file_case_insensitive(mtl_file.parent_path(), trim(source.diffuse_texname));
+            if (texture_path.empty())
+                refuse_if_not_regular(mtl_file.string(), trim(source.diffuse_texname),
+                                      mtl_file.parent_path() / trim(source.diffuse_texname));
             if (texture_path.empty())
                 throw file_error(mtl_file.string(), "material '" + source.name + "': texture '" +
                                                         shorten(source.diffuse_texname) + "' not found");

@@ -120,8 +120,9 @@ private:
         std::string name = string(value, key_path);
         std::filesystem::path path = folder_ / name;
         std::error_code error;
+        // Anything under the exact name counts as found (a FIFO is then refused as such, below).
         bool exists = must_be_directory ? std::filesystem::is_directory(path, error)
-                                        : std::filesystem::is_regular_file(path, error);
+                                        : std::filesystem::exists(path, error);
         if (!exists) {
             std::filesystem::path found = find_file_case_insensitive(folder_, name);
             if (found.empty()) fail(key_path, "no such " + std::string(must_be_directory ? "folder" : "file") + " '" +
