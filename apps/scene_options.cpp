@@ -3,6 +3,7 @@
 #include <chrono>
 #include <new>
 
+#include "apps/option_checks.h"
 #include "core/error.h"
 #include "core/render_engine.h"
 #include "core/scene_loader.h"
@@ -39,6 +40,7 @@ DeviceScene build_device_scene_for(const Scene& scene, const SceneOptions& optio
 
 LoadedScene load_and_build(const SceneOptions& options, const std::string& backend) {
     LoadedScene loaded;
+    check_backend_option(backend);   // every scene-reading command: cpu:7 fails before loading
     BvhLayout layout = resolve_bvh_layout(options.layout, backend);   // a bad PRISM_BVH_LAYOUT fails before loading
     auto start = std::chrono::steady_clock::now();
     LoadOptions load_options;

@@ -362,6 +362,11 @@ TEST(HostileInput, CpuBackendDeviceOtherThanZeroIsRefused) {
         EXPECT_NE(r.output.find(std::string("--backend ") + backend + ": "), std::string::npos) << r.output;
         EXPECT_FALSE(fs::exists(out));
     }
+    // Every scene-reading command, not only render.
+    const CommandResult rays = run_prism("rays --scene builtin:sphere --backend cpu:3 --rays /dev/null --out '" +
+                                         (out.parent_path() / "hits.bin").string() + "'");
+    EXPECT_EQ(rays.exit_code, 1) << rays.output;
+    EXPECT_NE(rays.output.find("--backend cpu:3: cpu has one device, cpu:0"), std::string::npos) << rays.output;
     const CommandResult zero = run_prism("render --backend cpu:0 --width 16 --height 16 --out '" + out.string() + "'");
     EXPECT_EQ(zero.exit_code, 0) << zero.output;
 }
