@@ -2,10 +2,13 @@
 // linear radiance, unclamped).
 #include <chrono>
 #include <cstdio>
+#include <new>
+#include <optional>
 
 #include "apps/cli_conventions.h"
 #include "apps/commands.h"
 #include "apps/frame_report.h"
+#include "apps/option_checks.h"
 #include "apps/progress.h"
 #include "apps/scene_options.h"
 #include "core/build_info.h"
@@ -29,6 +32,9 @@ struct RenderOptions {
 void run_render(const RenderOptions& options) {
     route_output();
     ImageFormat format = output_image_format(options.out, options.png_depth);   // fail before any work
+    RenderSettings settings = options.settings;
+    settings.read_radiance = needs_linear_radiance(format);
+    check_render_options(options.backend, settings, options.out, options.stats);   // fail before any work
     auto start = std::chrono::steady_clock::now();
     LoadedScene loaded = load_and_build(options.scene, options.backend);
     auto built = std::chrono::steady_clock::now();
@@ -43,27 +49,41 @@ void run_render(const RenderOptions& options) {
                 loaded.device.sah_cost, upload_ms);
     std::fflush(stdout);
 
-    RenderSettings settings = options.settings;
-    settings.read_radiance = needs_linear_radiance(format);
     Progress rendering("rendering " + std::to_string(settings.width) + "x" + std::to_string(settings.height));
     bool by_depth = info.name != "cpu-ref";   // the wavefront backends report each depth; cpu-ref its tiles
-    FrameResult frame = engine.render(loaded.scene.camera, settings, [&](double fraction) {
-        uint32_t depths_done = uint32_t(fraction * settings.max_depth + 1e-6);
-        rendering.update(fraction, by_depth ? "depth " + std::to_string(depths_done) + "/" +
-                                                  std::to_string(settings.max_depth)
-                                            : "tiles");
-    });
+    FrameResult frame;
+    try {
+        frame = engine.render(loaded.scene.camera, settings, [&](double fraction) {
+            uint32_t depths_done = uint32_t(fraction * settings.max_depth + 1e-6);
+            rendering.update(fraction, by_depth ? "depth " + std::to_string(depths_done) + "/" +
+                                                      std::to_string(settings.max_depth)
+                                                : "tiles");
+        });
+    } catch (const std::bad_alloc&) {
+        throw Error(options.scene.scene + ": out of host memory while rendering on " + info.name);
+    }
     rendering.finish();
     std::printf("%s", frame_summary(frame, options.settings).c_str());
 
-    write_image(options.out, format, int(frame.width), int(frame.height), frame.image, frame.radiance);
+    // The stats wait under a temporary name until the image is written: both appear, or neither.
+    std::optional<StagedOutput> stats_file;
     if (!options.stats.empty()) {
         nlohmann::json stats = frame_json(frame, options.settings, info);
         stats["scene"] = options.scene.scene;
         stats["commit"] = build_commit();
         stats["bvh"] = {{"method", options.scene.bvh}, {"layout", loaded.layout},
                         {"build_ms", loaded.device.bvh_build_ms}, {"sah_cost", loaded.device.sah_cost}};
-        write_file_atomically(options.stats, stats.dump(2) + "\n");
+        stats_file.emplace(options.stats, stats.dump(2) + "\n");
+    }
+    write_image(options.out, format, int(frame.width), int(frame.height), frame.image, frame.radiance);
+    if (stats_file) {
+        try {
+            stats_file->commit();
+        } catch (const Error&) {
+            std::error_code ignored;
+            std::filesystem::remove(options.out, ignored);
+            throw;
+        }
     }
     std::printf("  wrote %s (total %.0f ms)\n", options.out.c_str(),
                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());

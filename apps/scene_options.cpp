@@ -1,10 +1,13 @@
 #include "apps/scene_options.h"
 
 #include <chrono>
+#include <new>
 
 #include "apps/data_dir.h"
 #include "apps/progress.h"
 
+#include "apps/option_checks.h"
+#include "core/error.h"
 #include "core/render_engine.h"
 #include "core/scene_loader.h"
 
@@ -25,6 +28,8 @@ void add_scene_options(CLI::App* command, SceneOptions& options, bool scene_requ
                         "cpu/cpu-ref, stack on GPUs; PRISM_BVH_LAYOUT overrides auto)")
         ->check(CLI::IsMember({"stack", "escape", "wide", "auto"}))
         ->capture_default_str();
+    command->add_flag("--allow-any-path", options.allow_any_path,
+                      "let the scene read files outside its own folder (absolute or ../ URIs and paths)");
 }
 
 CLI::Option* add_data_dir_option(CLI::App* command, std::string& data_dir) {
@@ -44,18 +49,24 @@ DeviceScene build_device_scene_for(const Scene& scene, const SceneOptions& optio
 
 LoadedScene load_and_build(const SceneOptions& options, const std::string& backend) {
     LoadedScene loaded;
+    check_backend_option(backend);   // every scene-reading command: cpu:7 fails before loading
     BvhLayout layout = resolve_bvh_layout(options.layout, backend);   // a bad PRISM_BVH_LAYOUT fails before loading
     auto start = std::chrono::steady_clock::now();
     LoadOptions load_options;
     load_options.data_dir = options.data_dir.empty() ? default_data_dir() : std::filesystem::path(options.data_dir);
     Progress loading("loading " + options.scene);
+    load_options.allow_any_path = options.allow_any_path;
     loaded.scene = load_scene(options.scene, load_options);
     loading.finish();
     loaded.load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     Progress building("building the " + bvh_layout_name(layout) + " BVH of " + options.scene);
-    loaded.device = build_device_scene_for(loaded.scene, options, layout, [&building](double fraction) {
-        building.update(fraction, "triangles in leaves");
-    });
+    try {
+        loaded.device = build_device_scene_for(loaded.scene, options, layout, [&building](double fraction) {
+            building.update(fraction, "triangles in leaves");
+        });
+    } catch (const std::bad_alloc&) {
+        throw Error(options.scene + ": out of host memory while building the BVH and device arrays");
+    }
     building.finish();
     loaded.layout = bvh_layout_name(layout);
     return loaded;

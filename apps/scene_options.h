@@ -19,6 +19,7 @@ struct SceneOptions {
     // Instances may move after the build (the viewer's moving object): the wide layout then keeps its top level
     // over instances, which a move refits; otherwise it flattens them into one BVH (BvhBuildOptions).
     bool moving_instances = false;
+    bool allow_any_path = false;   // --allow-any-path: the scene may read files outside its folder
 };
 
 void add_scene_options(CLI::App* command, SceneOptions& options, bool scene_required = false);

@@ -12,6 +12,14 @@ namespace prism {
 // '...'"); a CR, NUL or escape sequence among them would break the one-line report or rewrite the terminal.
 std::string one_line(std::string_view text);
 
+// A value quoted in a message, cut to `max` characters with the full length said ("data:application/octet-...
+// (1048597 characters)"), so a megabyte URI does not become a megabyte error line.
+std::string shorten(std::string_view text, size_t max = 80);
+
+// A third-party library's error text in Prism's words: its first non-empty line, without nlohmann's
+// "[json.exception.parse_error.101] " tags, shortened; `fallback` when nothing is left.
+std::string library_message(std::string_view text, std::string_view fallback);
+
 class Error : public std::runtime_error {
 public:
     explicit Error(const std::string& message) : std::runtime_error(one_line(message)) {}

@@ -77,8 +77,13 @@ const uint8_t* locate(const tinygltf::Model& model, int buffer_view_index, size_
         throw file_error(file, what + ": buffer " + std::to_string(view.buffer) + " does not exist");
     const tinygltf::Buffer& buffer = model.buffers[view.buffer];
     if (count == 0) return buffer.data.data();
-    size_t span = byte_offset + (count - 1) * stride + element_size;
-    if (span > view.byteLength || view.byteOffset + view.byteLength > buffer.data.size())
+    // Written so that no product or sum can wrap around, whatever counts and offsets the file claims.
+    const size_t length = view.byteLength;
+    const bool view_inside_buffer =
+        view.byteOffset <= buffer.data.size() && length <= buffer.data.size() - view.byteOffset;
+    const bool run_inside_view = byte_offset <= length && element_size <= length - byte_offset &&
+                                 count - 1 <= (length - byte_offset - element_size) / stride;
+    if (!view_inside_buffer || !run_inside_view)
         throw file_error(file, what + " reads past the end of its buffer (" + std::to_string(buffer.data.size()) +
                                    " bytes)");
     return buffer.data.data() + view.byteOffset + byte_offset;
@@ -98,20 +103,34 @@ std::vector<double> read_components(const tinygltf::Model& model, int accessor_i
     if (components == 0) throw file_error(file, what + ": unsupported type (matrix accessor used as an attribute)");
     bool normalized = accessor.normalized && normalized_allowed;
 
-    std::vector<double> values(accessor.count * components, 0.0);   // no bufferView: zeros (spec)
+    // Every count is checked against the bytes behind it before anything is allocated: 2^31 indices claimed over
+    // a 12-byte bufferView must fail here, not after gigabytes of doubles.
+    size_t element_size = static_cast<size_t>(size) * components;
+    const uint8_t* base = nullptr;
+    size_t stride = element_size;
     if (accessor.bufferView >= 0) {
-        size_t element_size = static_cast<size_t>(size) * components;
         if (accessor.bufferView >= static_cast<int>(model.bufferViews.size()))
             throw file_error(file, what + ": bufferView " + std::to_string(accessor.bufferView) + " does not exist");
         const tinygltf::BufferView& view = model.bufferViews[accessor.bufferView];
-        size_t stride = view.byteStride ? view.byteStride : element_size;
+        stride = view.byteStride ? view.byteStride : element_size;
         if (stride < element_size) throw file_error(file, what + ": byteStride smaller than one element");
-        const uint8_t* base = locate(model, accessor.bufferView, accessor.byteOffset, accessor.count, element_size,
-                                     stride, what, file);
+        base = locate(model, accessor.bufferView, accessor.byteOffset, accessor.count, element_size, stride, what,
+                      file);
+    } else {
+        // No bufferView: zeros (spec), perhaps with sparse values. Nothing backs the count, so it may not exceed
+        // what the file's buffers could hold as elements of this type.
+        size_t buffer_bytes = 0;
+        for (const tinygltf::Buffer& buffer : model.buffers) buffer_bytes += buffer.data.size();
+        if (accessor.count > buffer_bytes / element_size)
+            throw file_error(file, what + ": count " + std::to_string(accessor.count) +
+                                       " without a bufferView is more than the file's buffers (" +
+                                       std::to_string(buffer_bytes) + " bytes) hold");
+    }
+    std::vector<double> values(accessor.count * components, 0.0);
+    if (base)
         for (size_t i = 0; i < accessor.count; ++i)
             for (int c = 0; c < components; ++c)
                 values[i * components + c] = decode(base + i * stride + c * size, accessor.componentType, normalized);
-    }
 
     if (accessor.sparse.isSparse) {
         const auto& sparse = accessor.sparse;
@@ -124,7 +143,6 @@ std::vector<double> read_components(const tinygltf::Model& model, int accessor_i
             throw file_error(file, what + ": sparse indices must be unsigned integers");
         const uint8_t* indices = locate(model, sparse.indices.bufferView, sparse.indices.byteOffset, sparse_count,
                                         index_size, index_size, what + " sparse indices", file);
-        size_t element_size = static_cast<size_t>(size) * components;
         const uint8_t* substitutes = locate(model, sparse.values.bufferView, sparse.values.byteOffset, sparse_count,
                                             element_size, element_size, what + " sparse values", file);
         for (size_t i = 0; i < sparse_count; ++i) {

@@ -18,6 +18,8 @@
 
 #include "core/error.h"
 #include "core/image_guard.h"
+#include "core/input_file.h"
+#include "core/scene_read_rules.h"
 #include "core/rgbe.h"
 
 namespace prism {
@@ -26,16 +28,6 @@ namespace {
 std::string lowercase(std::string text) {
     std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
     return text;
-}
-
-std::vector<uint8_t> read_whole_file(const std::filesystem::path& path) {
-    std::error_code error;
-    if (std::filesystem::is_directory(path, error)) throw file_error(path.string(), "is a directory, not an image");
-    std::ifstream file(path, std::ios::binary);
-    if (!file) throw file_error(path.string(), std::string("cannot open (") + std::strerror(errno) + ")");
-    std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-    if (file.bad()) throw file_error(path.string(), "read error");
-    return bytes;
 }
 
 std::string stb_reason() {
@@ -87,6 +79,10 @@ Texture load_texture_from_memory(std::span<const uint8_t> bytes, const std::stri
     if (bytes.size() > static_cast<size_t>(INT32_MAX)) throw file_error(name, "image file too large");
     check_encoded_image(bytes, name);
     const int length = static_cast<int>(bytes.size());
+    int declared_width = 0, declared_height = 0, declared_channels = 0;
+    if (stbi_info_from_memory(bytes.data(), length, &declared_width, &declared_height, &declared_channels))
+        charge_texture_bytes(name, uint64_t(std::max(declared_width, 0)) * uint64_t(std::max(declared_height, 0)) *
+                                       sizeof(uint32_t));
     Texture texture;
     texture.name = name;
     int channels = 0;
@@ -117,8 +113,9 @@ Texture load_texture_from_memory(std::span<const uint8_t> bytes, const std::stri
 }
 
 Texture load_texture(const std::filesystem::path& path, bool color_data) {
-    std::vector<uint8_t> bytes = read_whole_file(path);
-    return load_texture_from_memory(bytes, path.string(), color_data);
+    const std::string bytes = read_input_file(path);
+    return load_texture_from_memory(std::span(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()),
+                                    path.string(), color_data);
 }
 
 std::filesystem::path find_file_case_insensitive(const std::filesystem::path& directory, const std::string& relative) {

@@ -1,8 +1,9 @@
 #include "core/load_gltf.h"
 
 #include <algorithm>
+#include <cstring>
 #include <map>
-#include <set>
+#include <optional>
 #include <sstream>
 #include <tuple>
 
@@ -14,6 +15,9 @@
 #include "core/error.h"
 #include "core/gltf_accessor.h"
 #include "core/gltf_material.h"
+#include "core/input_file.h"
+#include "core/json_depth.h"
+#include "core/scene_read_rules.h"
 
 namespace prism {
 namespace {
@@ -43,11 +47,81 @@ bool keep_encoded_image(tinygltf::Image* image, const int index, std::string* er
     return true;
 }
 
-std::string first_line(const std::string& text) {
-    std::string line = text.substr(0, text.find('\n'));
-    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
-    return line.empty() ? "malformed glTF" : line;
+// Buffers and images a glTF names by URI, read through tinygltf's file callbacks: only regular files in or below
+// the scene's folder (core/scene_read_rules.h), read without blocking. The first refusal is kept and becomes the
+// error, in Prism's words, instead of tinygltf's "File not found".
+struct ExternalFiles {
+    std::string file;   // the glTF, for messages
+    std::string base;   // its folder, absolute; tinygltf joins every URI onto it
+    std::optional<Error> refusal;
+
+    // The URI as the file wrote it (percent-decoded by tinygltf), or nullopt for tinygltf's second guess, the
+    // URI relative to the working directory, which Prism never reads.
+    std::optional<std::string> uri_of(const std::string& joined) const {
+        if (joined.size() <= base.size() || joined.compare(0, base.size(), base) != 0 || joined[base.size()] != '/')
+            return std::nullopt;
+        return joined.substr(base.size() + 1);
+    }
+
+    bool allowed(const std::string& joined) {
+        if (refusal) return false;
+        const std::optional<std::string> uri = uri_of(joined);
+        if (!uri) return false;
+        try {
+            // An absolute URI means itself, not the folder + it that tinygltf joins.
+            const bool absolute = !uri->empty() && uri->front() == '/';
+            check_scene_reference(file, *uri, absolute ? std::filesystem::path(*uri) : std::filesystem::path(joined));
+            std::error_code error;
+            if (!std::filesystem::exists(joined, error)) return false;   // tinygltf: "File not found : <uri>"
+            require_regular_file(joined);
+        } catch (const Error& error) {
+            refusal = error;
+            return false;
+        }
+        return true;
+    }
+};
+
+bool external_file_exists(const std::string& path, void* context) {
+    return static_cast<ExternalFiles*>(context)->allowed(path);
 }
+
+std::string external_file_path(const std::string& path, void*) { return path; }   // no ~ or $VAR expansion
+
+bool read_external_file(std::vector<unsigned char>* out, std::string* error, const std::string& path, void* context) {
+    auto& files = *static_cast<ExternalFiles*>(context);
+    if (!files.allowed(path)) {
+        if (error) *error = "refused";
+        return false;
+    }
+    try {
+        const std::string bytes = read_input_file(path);
+        out->assign(bytes.begin(), bytes.end());
+    } catch (const Error& refused) {
+        files.refusal = refused;
+        if (error) *error = "refused";
+        return false;
+    }
+    return true;
+}
+
+bool write_nothing(std::string* error, const std::string&, const std::vector<unsigned char>&, void*) {
+    if (error) *error = "Prism never writes glTF files";
+    return false;
+}
+
+// The JSON text of a .gltf, or of a .glb's first chunk (the GLB container: a 12-byte header, then chunks of
+// length, type, bytes).
+std::string_view json_text(std::string_view bytes, bool binary) {
+    if (!binary) return bytes;
+    if (bytes.size() < 20) return {};
+    uint32_t length = 0;
+    std::memcpy(&length, bytes.data() + 12, 4);
+    return bytes.substr(20, std::min<size_t>(length, bytes.size() - 20));
+}
+
+// Deeper JSON than this is refused before tinygltf, which recurses once per level; real files nest about 8 deep.
+constexpr size_t kMaxJsonDepth = 64;
 
 glm::mat4 local_transform(const tinygltf::Node& node) {
     if (node.matrix.size() == 16) {
@@ -88,15 +162,47 @@ public:
             for (size_t i = 0; i < model_.nodes.size(); ++i)
                 if (!is_child[i]) roots.push_back(static_cast<int>(i));
         }
-        for (int root : roots) visit(root, glm::mat4(1.0f));
+        node_state_.assign(model_.nodes.size(), NodeState::Unseen);
+        for (int root : roots) visit_tree(root);
     }
 
 private:
-    void visit(int node_index, const glm::mat4& parent) {
+    enum class NodeState : uint8_t { Unseen, OnPath, Done };
+    struct PendingNode {
+        int node;
+        glm::mat4 world;
+        size_t next_child;
+    };
+
+    // Depth-first over the node tree with an explicit stack: a file's chain of 20,000 nodes must not become
+    // 20,000 native stack frames. Nodes are handled in the same order as a recursive walk would.
+    void visit_tree(int root) {
+        std::vector<PendingNode> stack;
+        enter(root, glm::mat4(1.0f), stack);
+        while (!stack.empty()) {
+            PendingNode& top = stack.back();
+            const std::vector<int>& children = model_.nodes[top.node].children;
+            if (top.next_child < children.size()) {
+                const int child = children[top.next_child++];
+                const glm::mat4 parent = top.world;   // `top` dangles once enter() grows the stack
+                enter(child, parent, stack);
+                continue;
+            }
+            node_state_[top.node] = NodeState::Done;
+            stack.pop_back();
+        }
+    }
+
+    void enter(int node_index, const glm::mat4& parent, std::vector<PendingNode>& stack) {
         if (node_index < 0 || node_index >= static_cast<int>(model_.nodes.size()))
             throw file_error(file_, "node " + std::to_string(node_index) + " does not exist");
-        if (!path_.insert(node_index).second)
+        // glTF nodes form disjoint trees; a node reached twice would be instanced once per path, and a few
+        // nodes sharing children multiply into billions of paths.
+        if (node_state_[node_index] == NodeState::OnPath)
             throw file_error(file_, "node " + std::to_string(node_index) + " is its own ancestor");
+        if (node_state_[node_index] == NodeState::Done)
+            throw file_error(file_, "node " + std::to_string(node_index) + " has more than one parent");
+        node_state_[node_index] = NodeState::OnPath;
         const tinygltf::Node& node = model_.nodes[node_index];
         glm::mat4 world = parent * local_transform(node);
 
@@ -105,8 +211,7 @@ private:
         auto light = node.extensions.find("KHR_lights_punctual");
         if (light != node.extensions.end() && light->second.Has("light"))
             add_light(light->second.Get("light").GetNumberAsInt(), world);
-        for (int child : node.children) visit(child, world);
-        path_.erase(node_index);
+        stack.push_back({node_index, world, 0});
     }
 
     void add_mesh_instances(const tinygltf::Node& node, int mesh_index, const glm::mat4& world) {
@@ -287,7 +392,7 @@ private:
     Scene& scene_;
     gltf::MaterialConverter materials_;
     std::map<std::tuple<int, int, bool>, uint32_t> meshes_;   // (mesh, primitive, mirrored) -> scene mesh
-    std::set<int> path_;                                      // nodes on the current root-to-node path
+    std::vector<NodeState> node_state_;                       // per node: unseen, on the current path, done
     bool warned_non_triangles_ = false;
     bool warned_spot_ = false;
 };
@@ -302,21 +407,34 @@ bool has_extension(const std::filesystem::path& path, const char* extension) {
 
 void load_gltf(const std::filesystem::path& path, Scene& scene) {
     std::string file = path.string();
+    const bool binary = has_extension(path, ".glb");
+    const std::string bytes = read_input_file(path);
+    if (bytes.empty()) throw file_error(file, "empty file");
+    if (bytes.size() > UINT32_MAX) throw file_error(file, "larger than 4 GiB, more than glTF allows");
+    if (json_nesting_depth(json_text(bytes, binary)) > kMaxJsonDepth)
+        throw file_error(file, "JSON nests deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+
     tinygltf::TinyGLTF loader;
     tinygltf::Model model;
     loader.SetImageLoader(keep_encoded_image, &model);
+    std::error_code ignored;
+    ExternalFiles files{file, std::filesystem::absolute(path, ignored).parent_path().string(), std::nullopt};
+    loader.SetFsCallbacks({external_file_exists, external_file_path, read_external_file, write_nothing, &files});
     std::string error, warning;
     bool ok = false;
     try {
-        ok = has_extension(path, ".glb") ? loader.LoadBinaryFromFile(&model, &error, &warning, file)
-                                         : loader.LoadASCIIFromFile(&model, &error, &warning, file);
+        const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+        ok = binary ? loader.LoadBinaryFromMemory(&model, &error, &warning, data, unsigned(bytes.size()), files.base)
+                    : loader.LoadASCIIFromString(&model, &error, &warning, bytes.data(), unsigned(bytes.size()),
+                                                 files.base);
     } catch (const std::exception& exception) {   // tinygltf reports by return value, but its JSON layer may throw
-        throw file_error(file, exception.what());
+        throw file_error(file, library_message(exception.what(), "malformed glTF"));
     }
-    if (!ok || !error.empty()) throw file_error(file, first_line(error));
+    if (files.refusal) throw *files.refusal;
+    if (!ok || !error.empty()) throw file_error(file, library_message(error, "malformed glTF"));
     std::istringstream lines(warning);
     for (std::string line; std::getline(lines, line);)
-        if (!line.empty()) scene.warnings.push_back(file + ": " + line);
+        if (!line.empty()) scene.warnings.push_back(file + ": " + library_message(line, line));
 
     for (const std::string& required : model.extensionsRequired)
         if (required != "KHR_texture_transform" && required != "KHR_materials_emissive_strength" &&

@@ -18,15 +18,12 @@
 
 #include "core/error.h"
 #include "core/image_io.h"
+#include "core/input_file.h"
+#include "core/obj_values.h"
+#include "core/scene_read_rules.h"
 
 namespace prism {
 namespace {
-
-std::string first_line(const std::string& text) {
-    std::string line = text.substr(0, text.find('\n'));
-    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
-    return line;
-}
 
 std::string trim(std::string_view text) {
     const size_t begin = text.find_first_not_of(" \t\r");
@@ -54,22 +51,33 @@ void add_warnings(const std::string& file, const std::string& text, std::vector<
     }
 }
 
+// find_file_case_insensitive finds regular files only; a FIFO or device under the exact name is refused as
+// what it is (after the folder rule), not reported missing.
+void refuse_if_not_regular(const std::string& referring_file, const std::string& name,
+                           const std::filesystem::path& path) {
+    std::error_code error;
+    if (!std::filesystem::exists(path, error)) return;
+    check_scene_reference(referring_file, name, path);
+    require_regular_file(path);
+}
+
 // tinyobjloader's own file reader wants exact names and one search folder; real MTL references are neither.
 class CaseInsensitiveMaterialReader : public tinyobj::MaterialReader {
 public:
-    CaseInsensitiveMaterialReader(std::filesystem::path obj_directory, MaterialOrigins& origins)
-        : obj_directory_(std::move(obj_directory)), origins_(origins) {}
+    CaseInsensitiveMaterialReader(const std::filesystem::path& obj_file, MaterialOrigins& origins)
+        : obj_file_(obj_file.string()), obj_directory_(obj_file.parent_path()), origins_(origins) {}
 
     bool operator()(const std::string& mtl_name, std::vector<tinyobj::material_t>* materials,
                     std::map<std::string, int>* name_to_index, std::string* warnings, std::string*) override {
         const std::filesystem::path path = find_file_case_insensitive(obj_directory_, trim(mtl_name));
-        std::ifstream file(path, std::ios::binary);
-        if (path.empty() || !file) {
-            *warnings += "material library '" + mtl_name + "' not found\n";
+        if (path.empty()) refuse_if_not_regular(obj_file_, trim(mtl_name), obj_directory_ / trim(mtl_name));
+        if (path.empty()) {
+            *warnings += "material library '" + shorten(mtl_name) + "' not found\n";
             return false;
         }
-        std::stringstream text;
-        text << file.rdbuf();
+        // Exceptions pass through tinyobjloader to load_obj's caller: a refused file is an error, not a warning.
+        check_scene_reference(obj_file_, trim(mtl_name), path);
+        std::stringstream text(read_input_file(path));
         note_ior_statements(text.str());
         std::string mtl_warnings;
         tinyobj::LoadMtl(name_to_index, materials, &text, &mtl_warnings, nullptr);
@@ -91,6 +99,7 @@ private:
         }
     }
 
+    std::string obj_file_;
     std::filesystem::path obj_directory_;
     MaterialOrigins& origins_;
 };
@@ -149,21 +158,20 @@ struct CornerHash {
 
 void load_obj(const std::filesystem::path& path, Scene& scene) {
     const std::string file = path.string();
-    std::error_code error;
-    if (std::filesystem::is_directory(path, error)) throw file_error(file, "is a directory, not an OBJ file");
-    std::ifstream stream(path, std::ios::binary);
-    if (!stream) throw file_error(file, std::string("cannot open (") + std::strerror(errno) + ")");
+    const std::string text = read_input_file(path);
+    check_obj_values(file, text);
+    std::istringstream stream(text);
 
     tinyobj::attrib_t attributes;
     std::vector<tinyobj::shape_t> shapes;
     std::vector<tinyobj::material_t> obj_materials;
     std::string warnings, errors;
     MaterialOrigins origins;
-    CaseInsensitiveMaterialReader material_reader(path.parent_path(), origins);
+    CaseInsensitiveMaterialReader material_reader(path, origins);
     // Polygons are fanned below, not by tinyobjloader: it drops faces with bad indices with only a warning.
     const bool ok = tinyobj::LoadObj(&attributes, &shapes, &obj_materials, &warnings, &errors, &stream,
                                      &material_reader, /*triangulate=*/false, /*default_vcols_fallback=*/false);
-    if (!ok) throw file_error(file, errors.empty() ? "cannot parse OBJ file" : first_line(errors));
+    if (!ok) throw file_error(file, library_message(errors, "cannot parse OBJ file"));
     scene.warnings.insert(scene.warnings.end(), origins.warnings.begin(), origins.warnings.end());
     add_warnings(file, warnings + errors, scene.warnings);
 
@@ -178,8 +186,12 @@ void load_obj(const std::filesystem::path& path, Scene& scene) {
             const std::filesystem::path texture_path =
                 find_file_case_insensitive(mtl_file.parent_path(), trim(source.diffuse_texname));
             if (texture_path.empty())
+                refuse_if_not_regular(mtl_file.string(), trim(source.diffuse_texname),
+                                      mtl_file.parent_path() / trim(source.diffuse_texname));
+            if (texture_path.empty())
                 throw file_error(mtl_file.string(), "material '" + source.name + "': texture '" +
-                                                        source.diffuse_texname + "' not found");
+                                                        shorten(source.diffuse_texname) + "' not found");
+            check_scene_reference(mtl_file.string(), trim(source.diffuse_texname), texture_path);
             auto [entry, inserted] = texture_by_file.try_emplace(texture_path,
                                                                  static_cast<uint32_t>(scene.textures.size()));
             if (inserted) scene.textures.push_back(load_texture(texture_path, /*color_data=*/true));

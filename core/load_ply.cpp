@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -20,64 +21,80 @@
 #include <zlib.h>
 
 #include "core/error.h"
+#include "core/input_file.h"
 
 namespace prism {
 namespace {
 
 // ---- reading the file ------------------------------------------------------------------------------------------
 
-std::string read_plain_file(const std::filesystem::path& path) {
-    std::FILE* file = std::fopen(path.c_str(), "rb");
-    if (!file) throw file_error(path.string(), std::string("cannot open (") + std::strerror(errno) + ")");
-    std::string bytes;
-    std::array<char, 1 << 16> chunk;
-    size_t n;
-    std::error_code ignored;
-    const auto size = std::filesystem::file_size(path, ignored);
-    if (!ignored) bytes.reserve(size);
-    while ((n = std::fread(chunk.data(), 1, chunk.size(), file)) > 0) bytes.append(chunk.data(), n);
-    const bool failed = std::ferror(file);
-    std::fclose(file);
-    if (failed) throw file_error(path.string(), "read error");
-    return bytes;
-}
+// The inflated bytes of a gzip file, at most `limit(inflated so far)` of them: the callback sees the inflated
+// prefix and answers how much the whole may take (once the header is in, what its element counts need).
+// The inflater's state, released however reading ends: the limit callback throws when the header is malformed
+// (fuzz_ply found the leak when it did not).
+class Inflater {
+public:
+    explicit Inflater(const std::filesystem::path& path) {
+        if (inflateInit2(&stream_, 15 + 32) != Z_OK) throw file_error(path.string(), "cannot start zlib");
+    }
+    ~Inflater() { inflateEnd(&stream_); }
+    Inflater(const Inflater&) = delete;
+    Inflater& operator=(const Inflater&) = delete;
+    z_stream& stream() { return stream_; }
 
-std::string read_gzip_file(const std::filesystem::path& path) {
-    gzFile file = gzopen(path.c_str(), "rb");
-    if (!file) throw file_error(path.string(), std::string("cannot open (") + std::strerror(errno) + ")");
-    gzbuffer(file, 1 << 18);
+private:
+    z_stream stream_{};
+};
+
+template <typename Limit>
+std::string read_gzip_file(const std::filesystem::path& path, const std::string& compressed, Limit limit) {
+    Inflater inflater(path);
+    z_stream& stream = inflater.stream();
     std::string bytes;
-    size_t used = 0;
+    stream.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(compressed.data()));
+    size_t input_left = compressed.size();
+    int status = Z_OK;
     for (;;) {
-        if (bytes.size() - used < (1u << 20)) bytes.resize(std::max<size_t>(bytes.size() * 2, 1u << 22));
-        const unsigned want = static_cast<unsigned>(std::min<size_t>(bytes.size() - used, INT_MAX));
-        const int got = gzread(file, bytes.data() + used, want);
-        if (got < 0) {
-            int code = 0;
-            std::string reason = gzerror(file, &code);
-            gzclose(file);
+        const size_t allowed = limit(std::string_view(bytes));
+        if (bytes.size() > allowed) {
+            throw file_error(path.string(), "gzip stream inflates past the " + std::to_string(allowed) +
+                                                " bytes its PLY header's element counts can need");
+        }
+        const size_t used = bytes.size();
+        const size_t step = std::min<size_t>(std::max<size_t>(used, 1u << 16), 1u << 26);
+        bytes.resize(used + step);
+        stream.next_out = reinterpret_cast<Bytef*>(bytes.data() + used);
+        stream.avail_out = static_cast<uInt>(step);
+        if (stream.avail_in == 0) {
+            const size_t feed = std::min<size_t>(input_left, 1u << 30);
+            stream.avail_in = static_cast<uInt>(feed);
+            input_left -= feed;
+        }
+        status = inflate(&stream, Z_NO_FLUSH);
+        bytes.resize(used + (step - stream.avail_out));
+        if (status == Z_STREAM_END) {
+            // Concatenated gzip members (gzip a b > c.gz) are one file to gzip's tools.
+            if (stream.avail_in == 0 && input_left == 0) break;
+            if (inflateReset(&stream) != Z_OK) break;
+            continue;
+        }
+        if (status == Z_BUF_ERROR && stream.avail_in == 0 && input_left == 0) {
+            throw file_error(path.string(), "corrupt gzip stream (unexpected end of file)");
+        }
+        if (status != Z_OK && status != Z_BUF_ERROR) {
+            const std::string reason = stream.msg ? stream.msg : "error " + std::to_string(status);
             throw file_error(path.string(), "corrupt gzip stream (" + reason + ")");
         }
-        if (got == 0) break;
-        used += static_cast<size_t>(got);
     }
-    // A stream cut short is not a hard gzread error: zlib returns what it inflated and records Z_BUF_ERROR.
-    int code = Z_OK;
-    const std::string reason = gzerror(file, &code);
-    gzclose(file);
-    if (code != Z_OK) throw file_error(path.string(), "corrupt gzip stream (" + reason + ")");
-    bytes.resize(used);
+    if (bytes.size() > limit(std::string_view(bytes)))
+        throw file_error(path.string(), "gzip stream inflates past what its PLY header's element counts can need");
     return bytes;
 }
 
-bool looks_gzipped(const std::filesystem::path& path) {
-    if (path.extension() == ".gz") return true;
-    unsigned char magic[2] = {0, 0};
-    std::FILE* file = std::fopen(path.c_str(), "rb");
-    if (!file) return false;   // read_plain_file reports why
-    const size_t n = std::fread(magic, 1, 2, file);
-    std::fclose(file);
-    return n == 2 && magic[0] == 0x1f && magic[1] == 0x8b;
+// By the magic bytes alone: a ".gz" that is not gzip is read as it is, as zlib's gzread would.
+bool looks_gzipped(std::string_view bytes) {
+    return bytes.size() >= 2 && static_cast<unsigned char>(bytes[0]) == 0x1f &&
+           static_cast<unsigned char>(bytes[1]) == 0x8b;
 }
 
 // ---- the header ------------------------------------------------------------------------------------------------
@@ -496,6 +513,38 @@ size_t line_of(std::string_view bytes, const char* position) {
     return 1 + static_cast<size_t>(std::count(bytes.data(), bytes.data() + offset, '\n'));
 }
 
+// What a body with the header's element counts can take at most: every ASCII value in 32 characters (a double
+// printed in full takes 24), every list at most 255 entries long (the most a uchar count, the usual type, says).
+// A gzip file inflating past this plus a margin is a bomb, not a mesh; it is stopped while it inflates.
+constexpr size_t kMaxHeaderBytes = size_t(1) << 20;
+constexpr size_t kInflationMargin = size_t(1) << 20;
+
+size_t saturating_add(size_t a, size_t b) { return a > SIZE_MAX - b ? SIZE_MAX : a + b; }
+size_t saturating_multiply(size_t a, size_t b) {
+    size_t product;
+    return __builtin_mul_overflow(a, b, &product) ? SIZE_MAX : product;
+}
+
+size_t largest_body(const Header& header) {
+    const bool ascii = header.format == Format::Ascii;
+    constexpr size_t kAsciiValueBytes = 32, kLongestList = 255;
+    size_t total = header.body_offset;
+    for (const Element& element : header.elements) {
+        size_t record = ascii ? 2 : 0;   // the line end
+        for (const Property& property : element.properties) {
+            const size_t value = ascii ? kAsciiValueBytes : scalar_size(property.type);
+            if (!property.is_list) {
+                record += value;
+                continue;
+            }
+            const size_t count_bytes = ascii ? kAsciiValueBytes : scalar_size(property.count_type);
+            record += count_bytes + kLongestList * value;
+        }
+        total = saturating_add(total, saturating_multiply(static_cast<size_t>(element.count), record));
+    }
+    return total;
+}
+
 template <typename Source>
 Mesh read_body(const std::string& file, std::string_view bytes, const Header& header, Source source) {
     const Element* vertices = nullptr;
@@ -546,7 +595,25 @@ Mesh read_body(const std::string& file, std::string_view bytes, const Header& he
 
 Mesh load_ply(const std::filesystem::path& path) {
     const std::string file = path.string();
-    const std::string bytes = looks_gzipped(path) ? read_gzip_file(path) : read_plain_file(path);
+    std::string bytes = read_input_file(path);
+    if (looks_gzipped(bytes)) {
+        std::optional<size_t> limit;   // known once the header has inflated
+        bytes = read_gzip_file(path, bytes, [&](std::string_view inflated) {
+            if (limit) return *limit;
+            const size_t keyword = inflated.find("end_header");
+            if (keyword != std::string_view::npos && inflated.find('\n', keyword) != std::string_view::npos) {
+                try {
+                    limit = saturating_add(largest_body(parse_header(file, inflated)), kInflationMargin);
+                    return *limit;
+                } catch (const Error&) {
+                    // "end_header" in a comment, or a bad header: judged once the whole header has inflated.
+                    if (inflated.size() > kMaxHeaderBytes) throw;
+                }
+            }
+            if (inflated.size() > kMaxHeaderBytes) parse_header(file, inflated);   // throws: says what is wrong
+            return std::numeric_limits<size_t>::max();
+        });
+    }
     const std::string_view view(bytes);
     const Header header = parse_header(file, view);
     const char* body = bytes.data() + header.body_offset;

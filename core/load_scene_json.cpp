@@ -14,7 +14,9 @@
 #include "core/environment_maps.h"
 #include "core/error.h"
 #include "core/image_io.h"
+#include "core/input_file.h"
 #include "core/load_model.h"
+#include "core/scene_read_rules.h"
 #include "core/seed_material.h"
 
 namespace prism {
@@ -45,17 +47,11 @@ public:
 
 private:
     json parse() {
-        std::ifstream stream(path_, std::ios::binary);
-        if (!stream) throw file_error(file_, "cannot open");
-        std::stringstream text;
-        text << stream.rdbuf();
+        const std::string text = read_input_file(path_);
         try {
-            return json::parse(text.str());
+            return json::parse(text);
         } catch (const json::exception& error) {   // parse_error, and out_of_range for numbers like 1e999
-            std::string message = error.what();
-            size_t tag_end = message.find("] ");   // drop nlohmann's "[json.exception.parse_error.101] "
-            if (tag_end != std::string::npos) message = message.substr(tag_end + 2);
-            throw file_error(file_, "invalid JSON: " + message);
+            throw file_error(file_, "invalid JSON: " + library_message(error.what(), "malformed"));
         }
     }
 
@@ -124,13 +120,22 @@ private:
         std::string name = string(value, key_path);
         std::filesystem::path path = folder_ / name;
         std::error_code error;
+        // Anything under the exact name counts as found (a FIFO is then refused as such, below).
         bool exists = must_be_directory ? std::filesystem::is_directory(path, error)
-                                        : std::filesystem::is_regular_file(path, error);
+                                        : std::filesystem::exists(path, error);
         if (!exists) {
             std::filesystem::path found = find_file_case_insensitive(folder_, name);
             if (found.empty()) fail(key_path, "no such " + std::string(must_be_directory ? "folder" : "file") + " '" +
-                                                  path.string() + "'");
+                                                  shorten(path.string()) + "'");
             path = found;
+        }
+        check_scene_reference(file_, name, path, key_path);
+        if (!must_be_directory) {
+            try {
+                require_regular_file(path);
+            } catch (const Error&) {
+                fail(key_path, "'" + shorten(name) + "' is not a regular file (a FIFO, device or directory)");
+            }
         }
         return path;
     }

@@ -9,4 +9,20 @@ namespace prism {
 
 void write_file_atomically(const std::filesystem::path& path, std::string_view bytes);
 
+// A file written now under its temporary name and moved into place by commit(), or removed when dropped
+// uncommitted: a run writing several outputs stages all but the last, writes the last, then commits, so its
+// outputs appear together or not at all.
+class StagedOutput {
+public:
+    StagedOutput(std::filesystem::path path, std::string_view bytes);
+    ~StagedOutput();
+    StagedOutput(const StagedOutput&) = delete;
+    StagedOutput& operator=(const StagedOutput&) = delete;
+    void commit();
+
+private:
+    std::filesystem::path path_, temporary_;
+    bool committed_ = false;
+};
+
 }  // namespace prism

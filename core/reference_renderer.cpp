@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "core/error.h"
+#include "core/host_memory.h"
 #include "core/thread_pool.h"
 #include "kernels/stages.h"
 
@@ -69,6 +70,8 @@ ReferenceRenderer::ReferenceRenderer(const DeviceScene& scene, unsigned threads)
 FrameResult ReferenceRenderer::render(const Camera& camera, const RenderSettings& settings,
                                       const std::function<void(double)>& progress) {
     check_render_settings(settings);
+    check_host_memory(frame_host_bytes(settings, FrameArrays::HostReference),
+                      "a " + std::to_string(settings.width) + "x" + std::to_string(settings.height) + " frame on cpu-ref");
     auto start = std::chrono::steady_clock::now();
     const uint32_t pixels = settings.width * settings.height;
     FrameParams frame = make_frame_params(scene_, camera, settings, 0, 0, 0);

@@ -1,10 +1,14 @@
 #include "core/scene_loader.h"
 
+#include <new>
+
 #include "core/builtin_scenes.h"
 #include "core/environment_maps.h"
 #include "core/error.h"
+#include "core/input_file.h"
 #include "core/load_model.h"
 #include "core/load_scene_json.h"
+#include "core/scene_read_rules.h"
 #include "core/seed_material.h"
 
 namespace prism {
@@ -53,16 +57,19 @@ Scene load_scene(const std::string& spec, const LoadOptions& options) {
     } else {
         std::filesystem::path path = spec;
         ModelFormat format = model_format(path);
-        std::error_code error;
-        if (!std::filesystem::exists(path, error)) throw file_error(spec, "no such file");
-        if (std::filesystem::is_directory(path, error)) throw file_error(spec, "is a directory, not a scene file");
+        require_regular_file(path);   // a FIFO or device named .obj must not block or stream for ever
         if (format == ModelFormat::Unknown) throw file_error(spec, "unsupported scene format");
-        if (format == ModelFormat::SceneJson) {
-            scene = load_scene_json(path);
-        } else {
-            load_model(path, scene);
-            add_environment_defaults(scene, options);
-            bare_model = true;
+        SceneReadScope rules(path, options.allow_any_path);
+        try {
+            if (format == ModelFormat::SceneJson) {
+                scene = load_scene_json(path);
+            } else {
+                load_model(path, scene);
+                add_environment_defaults(scene, options);
+                bare_model = true;
+            }
+        } catch (const std::bad_alloc&) {
+            throw file_error(spec, "out of host memory while loading the scene");
         }
     }
     scene.source = spec;

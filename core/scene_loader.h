@@ -12,6 +12,8 @@ namespace prism {
 
 struct LoadOptions {
     std::filesystem::path data_dir = "../shared/scenes";   // where builtin:bunny/dragon find the Stanford models
+    // Let the scene read files outside its own folder (absolute URIs, "../.."); core/scene_read_rules.h.
+    bool allow_any_path = false;
 };
 
 Scene load_scene(const std::string& spec, const LoadOptions& options = {});

@@ -19,6 +19,7 @@
 #include "core/image_io.h"
 #include "core/load_ply.h"
 #include "fuzz/fuzz_support.h"
+#include "tests/hostile_files.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -348,6 +349,72 @@ void image_seeds(const fs::path& scenes, SeedWriter& seeds, const fs::path& scra
 
 }  // namespace
 
+// ---- Hostile cases: deep, huge counts, compressed bombs, files outside the scene (issue 17) ---------------------
+
+std::string deep_chain_gltf(int nodes) {
+    std::string text = R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[)";
+    for (int i = 0; i < nodes; ++i) {
+        if (i) text += ',';
+        text += i + 1 < nodes ? R"({"children":[)" + std::to_string(i + 1) + "]}" : R"({"mesh":0})";
+    }
+    text += R"(],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"buffers":[{"uri":"fuzz.bin","byteLength":36}],)"
+            R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
+            R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}]})";
+    return text;
+}
+
+std::string glb_of(const std::string& json_text) {
+    std::string chunk = json_text;
+    while (chunk.size() % 4) chunk += ' ';
+    std::string out = "glTF" + prism::test::little_endian32(2) + prism::test::little_endian32(uint32_t(20 + chunk.size()));
+    out += prism::test::little_endian32(uint32_t(chunk.size())) + "JSON" + chunk;
+    return out;
+}
+
+void hostile_seeds(SeedWriter& seeds, const fs::path& scratch) {
+    const std::string tri_ply = read_file(scratch / "tri.ply");
+    const std::string tri_header = tri_ply.substr(0, tri_ply.find("end_header\n") + 11);
+    std::string huge_counts = tri_ply;
+    huge_counts.replace(huge_counts.find("vertex 3"), 8, "vertex 4294967295");
+    seeds.add("ply", "huge-vertex-count.ply", huge_counts);
+    seeds.add("ply", "gzip-bomb.ply.gz", prism::test::gzip_bomb(tri_ply, ' ', size_t(1) << 20, 32));
+    seeds.add("ply_header", "triangle.txt", tri_header);
+    seeds.add("ply_header", "huge-counts.txt", huge_counts.substr(0, huge_counts.find("end_header\n") + 11));
+    std::string many_lists = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+                             "property float y\nproperty float z\nelement face 18446744073709551615\n";
+    for (int i = 0; i < 8; ++i) many_lists += "property list uint uint extra" + std::to_string(i) + "\n";
+    seeds.add("ply_header", "many-lists.txt", many_lists + "property list uchar int vertex_indices\nend_header\n");
+
+    const std::string bin = read_file(scratch / "tri.bin").substr(0, 36);
+    seeds.add("gltf", "deep-node-chain.txt", deep_chain_gltf(1500) + "\n#prism-fuzz-bin\n" + bin);
+    const std::string nesting = std::string(4000, '[') + std::string(4000, ']');
+    seeds.add("gltf", "deep-extras.txt", R"({"asset":{"version":"2.0"},"extras":)" + nesting + "}");
+    seeds.add("glb", "deep-extras.glb", glb_of(R"({"asset":{"version":"2.0"},"extras":)" + nesting + "}"));
+    json huge_accessor = json::parse(read_file(scratch / "tri.gltf"));
+    huge_accessor["accessors"][2]["count"] = 2147483648u;
+    huge_accessor["buffers"][0]["uri"] = "fuzz.bin";
+    seeds.add("gltf", "index-count-2-to-31.txt", huge_accessor.dump() + "\n#prism-fuzz-bin\n" + read_file(scratch / "tri.bin"));
+    json shared = json::parse(deep_chain_gltf(3));
+    shared["nodes"][1]["children"] = {2};
+    shared["nodes"][0]["children"] = {1, 2};
+    seeds.add("gltf", "shared-child.txt", shared.dump() + "\n#prism-fuzz-bin\n" + bin);
+
+    seeds.add("obj", "nan-vertex.txt", "v nan 1 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    seeds.add("obj", "huge-index.txt", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999\nf 1 2 3.5e9\n");
+    seeds.add("obj", "negative-index.txt", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -5 -1 -2\n");
+    seeds.add("obj", "escaping-mtl.txt", "mtllib ../tri.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n#prism-fuzz-mtl\n"
+                                         "newmtl m\nmap_Kd /etc/passwd\n");
+
+    seeds.add("scene_json", "deep.json", R"({"lights":)" + nesting + "}");
+    seeds.add("scene_json", "escaping.json", R"({"objects":[{"file":"../tri.obj"},{"file":"/etc/passwd.obj"}]})");
+    seeds.add("image", "blank-2048x4096.png", prism::test::blank_png(2048, 4096));
+
+    seeds.add("scene_refs", "fixtures.txt", "tri.obj\ntex.png\ntri.bin\ntex.png\ntri.mtl\ntex.png\n");
+    seeds.add("scene_refs", "climbing.txt", "../tri.obj\n../tex.png\n../tri.bin\n../../../../etc/passwd\n../tri.mtl\n../tex.png\n");
+    seeds.add("scene_refs", "absolute.txt", "/etc/passwd\n/dev/zero\n/proc/self/status\n/etc/hostname\n/dev/null\n/\n");
+    seeds.add("scene_refs", "encoded.txt", "./tri.ply\nscene/../tex.png\n%2e%2e/tri.bin\n%2e%2e%2ftex.png\nTRI.MTL\n.\n");
+}
+
 int main(int argc, char** argv) {
     if (argc != 4) {
         std::fprintf(stderr, "usage: fuzz_seeds SCENES_DIR REPO_DIR OUT_DIR\n");
@@ -365,6 +432,7 @@ int main(int argc, char** argv) {
     gltf_seeds(scenes, seeds, scratch);
     scene_json_seeds(repo, seeds);
     image_seeds(scenes, seeds, scratch);
+    hostile_seeds(seeds, scratch);
     std::printf("fuzz seeds in %s:\n", out.c_str());
     seeds.report();
     return 0;

@@ -105,13 +105,15 @@ TwoFiles split_two_files(std::string_view input, std::string_view separator) {
     return {input.substr(0, at), input.substr(at + line.size()), true};
 }
 
+void load_and_build_or_throw(const std::filesystem::path& scene_file) {
+    LoadOptions options;
+    options.data_dir = scratch_dir() / "no-data";   // bare models get the constant sky, not a cube map from disk
+    const Scene scene = load_scene(scene_file.string(), options);
+    (void)build_device_scene(scene);
+}
+
 void load_and_build(const std::filesystem::path& scene_file) {
-    expect_clean_outcome([&] {
-        LoadOptions options;
-        options.data_dir = scratch_dir() / "no-data";   // bare models get the constant sky, not a cube map from disk
-        const Scene scene = load_scene(scene_file.string(), options);
-        (void)build_device_scene(scene);
-    });
+    expect_clean_outcome([&] { load_and_build_or_throw(scene_file); });
 }
 
 void check_error_message(const char* message) {

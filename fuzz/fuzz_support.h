@@ -35,6 +35,8 @@ TwoFiles split_two_files(std::string_view input, std::string_view separator);
 // The whole `prism render` path up to the upload: load_scene (loader, validation, framing) and
 // build_device_scene (BVHs, texel arrays). Bad input must end in prism::Error; checked as above.
 void load_and_build(const std::filesystem::path& scene_file);
+// The same, letting prism::Error through to the caller's expect_clean_outcome.
+void load_and_build_or_throw(const std::filesystem::path& scene_file);
 
 // Runs `load`, accepting only success or a well-formed prism::Error; aborts (a libFuzzer finding) otherwise.
 template <typename Load>

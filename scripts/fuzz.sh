@@ -3,7 +3,7 @@
 # from seeds derived from the shared scenes. Fails on any crash, hang, leak, sanitizer report or broken error
 # message; prints executions per target and writes a JSON summary. docs/reliability.md explains the targets.
 #
-#   scripts/fuzz.sh [TARGET...]        targets: ply obj gltf glb scene_json image (default: all)
+#   scripts/fuzz.sh [TARGET...]        targets: ply ply_header obj gltf glb scene_json scene_refs image (default: all)
 #
 # Environment:
 #   PRISM_FUZZ_SECONDS   seconds per target (default 60)
@@ -18,11 +18,12 @@ seconds=${PRISM_FUZZ_SECONDS:-60}
 jobs=${PRISM_FUZZ_JOBS:-$(nproc)}
 scenes=${PRISM_SCENES:-$repo/../shared/scenes}
 out=${PRISM_FUZZ_OUT:-$repo/build/fuzz/results}
-all_targets=(ply obj gltf glb scene_json image)
+all_targets=(ply ply_header obj gltf glb scene_json scene_refs image)
 targets=("${@:-${all_targets[@]}}")
 started=$(date +%s)
 
-declare -A dictionary=([ply]=ply [obj]=obj [gltf]=gltf [glb]=gltf [scene_json]=scene_json [image]=image)
+declare -A dictionary=([ply]=ply [ply_header]=ply [obj]=obj [gltf]=gltf [glb]=gltf [scene_json]=scene_json
+                       [scene_refs]=scene_refs [image]=image)
 for target in "${targets[@]}"; do
   [ -n "${dictionary[$target]:-}" ] || { echo "fuzz.sh: unknown target '$target' (${all_targets[*]})" >&2; exit 2; }
 done
@@ -46,7 +47,8 @@ mkdir -p "$out/logs" "$out/crashes"
 "$bin/fuzz_seeds" "$scenes" "$repo" "$work/seeds"
 
 # One target: the grown corpus first (libFuzzer writes new inputs there), the seeds read-only second.
-# -timeout: an input taking longer is a hang; -malloc_limit_mb: a small file must not make a loader allocate 1 GiB.
+# -timeout: an input taking longer than 10 s is a hang; -rss_limit_mb / -malloc_limit_mb: a small file must not
+# make a loader allocate 1 GiB or grow the process past it (both are findings, like a crash).
 run_target() {
   local target=$1
   local status=0 begin
@@ -55,7 +57,7 @@ run_target() {
   TMPDIR=$scratch_tmp ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:symbolize=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     "$bin/fuzz_$target" "$corpora/$target" "$work/seeds/$target" \
       -dict="$repo/fuzz/dict/${dictionary[$target]}.dict" -max_total_time="$seconds" -timeout=10 \
-      -rss_limit_mb=2560 -malloc_limit_mb=1024 -print_final_stats=1 \
+      -rss_limit_mb=1024 -malloc_limit_mb=1024 -print_final_stats=1 \
       -artifact_prefix="$out/crashes/$target-" >"$out/logs/$target.log" 2>&1 || status=$?
   echo "$status $(($(date +%s) - begin))" >"$out/logs/$target.status"
 }

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/load_scene_json.h"
+#include "core/scene_read_rules.h"
 #include "core/scene_loader.h"
 #include "tests/test_support.h"
 
@@ -22,9 +23,16 @@ std::filesystem::path write_scene(const std::string& name, const json& document)
     return test::write_file(name, document.dump(2));
 }
 
+// These scenes name the shared assets by absolute path, outside their temporary folder: allowed here as
+// --allow-any-path allows it (tests/test_hostile_input.cpp tests the rule itself).
+Scene load_anywhere(const std::filesystem::path& path) {
+    SceneReadScope any_path(path, /*allow_any_path=*/true);
+    return load_scene_json(path);
+}
+
 std::string error_message(const std::filesystem::path& path) {
     try {
-        load_scene_json(path);
+        load_anywhere(path);
     } catch (const Error& error) {
         return error.what();
     }
@@ -65,7 +73,7 @@ json composed_scene() {
 }
 
 TEST(SceneJson, ComposesPlyAndGltfWithTransformsAndMaterials) {
-    Scene scene = load_scene_json(write_scene("composed.json", composed_scene()));
+    Scene scene = load_anywhere(write_scene("composed.json", composed_scene()));
     ASSERT_TRUE(scene.has_camera);
     EXPECT_EQ(scene.camera.vertical_fov_degrees, 40.0f);
     EXPECT_EQ(scene.camera.target, glm::vec3(0, 0.5f, 0));
@@ -117,7 +125,7 @@ TEST(SceneJson, ComposesPlyAndGltfWithTransformsAndMaterials) {
 TEST(SceneJson, SameFileAndMaterialIsInstancedNotCopied) {
     json document = composed_scene();
     document["objects"][1]["material"] = "chrome";   // now both bunnies are (file, chrome)
-    Scene scene = load_scene_json(write_scene("instanced.json", document));
+    Scene scene = load_anywhere(write_scene("instanced.json", document));
     EXPECT_EQ(find_instance(scene, "bunny")->mesh, find_instance(scene, "glass bunny")->mesh);
 }
 
@@ -140,7 +148,9 @@ TEST(SceneJson, PathsAreRelativeToTheSceneFile) {
 
 TEST(SceneJson, ExampleSceneInDocsLoads) {
     std::filesystem::path example = std::filesystem::path(PRISM_SOURCE_DIR) / "docs/examples/bunny-and-helmet.json";
-    Scene scene = load_scene(example.string());
+    LoadOptions options;
+    options.allow_any_path = true;   // the example reads the shared scenes beside the repository
+    Scene scene = load_scene(example.string(), options);
     EXPECT_EQ(scene.instances.size(), 4u);
     EXPECT_EQ(scene.triangle_count(), 2 + 2 * 69451u + 15452u);
     EXPECT_EQ(scene.environment.kind, EnvironmentKind::CubeMap);

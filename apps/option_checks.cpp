@@ -1,0 +1,60 @@
+#include "apps/option_checks.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <system_error>
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include "core/error.h"
+#include "core/host_memory.h"
+#include "core/image_io.h"
+
+namespace prism::app {
+
+void check_backend_option(const std::string& backend) {
+    const size_t colon = backend.find(':');
+    if (colon == std::string::npos) return;
+    const std::string api = backend.substr(0, colon), device = backend.substr(colon + 1);
+    if ((api == "cpu" || api == "cpu-ref") && device != "0")
+        throw Error("--backend " + shorten(backend) + ": " + api + " has one device, " + api + ":0");
+}
+
+void check_min_weight_option(float min_weight) {
+    if (!(min_weight >= 0.0f && min_weight <= 1.0f))   // NaN fails both comparisons
+        throw Error("--min-weight " + std::to_string(min_weight) + ": expected a number from 0 to 1");
+}
+
+void check_writable_option(const std::string& option, const std::string& path) {
+    std::error_code error;
+    if (std::filesystem::is_directory(path, error))
+        throw Error(option + " " + shorten(path) + ": is a directory");
+    std::filesystem::path probe = path;
+    probe += ".probe-" + std::to_string(::getpid());
+    const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NONBLOCK, 0600);
+    if (fd < 0) throw Error(option + " " + shorten(path) + ": cannot write there (" + std::strerror(errno) + ")");
+    ::close(fd);
+    ::unlink(probe.c_str());
+}
+
+void check_render_options(const std::string& backend, const RenderSettings& settings, const std::string& out,
+                          const std::string& stats) {
+    check_backend_option(backend);
+    check_render_settings(settings);
+    check_min_weight_option(settings.min_weight);
+    check_writable_option("--out", out);
+    if (!stats.empty()) {
+        std::error_code error;
+        if (stats == out || std::filesystem::equivalent(stats, out, error))
+            throw Error("--stats " + shorten(stats) + ": the same file as --out");
+        check_writable_option("--stats", stats);
+    }
+    check_host_memory(frame_host_bytes(settings, frame_arrays_of(backend)),
+                      "--width " + std::to_string(settings.width) + " --height " + std::to_string(settings.height) +
+                          " on " + shorten(backend));
+}
+
+}  // namespace prism::app
