@@ -5,6 +5,7 @@
 
 #include "apps/commands.h"
 #include "apps/frame_report.h"
+#include "apps/render_distributed.h"
 #include "apps/scene_options.h"
 #include "core/build_info.h"
 #include "core/error.h"
@@ -21,6 +22,7 @@ struct RenderOptions {
     RenderSettings settings;
     std::string out;
     std::string stats;
+    DistributedOptions distributed;
 };
 
 void print_progress(double fraction) {
@@ -31,6 +33,9 @@ void print_progress(double fraction) {
 }
 
 void run_render(const RenderOptions& options) {
+    if (wants_distributed_render(options.backend, options.distributed))
+        return run_distributed_render({options.scene, options.backend, options.settings, options.out, options.stats,
+                                       options.distributed});
     check_output_extension(options.out);   // fail before any work
     auto start = std::chrono::steady_clock::now();
     LoadedScene loaded = load_and_build(options.scene, options.backend);
@@ -77,7 +82,9 @@ void add_render_command(CLI::App& app) {
     auto* command = app.add_subcommand("render", "Render one frame to a PNG (8-bit sRGB) or .hdr (linear float)");
     add_scene_options(command, options->scene);
     command->add_option("--backend", options->backend,
-                        "auto, cpu-ref, cpu, cuda, opencl, vulkan; a device after a colon (opencl:pocl, vulkan:nvidia)")
+                        "auto, cpu-ref, cpu, cuda, opencl, vulkan; a device after a colon (opencl:pocl, vulkan:nvidia), "
+                        "every device with :all (cuda:all); a comma list splits the frame over several (one entry "
+                        "per MPI rank under mpirun)")
         ->capture_default_str();
     command->add_option("--width", options->settings.width, "image width")->capture_default_str();
     command->add_option("--height", options->settings.height, "image height")->capture_default_str();
@@ -87,6 +94,7 @@ void add_render_command(CLI::App& app) {
         ->capture_default_str();
     command->add_option("--out", options->out, "output image: .png or .hdr")->required();
     command->add_option("--stats", options->stats, "write frame statistics as JSON");
+    add_distributed_options(command, options->distributed);
     command->callback([options] { run_render(*options); });
 }
 

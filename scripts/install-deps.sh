@@ -23,6 +23,8 @@ packages=(
   # Viewer: GLFW, GL and EGL (the offscreen context of --headless), Xrandr (<GLFW/glfw3native.h> includes its
   # header for the X11 handles), Mesa's GL drivers, and an X server for tests on machines without a display.
   libglfw3-dev libxrandr-dev libgl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri xvfb xauth
+  # MPI: `prism render` under mpirun splits a frame or a sequence over ranks (OpenMPI; the tests run mpirun).
+  libopenmpi-dev openmpi-bin
   # Fuzzing the loaders (scripts/fuzz.sh): clang with libFuzzer and the sanitizer runtimes.
   clang libclang-rt-14-dev
   # Plots of the benchmark results (bench/plot_bench.py draws every chart).
