@@ -13,4 +13,10 @@ bool started_as_mpi_rank() {
     return false;
 }
 
+int launcher_rank() {
+    for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK"})
+        if (const char* value = std::getenv(name)) return std::atoi(value);
+    return 0;
+}
+
 }  // namespace prism::app

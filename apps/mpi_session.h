@@ -13,6 +13,8 @@ namespace prism::app {
 // True when the process was started by mpirun/srun as one of several ranks (read from the launcher's environment,
 // so a plain run never initialises MPI).
 bool started_as_mpi_rank();
+// This process's rank as the launcher's environment gives it (0 when not started by one), known before MPI starts.
+int launcher_rank();
 // Whether this build can talk MPI.
 bool mpi_built();
 

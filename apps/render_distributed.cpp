@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <optional>
 #include <thread>
@@ -134,9 +135,17 @@ bool wants_distributed_render(const std::string& backend, const DistributedOptio
 }
 
 void run_distributed_render(const DistributedRender& render) {
-    WorkerJob job = make_job(render);   // bad options fail on every rank before MPI starts
+    // Bad options (and a build without MPI) fail on every rank before MPI starts; rank 0 alone says why, so the
+    // user reads one line, not one per rank.
+    WorkerJob job;
     std::optional<MpiSession> session;
-    if (started_as_mpi_rank()) session.emplace();
+    try {
+        job = make_job(render);
+        if (started_as_mpi_rank()) session.emplace();
+    } catch (const Error&) {
+        if (started_as_mpi_rank() && launcher_rank() > 0) std::exit(1);
+        throw;
+    }
     const int rank = session ? session->rank() : 0;
     const int ranks = session ? session->size() : 1;
     std::vector<std::string> backends = plan_local_workers(render.backend, rank, ranks, session ? session->local_rank() : 0);

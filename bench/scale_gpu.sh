@@ -9,6 +9,8 @@
 #   PRISM_SCALE_SIZE: WIDTHxHEIGHT (default 3840x2160); PRISM_SCALE_TILE: tile side (default 256)
 #   PRISM_SCALE_FRAMES: frames of the turntable (default 120)
 # Under mpirun (when the machine has one) the same frame also runs as ranks: cuda on rank 0, cpu ranks beside it.
+# On a host of several GPUs, cuda:all splits the frame (and the turntable's frames) over all of them: the speedup
+# over one GPU is cuda.json's frame_ms over cuda-all.json's (turntable-cuda.json's sequence_ms likewise).
 set -uo pipefail
 build=${PRISM_BUILD:-build-gpu}
 data=${PRISM_DATA:-.device-data/scenes}
@@ -68,4 +70,14 @@ $prism render --backend "cuda,cpu:$cores" "${seq_common[@]}" --out "$out/turntab
   --stats "$out/turntable-cuda-cpu.json" | tee "$out/turntable-cuda-cpu.log"
 diff -rq "$out/turntable-cuda" "$out/turntable-cuda-cpu" > /dev/null && echo "turntable frames bit-identical" \
   || echo "turntable frames DIFFER (the cpu frames use the CPU's float math: expected where FMA differs)"
+gpus=$(nvidia-smi -L 2> /dev/null | grep -c '^GPU' || true)
+if [ "${gpus:-0}" -gt 1 ]; then
+  step "turntable on cuda:all ($gpus GPUs, each taking frames)"
+  mkdir -p "$out/turntable-cuda-all"
+  $prism render --backend cuda:all "${seq_common[@]}" --out "$out/turntable-cuda-all/f%04d.png" \
+    --stats "$out/turntable-cuda-all.json" | tee "$out/turntable-cuda-all.log"
+  diff -rq "$out/turntable-cuda" "$out/turntable-cuda-all" > /dev/null && echo "cuda:all turntable bit-identical" \
+    || echo "cuda:all turntable DIFFERS from one GPU"
+  rm -rf "$out/turntable-cuda-all"
+fi
 rm -rf "$out/turntable-cuda" "$out/turntable-cuda-cpu"   # 120 PNGs each: the JSON keeps the numbers

@@ -162,6 +162,12 @@ TEST(SplitRender, AFailingRankFailsTheRunWithOneLineAndNoImage) {
     EXPECT_FALSE(fs::exists(out));
     for (const auto& entry : fs::directory_iterator(dir))
         EXPECT_EQ(entry.path().string().find(".tmp-"), std::string::npos) << entry.path();
+
+    // A bad option fails on every rank before MPI starts; only rank 0 says so.
+    r = run_prism("render --backend cpu" + kFrame + " --frames 5-2 --out " + quoted(dir / "f%d.png"), mpirun(3));
+    EXPECT_NE(r.exit_code, 0) << r.output;
+    EXPECT_EQ(count_lines_starting(r.output, "prism: error: "), 1u) << r.output;
+    EXPECT_NE(r.output.find("--frames '5-2'"), std::string::npos) << r.output;
 }
 
 TEST(SplitRender, AFailingDeviceInOneProcessFailsTheRunWithOneLine) {
