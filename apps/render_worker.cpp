@@ -7,17 +7,21 @@
 
 #include "core/image_io.h"
 #include "core/render_engine.h"
+#include "core/scene_motion.h"
 
 namespace prism::app {
 namespace {
 
-WorkMessage render_item(const WorkerJob& job, RenderEngine& engine, const Camera& camera, int worker, int32_t item) {
+WorkMessage render_item(const WorkerJob& job, RenderEngine& engine, LoadedScene& loaded, int worker, int32_t item) {
     RenderSettings settings = job.settings;
+    const Camera& camera = loaded.scene.camera;
     Camera frame_camera = camera;
     std::string frame_path;
     if (job.sequence) {
         uint32_t frame = job.frames.first + uint32_t(item);
         frame_camera = turntable_camera(camera, frame, job.options.turntable_seconds, job.options.fps);
+        if (!loaded.scene.spins.empty())   // a refit of the top level: every worker's frame N is the same
+            engine.update_instances(loaded.device, instance_transforms_at(loaded.scene, frame / job.options.fps), false);
         frame_path = numbered_output_path(job.out, frame);
         settings.read_radiance = wants_radiance(frame_path);
     } else {
@@ -61,13 +65,19 @@ void run_worker(const WorkerJob& job, const std::string& backend, int worker,
     std::string cause;
     try {
         LoadedScene loaded = load_and_build(job.scene, backend);
+        if (job.sequence && !loaded.scene.spins.empty() && loaded.device.bvh_options.flatten_instances) {
+            // Spinning instances move: the wide layout must keep its top level over them (BvhBuildOptions).
+            SceneOptions moving = job.scene;
+            moving.moving_instances = true;
+            loaded.device = build_device_scene_for(loaded.scene, moving, loaded.device.bvh_options.layout);
+        }
         RenderEngine engine(backend, loaded.device);
         WorkMessage hello;
         hello.kind = MessageKind::Hello;
         hello.worker = worker;
         hello.text = backend + "\n" + engine.info().device;
         WorkMessage answer = exchange(hello);
-        while (answer.item >= 0) answer = exchange(render_item(job, engine, loaded.scene.camera, worker, answer.item));
+        while (answer.item >= 0) answer = exchange(render_item(job, engine, loaded, worker, answer.item));
         return;
     } catch (const std::bad_alloc&) {
         cause = "out of host memory";

@@ -236,6 +236,42 @@ TEST(Sequence, MpiRanksWriteEveryFrameOnce) {
     expect_sequence(dir, json);
 }
 
+// A scene file's "spin": frame N shows the object at N / fps seconds; a whole turn gives frame 0's bits back.
+TEST(Sequence, SpinningObjectsOfASceneFileTurnOverTheFrames) {
+    fs::path dir = prism::test::temp_dir("sequence-spin");
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    fs::path scene = dir / "spin.json";
+    std::ofstream(scene) << R"({ "camera": { "position": [0, 0.2, 0.45], "target": [0, 0.08, 0] },
+        "objects": [ { "file": ")" << prism::test::scene("stanford/bunny_res2.ply").string() << R"(",
+                       "transform": { "translate": [0.02, 0, 0] }, "spin": { "seconds": 1 } } ] })";
+    for (const char* backend : {"cpu,cpu", "cpu,cpu --bvh-layout stack"}) {
+        CommandResult r = run_prism("render --backend " + std::string(backend) + " --scene " + quoted(scene) +
+                                    " --width 64 --height 48 --depth 2 --frames 0-4 --fps 4 --out " +
+                                    quoted(dir / "out_%02d.png"));
+        ASSERT_EQ(r.exit_code, 0) << r.output;
+        EXPECT_EQ(frame_files(dir).size(), 5u);
+        std::string first = read_bytes(dir / "out_00.png");
+        EXPECT_NE(read_bytes(dir / "out_01.png"), first) << backend;   // a quarter turn
+        EXPECT_NE(read_bytes(dir / "out_02.png"), read_bytes(dir / "out_01.png")) << backend;
+        EXPECT_EQ(read_bytes(dir / "out_04.png"), first) << backend;   // a whole turn
+        // Frame 0 is the still render of the scene.
+        fs::path still = dir / "still.png";
+        r = run_prism("render --backend cpu --scene " + quoted(scene) + " --width 64 --height 48 --depth 2 --out " +
+                      quoted(still) + (std::string(backend).find("stack") != std::string::npos ? " --bvh-layout stack" : ""));
+        ASSERT_EQ(r.exit_code, 0) << r.output;
+        EXPECT_EQ(read_bytes(still), first) << backend;
+    }
+    std::ofstream(dir / "bad.json") << R"({ "objects": [ { "file": ")"
+                                    << prism::test::scene("stanford/bunny_res2.ply").string()
+                                    << R"(", "spin": { "axis": [0, 0, 0], "seconds": 1 } } ] })";
+    CommandResult r = run_prism("render --backend cpu --scene " + quoted(dir / "bad.json") + " --frames 0 --out " +
+                                quoted(dir / "bad_%d.png"));
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("objects[0].spin.axis"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("must not be zero"), std::string::npos) << r.output;
+}
+
 TEST(Sequence, AnOutputWithoutAFrameNumberIsRejectedBeforeWork) {
     fs::path out = prism::test::temp_dir("sequence-bad") / "still.png";
     CommandResult r = run_prism("render --backend cpu" + kFrame + " --frames 0-2 --out " + quoted(out));
