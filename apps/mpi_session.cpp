@@ -88,8 +88,6 @@ WorkMessage receive(int from, int& source) {
 
 }  // namespace
 
-bool mpi_built() { return true; }
-
 MpiSession::MpiSession() {
     // Serialized: a rank's device threads each exchange messages, one at a time (exchange_).
     int provided = 0;

@@ -15,8 +15,6 @@ namespace prism::app {
 bool started_as_mpi_rank();
 // This process's rank as the launcher's environment gives it (0 when not started by one), known before MPI starts.
 int launcher_rank();
-// Whether this build can talk MPI.
-bool mpi_built();
 
 class MpiSession {
 public:

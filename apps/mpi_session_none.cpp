@@ -6,8 +6,6 @@
 
 namespace prism::app {
 
-bool mpi_built() { return false; }
-
 MpiSession::MpiSession() {
     throw Error("this prism was built without MPI, so it cannot split work over mpirun's ranks (install "
                 "libopenmpi-dev and reconfigure)");

@@ -35,13 +35,13 @@ WorkerJob make_job(const DistributedRender& render) {
     job.sequence = !render.options.frames.empty();
     if (!job.sequence && render.options.turntable_seconds > 0.0)
         throw Error("--turntable needs --frames (a sequence of frames to turn over)");
+    check_render_settings(render.settings);
     if (job.sequence) {
         job.frames = parse_frame_range(render.options.frames);
         check_numbered_output_pattern(render.out);
         check_output_extension(numbered_output_path(render.out, job.frames.first));
     } else {
         check_output_extension(render.out);
-        check_render_settings(render.settings);
         job.tiles = split_into_tiles(render.settings.width, render.settings.height, render.options.tile_size);
     }
     return job;
