@@ -2,14 +2,17 @@
 // linear radiance, unclamped).
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <new>
 #include <optional>
 
 #include "apps/cli_conventions.h"
 #include "apps/commands.h"
 #include "apps/frame_report.h"
+#include "apps/mpi_session.h"
 #include "apps/option_checks.h"
 #include "apps/progress.h"
+#include "apps/render_distributed.h"
 #include "apps/scene_options.h"
 #include "core/build_info.h"
 #include "core/error.h"
@@ -27,14 +30,24 @@ struct RenderOptions {
     std::string out;
     int png_depth = 8;
     std::string stats;
+    DistributedOptions distributed;
 };
 
 void run_render(const RenderOptions& options) {
     route_output();
-    ImageFormat format = output_image_format(options.out, options.png_depth);   // fail before any work
     RenderSettings settings = options.settings;
-    settings.read_radiance = needs_linear_radiance(format);
-    check_render_options(options.backend, settings, options.out, options.stats);   // fail before any work
+    ImageFormat format;
+    try {   // every check before any work
+        format = output_image_format(options.out, options.png_depth);
+        settings.read_radiance = needs_linear_radiance(format);
+        check_render_options(options.backend, settings, options.out, options.stats);
+    } catch (const Error&) {
+        if (started_as_mpi_rank() && launcher_rank() > 0) std::exit(1);   // rank 0 says it, once
+        throw;
+    }
+    if (wants_distributed_render(options.backend, options.distributed))
+        return run_distributed_render({options.scene, options.backend, settings, options.out, format, options.stats,
+                                       options.distributed});
     auto start = std::chrono::steady_clock::now();
     LoadedScene loaded = load_and_build(options.scene, options.backend);
     auto built = std::chrono::steady_clock::now();
@@ -97,7 +110,9 @@ void add_render_command(CLI::App& app) {
         "render", "Render one frame to a PNG (8- or 16-bit sRGB), OpenEXR or .hdr (both linear and unclamped)");
     add_scene_options(command, options->scene);
     command->add_option("--backend", options->backend,
-                        "auto, cpu-ref, cpu, cuda, opencl, vulkan; a device after a colon (opencl:pocl, vulkan:nvidia)")
+                        "auto, cpu-ref, cpu, cuda, opencl, vulkan; a device after a colon (opencl:pocl, vulkan:nvidia), "
+                        "every device with :all (cuda:all); a comma list splits the frame over several (one entry "
+                        "per MPI rank under mpirun)")
         ->capture_default_str();
     command->add_option("--width", options->settings.width, "image width")->capture_default_str();
     command->add_option("--height", options->settings.height, "image height")->capture_default_str();
@@ -110,6 +125,7 @@ void add_render_command(CLI::App& app) {
         ->check(CLI::IsMember({8, 16}))
         ->capture_default_str();
     command->add_option("--stats", options->stats, "write frame statistics as JSON");
+    add_distributed_options(command, options->distributed);
     command->callback([options] { run_render(*options); });
 }
 

@@ -16,11 +16,18 @@
 namespace prism::app {
 
 void check_backend_option(const std::string& backend) {
-    const size_t colon = backend.find(':');
-    if (colon == std::string::npos) return;
-    const std::string api = backend.substr(0, colon), device = backend.substr(colon + 1);
-    if ((api == "cpu" || api == "cpu-ref") && device != "0")
-        throw Error("--backend " + shorten(backend) + ": " + api + " has one device, " + api + ":0");
+    // A comma list splits a render over several backends (apps/render_distributed.h): each entry is checked.
+    for (size_t start = 0; start <= backend.size();) {
+        size_t end = backend.find(',', start);
+        if (end == std::string::npos) end = backend.size();
+        const std::string entry = backend.substr(start, end - start);
+        start = end + 1;
+        const size_t colon = entry.find(':');
+        if (colon == std::string::npos) continue;
+        const std::string api = entry.substr(0, colon), device = entry.substr(colon + 1);
+        if ((api == "cpu" || api == "cpu-ref") && device != "0" && device != "all")
+            throw Error("--backend " + shorten(backend) + ": " + api + " has one device, " + api + ":0");
+    }
 }
 
 void check_min_weight_option(float min_weight) {

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -332,6 +333,19 @@ private:
         return matrix;
     }
 
+    InstanceSpin read_spin(const json& spin, const std::string& key_path, const glm::mat4& placement) const {
+        expect_keys(spin, key_path, {"axis", "seconds"});
+        InstanceSpin result;
+        if (spin.contains("axis")) result.axis = vec3(spin["axis"], join(key_path, "axis"));
+        if (!(glm::length(result.axis) > 0.0f)) fail(join(key_path, "axis"), "must not be zero");
+        result.axis = glm::normalize(result.axis);
+        if (!spin.contains("seconds")) fail(join(key_path, "seconds"), "missing");
+        result.seconds = number(spin["seconds"], join(key_path, "seconds"));
+        if (!(result.seconds > 0.0f)) fail(join(key_path, "seconds"), "must be more than 0");
+        result.pivot = glm::vec3(placement[3]);
+        return result;
+    }
+
     glm::mat4 read_matrix(const json& value, const std::string& key_path) const {
         std::vector<float> v = numbers(value, key_path, 16);
         glm::mat4 matrix;
@@ -388,7 +402,7 @@ private:
         for (size_t i = 0; i < objects.size(); ++i) {
             std::string key_path = element("objects", i);
             const json& source = objects[i];
-            expect_keys(source, key_path, {"file", "transform", "matrix", "material", "name"});
+            expect_keys(source, key_path, {"file", "transform", "matrix", "material", "name", "spin"});
             if (!source.contains("file")) fail(join(key_path, "file"), "missing");
             if (source.contains("transform") && source.contains("matrix"))
                 fail(key_path, "give either transform or matrix");
@@ -404,10 +418,16 @@ private:
             std::string name = source.contains("name") ? string(source["name"], join(key_path, "name")) : "";
             std::filesystem::path file = relative_file(source["file"], join(key_path, "file"), false);
             const LoadedModel& model = load_object_model(file, material, key_path, scene);
+            std::optional<InstanceSpin> spin;
+            if (source.contains("spin")) spin = read_spin(source["spin"], join(key_path, "spin"), placement);
             for (const Instance& part : model.instances) {
                 Instance instance = part;
                 instance.transform = placement * part.transform;
                 if (!name.empty()) instance.name = name;
+                if (spin) {
+                    spin->instance = static_cast<uint32_t>(scene.instances.size());
+                    scene.spins.push_back(*spin);
+                }
                 scene.instances.push_back(std::move(instance));
             }
             for (Light light : model.lights) {

@@ -73,20 +73,21 @@ FrameResult ReferenceRenderer::render(const Camera& camera, const RenderSettings
     check_host_memory(frame_host_bytes(settings, FrameArrays::HostReference),
                       "a " + std::to_string(settings.width) + "x" + std::to_string(settings.height) + " frame on cpu-ref");
     auto start = std::chrono::steady_clock::now();
-    const uint32_t pixels = settings.width * settings.height;
+    const PixelRect region = render_region(settings);
+    const uint32_t pixels = region.pixels();
     FrameParams frame = make_frame_params(scene_, camera, settings, 0, 0, 0);
     std::vector<uint32_t> accum(size_t(pixels) * RT_ACCUM_WORDS_PER_PIXEL, 0u);
     FrameResult result;
-    result.width = settings.width;
-    result.height = settings.height;
+    result.width = region.width;
+    result.height = region.height;
     result.image.resize(pixels);
     std::vector<float4> radiance(pixels);
     KernelGlobals kg = host_globals(scene_, &frame, accum.data(), result.image.data(), radiance.data());
 
     // Tiles of 16x16 pixels handed out dynamically: cost varies a lot between glass and background.
     const uint32_t tile = 16;
-    const uint32_t tiles_x = (settings.width + tile - 1) / tile;
-    const uint32_t tiles = tiles_x * ((settings.height + tile - 1) / tile);
+    const uint32_t tiles_x = (region.width + tile - 1) / tile;
+    const uint32_t tiles = tiles_x * ((region.height + tile - 1) / tile);
     std::atomic<uint32_t> next{0};
     std::atomic<uint32_t> finished{0};
     ThreadPool pool(threads_);
@@ -94,9 +95,9 @@ FrameResult ReferenceRenderer::render(const Camera& camera, const RenderSettings
     pool.run([&](unsigned worker) {
         for (uint32_t t = next++; t < tiles; t = next++) {
             uint32_t x0 = (t % tiles_x) * tile, y0 = (t / tiles_x) * tile;
-            for (uint32_t y = y0; y < std::min(y0 + tile, settings.height); ++y)
-                for (uint32_t x = x0; x < std::min(x0 + tile, settings.width); ++x)
-                    trace_recursive(kg, rt_primary_ray(frame, y * settings.width + x), counts[worker]);
+            for (uint32_t y = y0; y < std::min(y0 + tile, region.height); ++y)
+                for (uint32_t x = x0; x < std::min(x0 + tile, region.width); ++x)
+                    trace_recursive(kg, rt_primary_ray(frame, y * region.width + x), counts[worker]);
             uint32_t done = ++finished;
             if (progress && worker == 0) progress(double(done) / tiles);
         }

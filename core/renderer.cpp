@@ -26,6 +26,11 @@ uint64_t FrameStats::total_rays() const {
     return total;
 }
 
+PixelRect render_region(const RenderSettings& settings) {
+    if (settings.region.width == 0) return PixelRect{0, 0, settings.width, settings.height};
+    return settings.region;
+}
+
 void check_render_settings(const RenderSettings& settings) {
     if (settings.width == 0 || settings.height == 0 || uint64_t(settings.width) * settings.height > (1u << 28))
         throw Error("image size " + std::to_string(settings.width) + "x" + std::to_string(settings.height) +
@@ -33,6 +38,12 @@ void check_render_settings(const RenderSettings& settings) {
     if (settings.max_depth < 1 || settings.max_depth > RT_MAX_DEPTH)
         throw Error("depth " + std::to_string(settings.max_depth) + " is out of range (1 to " +
                     std::to_string(RT_MAX_DEPTH) + ")");
+    const PixelRect& r = settings.region;
+    if (r.width != 0 && (r.height == 0 || r.x >= settings.width || r.y >= settings.height ||
+                         r.width > settings.width - r.x || r.height > settings.height - r.y))
+        throw Error("pixel region " + std::to_string(r.width) + "x" + std::to_string(r.height) + " at " +
+                    std::to_string(r.x) + "," + std::to_string(r.y) + " is not inside the " +
+                    std::to_string(settings.width) + "x" + std::to_string(settings.height) + " image");
 }
 
 FrameParams make_frame_params(const DeviceScene& scene, const Camera& camera, const RenderSettings& settings,
@@ -61,6 +72,8 @@ FrameParams make_frame_params(const DeviceScene& scene, const Camera& camera, co
     if (scene.bvh_options.flatten_instances) flags |= RT_FLAG_FLAT_INSTANCES;   // as built (build_device_scene)
     p.scene = uint4{static_cast<uint32_t>(scene.instances.size()), static_cast<uint32_t>(scene.bvh_options.layout),
                     flags, 0};
+    PixelRect region = render_region(settings);
+    p.tile = uint4{region.x, region.y, region.width, region.height};
     return p;
 }
 
@@ -114,12 +127,13 @@ void Renderer::ensure_queues(uint32_t pixels, uint32_t ray_capacity, uint32_t sh
 FrameResult Renderer::render(const Camera& camera, const RenderSettings& settings,
                              const std::function<void(uint32_t, uint32_t)>& progress) {
     check_render_settings(settings);
-    const uint32_t pixels = settings.width * settings.height;
+    const PixelRect region = render_region(settings);
+    const uint32_t pixels = region.pixels();
     const uint32_t lights = std::max(scene_.light_count, 1u);
     float factor = std::max({settings.queue_factor, learned_queue_factor_, 1.0f});
     FrameResult result;
-    result.width = settings.width;
-    result.height = settings.height;
+    result.width = region.width;
+    result.height = region.height;
 
     for (uint32_t attempt = 0;; ++attempt) {
         uint32_t capacity = static_cast<uint32_t>(std::min<double>(double(pixels) * factor, 1u << 30));

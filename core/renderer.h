@@ -13,6 +13,12 @@
 
 namespace prism {
 
+// A rectangle of pixels, x and y of its top-left corner (row 0 at the top).
+struct PixelRect {
+    uint32_t x = 0, y = 0, width = 0, height = 0;
+    uint32_t pixels() const { return width * height; }
+};
+
 struct RenderSettings {
     uint32_t width = 1280;
     uint32_t height = 720;
@@ -28,7 +34,14 @@ struct RenderSettings {
     // buffer the backend shares with GL (GlInterop::copy_image, core/gl_interop.h), in the frame's own submission,
     // so render() returning means GL may draw it. Needs a backend that offers GL interop.
     bool copy_to_gl = false;
+    // Only these pixels of the width x height image are rendered (a tile of a frame split over devices or MPI
+    // ranks: core/tiles.h); empty (width 0) means the whole image. The rendered pixels are bit-identical to the
+    // same pixels of the whole image, and FrameResult then holds the region only.
+    PixelRect region;
 };
+
+// settings.region, or the whole image when it is empty.
+PixelRect render_region(const RenderSettings& settings);
 
 struct FrameStats {
     double frame_ms = 0.0;                    // wall time of the whole frame, upload of parameters to read-back
@@ -44,13 +57,13 @@ struct FrameStats {
 };
 
 struct FrameResult {
-    uint32_t width = 0, height = 0;
+    uint32_t width = 0, height = 0;   // of the rendered region (the whole image unless settings.region is set)
     std::vector<uint32_t> image;    // RGBA8 sRGB, row 0 at the top (empty when settings.read_image was false)
     std::vector<float> radiance;    // linear RGBA (empty unless settings.read_radiance)
     FrameStats stats;
 };
 
-// Throws prism::Error for an image size or depth the frame cannot have (shared by every renderer).
+// Throws prism::Error for an image size, depth or region the frame cannot have (shared by every renderer).
 void check_render_settings(const RenderSettings& settings);
 
 // The camera basis and frame constants the kernels read.

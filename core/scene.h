@@ -101,6 +101,15 @@ struct Environment {
     std::vector<uint32_t> textures;
 };
 
+// An instance that turns over a sequence (a scene file's "spin", docs/scene-format.md): about `axis` through
+// `pivot` (where its placement puts the model's origin), one turn every `seconds`.
+struct InstanceSpin {
+    uint32_t instance = 0;
+    glm::vec3 axis{0.0f, 1.0f, 0.0f};
+    glm::vec3 pivot{0.0f};
+    float seconds = 1.0f;
+};
+
 struct Scene {
     std::string source;                // what was loaded, for messages
     std::vector<Mesh> meshes;
@@ -113,6 +122,7 @@ struct Scene {
     Environment environment;
     glm::vec3 ambient_light{0.1f};     // light that needs no shadow ray (the seed's ambient term)
     std::vector<std::string> warnings;
+    std::vector<InstanceSpin> spins;   // instances that move over a sequence (core/scene_motion.h)
 
     size_t triangle_count() const;     // over instances (what is traced)
 };

@@ -22,13 +22,14 @@ RT_FUNC uint rt_shadow_count(KernelGlobals kg, uint depth) {
 
 RT_FUNC uint rt_pixel_count(KernelGlobals kg) {
     FrameParams frame = RT_FETCH(kg, frame, 0u);
-    return frame.size.x * frame.size.y;
+    return frame.tile.z * frame.tile.w;
 }
 
 // Primary rays through pixel centres of a pinhole camera (thesis 6.3: "rays share the camera position").
+// `index` counts the pixels of the frame's tile; the ray carries it, so accumulation and the image are per tile.
 RT_FUNC Ray rt_primary_ray(FrameParams frame, uint index) {
-    uint x = index % frame.size.x;
-    uint y = index / frame.size.x;
+    uint x = frame.tile.x + index % frame.tile.z;
+    uint y = frame.tile.y + index / frame.tile.z;
     float tan_half = frame.camera_position.w;
     float aspect = frame.camera_forward.w;
     float px = (2.0f * (rt_float(x) + 0.5f) / rt_float(frame.size.x) - 1.0f) * tan_half * aspect;

@@ -203,6 +203,10 @@ RT_STRUCT_BEGIN(FrameParams)
     uint4 size;
     uint4 env;
     uint4 scene;
+    // The pixel rectangle this launch renders: x, y of its top-left pixel and its width, height (the whole image
+    // unless a frame is split into tiles over devices or ranks). Queues, accumulation and the image are sized for
+    // the rectangle; the camera still spans `size`, so a tile's pixels are bit-identical to the whole frame's.
+    uint4 tile;
 RT_STRUCT_END(FrameParams)
 
 // ---- Queues --------------------------------------------------------------------------------------------------

@@ -26,6 +26,8 @@ packages=(
   # input and Xlib for the tests' XDND drag source (tests/xdnd_drop.cpp).
   libglfw3-dev libxrandr-dev libgl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libimgui-dev xvfb xauth xdotool
   libx11-dev
+  # MPI: `prism render` under mpirun splits a frame or a sequence over ranks (OpenMPI; the tests run mpirun).
+  libopenmpi-dev openmpi-bin
   # Fuzzing the loaders (scripts/fuzz.sh): clang with libFuzzer and the sanitizer runtimes.
   clang libclang-rt-14-dev
   # Plots of the benchmark results (bench/plot_bench.py draws every chart).

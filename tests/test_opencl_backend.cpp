@@ -257,6 +257,7 @@ TEST(OpenclBackend, GenerateAndResolveRunTheSharedKernels) {
     frame.camera_up = float4{0.0f, 1.0f, 0.0f, 0.0f};
     frame.size = uint4{width, height, 1, 0};
     frame.env = uint4{0, 0, pixels, pixels};
+    frame.tile = uint4{0, 0, width, height};
     std::vector<uint32_t> counters(RT_COUNTER_SLOTS, 0u);
     counters[RT_COUNTER_RAYS] = pixels;
     backend->allocate(prism::DeviceArray::frame, sizeof frame);

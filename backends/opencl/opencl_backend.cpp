@@ -185,8 +185,8 @@ std::vector<DeviceEntry> enumerate_devices(std::string& why_none) {
     return devices;
 }
 
-// "" = the first GPU of any platform, else the first device; otherwise the first device whose platform
-// name/vendor + device name contain the filter (case-insensitive).
+// "" = the first GPU of any platform, else the first device; a number = that device of the list; otherwise the
+// first device whose platform name/vendor + device name contain the filter (case-insensitive).
 DeviceEntry select_device(const std::string& filter) {
     std::string why;
     std::vector<DeviceEntry> devices = enumerate_devices(why);
@@ -196,11 +196,17 @@ DeviceEntry select_device(const std::string& filter) {
             if (d.type & CL_DEVICE_TYPE_GPU) return d;
         return devices.front();
     }
+    std::string list;
+    for (const DeviceEntry& d : devices) list += (list.empty() ? "" : ", ") + d.label();
+    // A number is the device's place in that order (`prism render --backend opencl:all` names devices so).
+    if (std::all_of(filter.begin(), filter.end(), [](unsigned char c) { return std::isdigit(c); })) {
+        size_t index = std::stoul(filter);
+        if (index < devices.size()) return devices[index];
+        throw Error("opencl: no device " + filter + " (devices: " + list + ")");
+    }
     std::string needle = lower(filter);
     for (const DeviceEntry& d : devices)
         if (d.haystack().find(needle) != std::string::npos) return d;
-    std::string list;
-    for (const DeviceEntry& d : devices) list += (list.empty() ? "" : ", ") + d.label();
     throw Error("opencl: device '" + filter + "' not found (devices: " + list + ")");
 }
 

@@ -245,6 +245,13 @@ DeviceCandidate Instance::select(const std::string& filter) const {
             if (d.unusable.empty()) return d;
         throw Error("Vulkan: no compute-capable device (found: " + list + ")");
     }
+    // A number is the device's place in the list (`prism render --backend vulkan:all` names devices so).
+    if (std::all_of(filter.begin(), filter.end(), [](unsigned char c) { return std::isdigit(c); })) {
+        size_t index = std::stoul(filter);
+        if (index >= all.size()) throw Error("vulkan: no device " + filter + " (found: " + list + ")");
+        if (!all[index].unusable.empty()) throw Error("vulkan: device " + all[index].describe());
+        return all[index];
+    }
     std::string needle = lower(filter);
     for (const DeviceCandidate& d : all) {
         bool match = lower(d.properties.deviceName).find(needle) != std::string::npos ||
