@@ -52,8 +52,15 @@ RT_FUNC Surface rt_surface(KernelGlobals kg, float3 origin, float3 direction, Hi
     float3 ng_facing = front ? ng : -ng;
     float3 n_facing = dot(n, ng_facing) < 0.0f ? -n : n;
 
+    // The hit point from the barycentrics on the triangle itself, not origin + t * direction: its error then
+    // depends on the triangle's coordinates only, not on how far the ray travelled or how each API rounds t,
+    // so the offset of rt_offset_ray_origin always clears the surface (Ray Tracing Gems ch. 6).
+    float3 p_object = rt_xyz(geometry.v0) + rt_xyz(geometry.e1) * u + rt_xyz(geometry.e2) * v;
+    float3 p_world =
+        rt_transform_point(inst.object_to_world0, inst.object_to_world1, inst.object_to_world2, p_object);
+
     Surface s;
-    s.position = rt_float4(origin + direction * hit.tuv.x, 0.0f);
+    s.position = rt_float4(p_world, 0.0f);
     s.normal = rt_float4(n_facing, 0.0f);
     s.geometric = rt_float4(ng_facing, front ? 1.0f : 0.0f);
     s.vertex_color = a.color * w + b.color * u + c.color * v;
@@ -67,6 +74,7 @@ RT_STRUCT_BEGIN(ShadeResult)
     float4 light_weight;   // xyz: multiplies each light's irradiance reaching the point (shadow rays)
     float4 lit_origin;     // xyz: the point moved off the surface on the side the ray came from
     float4 normal;         // xyz: shading normal facing the ray
+    float4 geometric;      // xyz: geometric normal facing the ray
     Ray children[RT_MAX_CHILDREN];
     uint4 counts;          // x = number of children
 RT_STRUCT_END(ShadeResult)
@@ -133,6 +141,7 @@ RT_FUNC ShadeResult rt_shade(KernelGlobals kg, Ray ray, Hit hit) {
     result.emitted = rt_float4(weight * (base * rt_xyz(frame.ambient_light) + rt_xyz(m.emissive)), 0.0f);
     result.lit_origin = rt_float4(rt_offset_ray_origin(rt_xyz(s.position), ng), 0.0f);
     result.normal = s.normal;
+    result.geometric = s.geometric;
     result.counts = make_uint4(0u, 0u, 0u, 0u);
     uint count = 0u;
     if (depth + 1u < frame.size.z) {
@@ -187,7 +196,9 @@ RT_FUNC ShadowRay rt_shadow_ray(KernelGlobals kg, ShadeResult shade, uint index,
         to_light = l * (1.0f / distance);
         falloff = 1.0f / d2;
     }
-    float cosine = dot(rt_xyz(shade.normal), to_light);
+    // A light below the geometric surface is hidden by the surface itself, whatever the shading normal says;
+    // tracing that ray would only find the surface's own neighbours at distances each API rounds differently.
+    float cosine = dot(rt_xyz(shade.geometric), to_light) > 0.0f ? dot(rt_xyz(shade.normal), to_light) : 0.0f;
     ShadowRay sr;
     sr.origin = rt_float4(origin, 0.0f);
     sr.direction = rt_float4(to_light, distance);
