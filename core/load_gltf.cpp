@@ -13,6 +13,7 @@
 
 #include "core/error.h"
 #include "core/gltf_accessor.h"
+#include "core/gltf_instancing.h"
 #include "core/gltf_material.h"
 
 namespace prism {
@@ -109,9 +110,25 @@ private:
         path_.erase(node_index);
     }
 
-    void add_mesh_instances(const tinygltf::Node& node, int mesh_index, const glm::mat4& world) {
+    // One Instance per primitive, times EXT_mesh_gpu_instancing's instances when the node has them.
+    void add_mesh_instances(const tinygltf::Node& node, int mesh_index, const glm::mat4& node_world) {
         if (mesh_index >= static_cast<int>(model_.meshes.size()))
             throw file_error(file_, "mesh " + std::to_string(mesh_index) + " does not exist");
+        warn_if_animated(node, model_.meshes[mesh_index]);
+        for (const glm::mat4& local : gltf::gpu_instance_transforms(model_, node, file_))
+            add_primitive_instances(node, mesh_index, node_world * local);
+    }
+
+    // Prism draws no animation: skinned and morphing meshes appear in their rest pose, said once per file.
+    void warn_if_animated(const tinygltf::Node& node, const tinygltf::Mesh& mesh) {
+        bool morphs = false;
+        for (const tinygltf::Primitive& primitive : mesh.primitives) morphs = morphs || !primitive.targets.empty();
+        if ((node.skin < 0 && !morphs) || warned_animated_) return;
+        scene_.warnings.push_back(file_ + ": skins and morph targets are not applied; meshes are drawn in their rest pose");
+        warned_animated_ = true;
+    }
+
+    void add_primitive_instances(const tinygltf::Node& node, int mesh_index, const glm::mat4& world) {
         // A mirroring transform reverses the winding after transformation; a mirrored copy with reversed winding
         // keeps geometric normals facing the way the file meant.
         bool mirrored = glm::determinant(glm::mat3(world)) < 0.0f;
@@ -289,6 +306,7 @@ private:
     std::map<std::tuple<int, int, bool>, uint32_t> meshes_;   // (mesh, primitive, mirrored) -> scene mesh
     std::set<int> path_;                                      // nodes on the current root-to-node path
     bool warned_non_triangles_ = false;
+    bool warned_animated_ = false;
     bool warned_spot_ = false;
 };
 
@@ -320,7 +338,8 @@ void load_gltf(const std::filesystem::path& path, Scene& scene) {
 
     for (const std::string& required : model.extensionsRequired)
         if (required != "KHR_texture_transform" && required != "KHR_materials_emissive_strength" &&
-            required != "KHR_lights_punctual" && required != "KHR_mesh_quantization")
+            required != "KHR_lights_punctual" && required != "KHR_mesh_quantization" &&
+            required != "EXT_mesh_gpu_instancing")
             scene.warnings.push_back(file + ": required extension " + required + " is not supported");
 
     GltfImporter(model, file, scene).import();
