@@ -4,6 +4,7 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <map>
 
 #include "core/bvh_tree.h"
 #include "core/device_scene_flat.h"
@@ -333,10 +334,28 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
         device.wide_nodes.assign(1, empty_wide_node());
         device.triangle_blocks.assign(1, TriangleBlock{});
     }
+    // An instance with a material override reads its own copy of the mesh's per-triangle shading entries (vertex
+    // indices and material), one copy per (mesh, material); geometry, vertices and BVH stay shared.
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> override_shading;
     for (size_t i = 0; i < scene.instances.size(); ++i) {
-        const MeshPlacement& placement = placements[scene.instances[i].mesh];
-        device.instances.push_back(device_instance(scene.instances[i].transform, placement.first_vertex,
-                                                   placement.first_triangle, placement.first_shading));
+        const prism::Instance& instance = scene.instances[i];
+        const MeshPlacement& placement = placements[instance.mesh];
+        uint32_t first_shading = placement.first_shading;
+        if (instance.material_override != kNoMaterialOverride) {
+            auto [entry, added] = override_shading.try_emplace({instance.mesh, instance.material_override},
+                                                               static_cast<uint32_t>(device.triangle_shading.size()));
+            if (added) {
+                size_t count = scene.meshes[instance.mesh].triangles.size();
+                for (size_t t = 0; t < count; ++t) {
+                    TriangleShading shading = device.triangle_shading[placement.first_shading + t];
+                    shading.vertices.w = instance.material_override;
+                    device.triangle_shading.push_back(shading);
+                }
+            }
+            first_shading = entry->second;
+        }
+        device.instances.push_back(device_instance(instance.transform, placement.first_vertex,
+                                                   placement.first_triangle, first_shading));
     }
 
     // Materials and their texture stacks.

@@ -335,15 +335,15 @@ private:
         return matrix;
     }
 
-    // One model file loaded once per (file, material override); later objects reuse its meshes as instances.
+    // One model file loaded once; later objects reuse its meshes as instances, a material override included
+    // (Instance::material_override: the instances share the mesh).
     struct LoadedModel {
         std::vector<Instance> instances;   // mesh indices already in the scene, transforms in model space
         std::vector<Light> lights;
     };
 
-    const LoadedModel& load_object_model(const std::filesystem::path& file, const std::string& material_name,
-                                         const std::string& key_path, Scene& scene) {
-        auto key = std::make_pair(file.string(), material_name);
+    const LoadedModel& load_object_model(const std::filesystem::path& file, const std::string& key_path, Scene& scene) {
+        std::string key = file.string();
         auto cached = models_.find(key);
         if (cached != models_.end()) return cached->second;
         if (model_format(file) == ModelFormat::SceneJson || model_format(file) == ModelFormat::Unknown)
@@ -362,11 +362,8 @@ private:
             for (TextureLayer& layer : material.textures) layer.texture += texture_offset;
             scene.materials.push_back(std::move(material));
         }
-        uint32_t override_material = 0;
-        if (!material_name.empty()) override_material = material_index_.at(material_name);
         for (Mesh& mesh : part.meshes) {
-            for (uint32_t& material : mesh.triangle_materials)
-                material = material_name.empty() ? material + material_offset : override_material;
+            for (uint32_t& material : mesh.triangle_materials) material += material_offset;
             scene.meshes.push_back(std::move(mesh));
         }
         LoadedModel model;
@@ -398,10 +395,11 @@ private:
             }
             std::string name = source.contains("name") ? string(source["name"], join(key_path, "name")) : "";
             std::filesystem::path file = relative_file(source["file"], join(key_path, "file"), false);
-            const LoadedModel& model = load_object_model(file, material, key_path, scene);
+            const LoadedModel& model = load_object_model(file, key_path, scene);
             for (const Instance& part : model.instances) {
                 Instance instance = part;
                 instance.transform = placement * part.transform;
+                if (!material.empty()) instance.material_override = material_index_.at(material);
                 if (!name.empty()) instance.name = name;
                 scene.instances.push_back(std::move(instance));
             }
@@ -418,7 +416,7 @@ private:
     std::filesystem::path folder_;
     std::map<std::string, uint32_t> material_index_;
     std::map<std::string, uint32_t> texture_index_;
-    std::map<std::pair<std::string, std::string>, LoadedModel> models_;
+    std::map<std::string, LoadedModel> models_;   // by file
 };
 
 }  // namespace

@@ -24,11 +24,18 @@ struct Mesh {
 };
 
 // One placement of a mesh. The transform is rigid-or-affine object-to-world.
+inline constexpr uint32_t kNoMaterialOverride = 0xffffffffu;
+
 struct Instance {
     uint32_t mesh = 0;
     glm::mat4 transform{1.0f};
     std::string name;
+    // Every triangle of this instance uses this material instead of its own (a scene file's per-object material):
+    // the mesh, its vertices and its BVH stay shared with the other instances.
+    uint32_t material_override = kNoMaterialOverride;
 };
+
+
 
 // The seed's texture environment modes (thesis Table 1).
 enum class TextureMode : uint32_t { Replace = 0, Decal = 1, Modulate = 2, Blend = 3 };

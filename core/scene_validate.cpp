@@ -137,6 +137,9 @@ private:
                  std::to_string(scene_.meshes.size()) + " meshes");
         for (int column = 0; column < 4; ++column)
             if (!finite(instance.transform[column])) fail(name + " has a non-finite transform");
+        if (instance.material_override != kNoMaterialOverride && instance.material_override >= scene_.materials.size())
+            fail(name + " overrides its material with " + std::to_string(instance.material_override) +
+                 " but there are " + std::to_string(scene_.materials.size()) + " materials");
     }
 
     const Scene& scene_;
