@@ -15,6 +15,7 @@
 #include "core/gltf_accessor.h"
 #include "core/gltf_instancing.h"
 #include "core/gltf_material.h"
+#include "core/mesh_tangents.h"
 
 namespace prism {
 namespace {
@@ -215,6 +216,12 @@ private:
                                  colors.components == 4 ? colors.at(i, 3) : 1.0f};
         }
 
+        if (gltf::FloatArray tangents = read_attribute("TANGENT", 4, 4); tangents.count) {
+            out.tangents.resize(vertex_count);
+            for (size_t i = 0; i < vertex_count; ++i)
+                out.tangents[i] = {tangents.at(i, 0), tangents.at(i, 1), tangents.at(i, 2), tangents.at(i, 3)};
+        }
+
         std::vector<uint32_t> indices;
         if (primitive.indices >= 0) {
             indices = gltf::read_indices(model_, primitive.indices, file_);
@@ -231,6 +238,12 @@ private:
             for (glm::uvec3& triangle : out.triangles) std::swap(triangle.y, triangle.z);
         uint32_t material = materials_.material(primitive.material);
         out.triangle_materials.assign(out.triangles.size(), material);
+        const auto& normal_map = scene_.materials[material].normal_map;
+        if (normal_map && out.tangents.empty()) generate_tangents(out, normal_map->uv_set);
+        // The kernel's bitangent is cross(world normal, world tangent) * sign, and a mirroring transform turns
+        // that cross product around: the mirrored copy carries the opposite sign.
+        if (mirrored)
+            for (glm::vec4& tangent : out.tangents) tangent.w = -tangent.w;
         return true;
     }
 

@@ -203,14 +203,20 @@ private:
         for (const auto& [name, source] : materials.items()) {
             std::string key_path = "materials." + name;
             expect_keys(source, key_path,
-                        {"diffuse", "use_vertex_colors", "specular", "ambient", "reflectivity", "transmittance",
-                         "fresnel", "ior", "thickness", "emissive", "textures"});
+                        {"diffuse", "use_vertex_colors", "vertex_colors", "specular", "ambient", "reflectivity",
+                         "transmittance", "fresnel", "ior", "thickness", "emissive", "textures"});
             Material material;
             material.name = name;
             auto field = [&](const char* key) { return join(key_path, key); };
             if (source.contains("diffuse")) material.diffuse = number_or_vec3(source["diffuse"], field("diffuse"));
             if (source.contains("use_vertex_colors"))
                 material.use_vertex_colors = boolean(source["use_vertex_colors"], field("use_vertex_colors"));
+            if (source.contains("vertex_colors")) {
+                // How the model's vertex colours combine with `diffuse`: glTF multiplies, the seed replaced.
+                std::string rule = string(source["vertex_colors"], field("vertex_colors"));
+                if (rule != "multiply" && rule != "replace") fail(field("vertex_colors"), "expected multiply or replace");
+                material.vertex_colors_replace = rule == "replace";
+            }
             if (source.contains("specular")) material.specular = number_or_vec3(source["specular"], field("specular"));
             if (source.contains("ambient")) material.ambient = number_or_vec3(source["ambient"], field("ambient"));
             if (source.contains("reflectivity"))
