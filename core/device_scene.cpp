@@ -191,13 +191,15 @@ void build_top_level(DeviceScene& device, const std::vector<glm::mat4>& transfor
     out.maps.y = map_index(m.emissive_map);
     out.maps.z = map_index(m.occlusion_map);
     out.maps.w = map_index(m.normal_map);
+    out.specular_maps = uint4{map_index(m.specular_map), map_index(m.specular_color_map), RT_NONE, RT_NONE};
     return out;
 }
 
 // A material's texture stack, then its single-purpose maps in device_material's order.
 std::vector<prism::TextureLayer> material_layers(const prism::Material& m) {
     std::vector<prism::TextureLayer> layers = m.textures;
-    for (const auto* map : {&m.metal_rough_map, &m.emissive_map, &m.occlusion_map, &m.normal_map})
+    for (const auto* map : {&m.metal_rough_map, &m.emissive_map, &m.occlusion_map, &m.normal_map, &m.specular_map,
+                            &m.specular_color_map})
         if (*map) layers.push_back(**map);
     return layers;
 }

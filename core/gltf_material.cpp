@@ -203,6 +203,18 @@ Material MaterialConverter::convert(int index) {
 
     const tinygltf::Value* specular_ext = extension(source.extensions, "KHR_materials_specular");
     float specular_factor = static_cast<float>(number(specular_ext, "specularFactor", 1.0));
+    auto extension_layer = [&](const char* key, bool color_data) -> std::optional<TextureLayer> {
+        if (!specular_ext || !specular_ext->IsObject() || !specular_ext->Has(key)) return std::nullopt;
+        const tinygltf::Value& info = specular_ext->Get(key);
+        const tinygltf::Value* transform = nullptr;
+        if (info.IsObject() && info.Has("extensions") && info.Get("extensions").IsObject() &&
+            info.Get("extensions").Has("KHR_texture_transform"))
+            transform = &info.Get("extensions").Get("KHR_texture_transform");
+        return layer(static_cast<int>(number(&info, "index", -1.0)), static_cast<int>(number(&info, "texCoord", 0.0)),
+                     transform, color_data, material.name);
+    };
+    material.specular_map = extension_layer("specularTexture", false);
+    material.specular_color_map = extension_layer("specularColorTexture", true);
     glm::vec3 specular_color = vec3_of(specular_ext, "specularColorFactor", glm::vec3(1.0f));
     // Metals tint their reflection with the base colour, dielectrics with KHR_materials_specular's colour: the
     // kernel mixes the two per hit (kernels/material.h rt_surface_terms), as metallic may come from a texture.

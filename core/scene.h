@@ -109,6 +109,8 @@ struct Material {
     std::optional<TextureLayer> emissive_map;      // sRGB: multiplies `emissive`
     std::optional<TextureLayer> occlusion_map;     // linear: R darkens the ambient term
     std::optional<TextureLayer> normal_map;        // linear tangent-space normals
+    std::optional<TextureLayer> specular_map;      // linear: A scales the Fresnel term (KHR_materials_specular)
+    std::optional<TextureLayer> specular_color_map;   // sRGB: tints the dielectric reflection
 };
 
 enum class LightType : uint32_t { Point = 0, Directional = 1 };

@@ -96,7 +96,8 @@ private:
             check_layer(material.textures[l], name + ": texture layer " + std::to_string(l));
         const std::pair<const std::optional<TextureLayer>*, const char*> maps[] = {
             {&material.metal_rough_map, "metallic-roughness map"}, {&material.emissive_map, "emissive map"},
-            {&material.occlusion_map, "occlusion map"}, {&material.normal_map, "normal map"}};
+            {&material.occlusion_map, "occlusion map"}, {&material.normal_map, "normal map"},
+            {&material.specular_map, "specular map"}, {&material.specular_color_map, "specular colour map"}};
         for (const auto& [map, what] : maps)
             if (*map) check_layer(**map, name + ": " + what);
     }

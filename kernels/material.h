@@ -92,21 +92,24 @@ RT_STRUCT_END(SurfaceTerms)
 // darkens only the ambient term, the one light with no shadow ray.
 RT_FUNC SurfaceTerms rt_surface_terms(KernelGlobals kg, Material m, float3 color, float4 uv, float i_dot_n) {
     SurfaceTerms terms;
-    terms.specular = m.specular;
-    terms.fresnel = make_float4(rt_fresnel_reflection(m.fresnel, i_dot_n), 0.0f, 0.0f, 0.0f);
     float4 white = make_float4(1.0f, 1.0f, 1.0f, 1.0f);
+    // KHR_materials_specular's textures: A scales the whole Fresnel term, RGB tints the dielectric reflection.
+    float specular_texel = rt_sample_map(kg, m.specular_maps.x, uv, white).w;
+    float3 specular_tint = rt_xyz(rt_sample_map(kg, m.specular_maps.y, uv, white));
+    terms.specular = rt_float4(rt_xyz(m.specular) * specular_tint, m.specular.w);
+    terms.fresnel = make_float4(rt_fresnel_reflection(m.fresnel, i_dot_n) * specular_texel, 0.0f, 0.0f, 0.0f);
     terms.emission = rt_float4(rt_xyz(m.emissive) * rt_xyz(rt_sample_map(kg, m.maps.y, uv, white)), 1.0f);
     if ((m.textures.z & RT_MATERIAL_METAL_ROUGH) != 0u) {
         float4 texel = rt_sample_map(kg, m.maps.x, uv, white);
         float metallic = m.metal_rough.x * texel.z;
         float gloss = 1.0f - 0.5f * (m.metal_rough.y * texel.y);
         if (m.ambient.w > 0.0f) {
-            terms.specular = rt_float4(rt_lerp3(rt_xyz(m.specular), color, metallic), m.specular.w);
+            terms.specular = rt_float4(rt_lerp3(rt_xyz(terms.specular), color, metallic), m.specular.w);
         } else {
             float dielectric = (1.0f - metallic) * gloss * terms.fresnel.x;
-            float3 reflected = color * (metallic * gloss) + rt_xyz(m.specular) * dielectric;
+            float3 reflected = color * (metallic * gloss) + rt_xyz(terms.specular) * dielectric;
             float r = metallic * gloss + dielectric;
-            terms.specular = rt_float4(r > 0.0f ? reflected * (1.0f / r) : rt_xyz(m.specular), r);
+            terms.specular = rt_float4(r > 0.0f ? reflected * (1.0f / r) : rt_xyz(terms.specular), r);
             terms.fresnel.x = 1.0f;
         }
         float occlusion = rt_sample_map(kg, m.maps.z, uv, white).x;

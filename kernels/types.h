@@ -141,6 +141,8 @@ RT_STRUCT_BEGIN(Material)
     float4 metal_rough;
     uint4 maps;
     float4 absorption;   // xyz: Beer-Lambert coefficients per unit length inside a solid medium (0: clear)
+    uint4 specular_maps; // texture_layers entries (RT_NONE: none) of KHR_materials_specular's specularTexture
+                         // (A scales the Fresnel term) and specularColorTexture (RGB tints it); zw unused
 RT_STRUCT_END(Material)
 
 #define RT_VERTEX_HAS_NORMAL 1u

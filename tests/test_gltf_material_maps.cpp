@@ -310,4 +310,37 @@ TEST(GltfMaterialMaps, SamplerWrapModesAndNearestFilter) {
     EXPECT_TRUE(is_red(edge) || is_green(edge));
 }
 
+// KHR_materials_specular's textures: specularTexture's alpha scales the Fresnel term (left column 0: no
+// reflection), specularColorTexture tints the reflection.
+TEST(GltfMaterialMaps, SpecularTexturesScaleAndTintTheReflection) {
+    constexpr uint32_t kClearWhite = 0x00ffffffu;
+    std::string strength = test::write_test_png("specular_alpha.png", 2, 2, {kClearWhite, kWhite, kClearWhite, kWhite});
+    std::string tint = test::write_test_png("specular_red.png", 1, 1, {kRed});
+    auto build = [&](const std::string& name, bool tinted) {
+        GltfBuilder gltf;
+        add_textures(gltf, {strength, tint});
+        json specular = {{"specularTexture", {{"index", 0}}}};
+        if (tinted) specular["specularColorTexture"] = {{"index", 1}};
+        gltf.document["materials"] = json::array(
+            {{{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 0}}},
+              {"extensions", {{"KHR_materials_specular", specular}}}}});
+        double half = -75.0 * 3.14159265358979 / 360.0;
+        gltf.node({{"mesh", textured_quad(gltf)}, {"rotation", {std::sin(half), 0, 0, std::cos(half)}}});
+        return gltf.write(name);
+    };
+    auto white_sky = [](Scene& scene) {
+        scene.lights.clear();
+        scene.ambient_light = glm::vec3(0.0f);
+        scene.environment.kind = EnvironmentKind::Constant;
+        scene.environment.color = glm::vec3(1.0f);
+    };
+    test::ProbeImage plain = test::render_gltf(build("specular_texture.gltf", false), white_sky, 96);
+    EXPECT_LT(at_world(plain, -0.5f, 0.0f).r, 10);
+    EXPECT_GT(at_world(plain, 0.5f, 0.0f).r, 80);
+    test::ProbeImage tinted = test::render_gltf(build("specular_color_texture.gltf", true), white_sky, 96);
+    test::Rgb red = at_world(tinted, 0.5f, 0.0f);
+    EXPECT_GT(red.r, 80);
+    EXPECT_LT(red.g, 10);
+}
+
 }  // namespace prism
