@@ -4,10 +4,12 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <map>
 
 #include "core/bvh_tree.h"
 #include "core/device_scene_flat.h"
 #include "core/error.h"
+#include "kernels/math.h"
 
 namespace prism {
 namespace {
@@ -174,8 +176,32 @@ void build_top_level(DeviceScene& device, const std::vector<glm::mat4>& transfor
     out.fresnel = float4{m.fresnel_bias, m.fresnel_scale, m.fresnel_power, m.thickness};
     out.ior = to_float4(m.ior, 0.0f);
     out.emissive = to_float4(m.emissive, 0.0f);
-    out.textures = uint4{first_layer, static_cast<uint32_t>(m.textures.size()), 0, 0};
+    uint32_t flags = (m.metal_rough ? RT_MATERIAL_METAL_ROUGH : 0u) |
+                     (m.alpha_mode == AlphaMode::Mask ? RT_MATERIAL_ALPHA_MASK : 0u) |
+                     (m.alpha_mode == AlphaMode::Blend ? RT_MATERIAL_ALPHA_BLEND : 0u) |
+                     (m.vertex_colors_replace ? RT_MATERIAL_VERTEX_REPLACE : 0u);
+    out.textures = uint4{first_layer, static_cast<uint32_t>(m.textures.size()), flags, std::bit_cast<uint32_t>(m.alpha)};
+    out.emissive.w = m.alpha_cutoff;
+    out.absorption = to_float4(m.absorption, 0.0f);
+    out.metal_rough = float4{m.metallic, m.roughness, m.occlusion_strength, m.normal_scale};
+    // The maps' layers follow the stack's, in this order (see material_maps).
+    uint32_t next = first_layer + static_cast<uint32_t>(m.textures.size());
+    auto map_index = [&next](const std::optional<prism::TextureLayer>& map) { return map ? next++ : RT_NONE; };
+    out.maps.x = map_index(m.metal_rough_map);
+    out.maps.y = map_index(m.emissive_map);
+    out.maps.z = map_index(m.occlusion_map);
+    out.maps.w = map_index(m.normal_map);
+    out.specular_maps = uint4{map_index(m.specular_map), map_index(m.specular_color_map), RT_NONE, RT_NONE};
     return out;
+}
+
+// A material's texture stack, then its single-purpose maps in device_material's order.
+std::vector<prism::TextureLayer> material_layers(const prism::Material& m) {
+    std::vector<prism::TextureLayer> layers = m.textures;
+    for (const auto* map : {&m.metal_rough_map, &m.emissive_map, &m.occlusion_map, &m.normal_map, &m.specular_map,
+                            &m.specular_color_map})
+        if (*map) layers.push_back(**map);
+    return layers;
 }
 
 }  // namespace
@@ -229,11 +255,14 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
                                 static_cast<uint32_t>(device.triangles.size()), {}};
         for (size_t v = 0; v < mesh.positions.size(); ++v) {
             Vertex vertex{};
-            vertex.normal = mesh.normals.empty() ? float4{0, 0, 0, 0} : to_float4(mesh.normals[v], 1.0f);
+            float vertex_flags = static_cast<float>((mesh.normals.empty() ? 0u : RT_VERTEX_HAS_NORMAL) |
+                                                    (mesh.colors.empty() ? 0u : RT_VERTEX_HAS_COLOR));
+            vertex.normal = mesh.normals.empty() ? float4{0, 0, 0, vertex_flags} : to_float4(mesh.normals[v], vertex_flags);
             vertex.color = mesh.colors.empty() ? float4{1, 1, 1, 1} : to_float4(mesh.colors[v]);
             glm::vec2 uv0 = mesh.uv0.empty() ? glm::vec2(0.0f) : mesh.uv0[v];
             glm::vec2 uv1 = mesh.uv1.empty() ? uv0 : mesh.uv1[v];
             vertex.uv = float4{uv0.x, uv0.y, uv1.x, uv1.y};
+            vertex.tangent = mesh.tangents.empty() ? float4{0, 0, 0, 0} : to_float4(mesh.tangents[v]);
             device.vertices.push_back(vertex);
         }
         std::vector<Aabb> bounds(mesh.triangles.size());
@@ -343,18 +372,38 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
         device.wide_nodes.assign(1, empty_wide_node());
         device.triangle_blocks.assign(1, TriangleBlock{});
     }
+    // An instance with a material override reads its own copy of the mesh's per-triangle shading entries (vertex
+    // indices and material), one copy per (mesh, material); geometry, vertices and BVH stay shared.
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> override_shading;
     for (size_t i = 0; i < scene.instances.size(); ++i) {
-        const MeshPlacement& placement = placements[scene.instances[i].mesh];
-        device.instances.push_back(device_instance(scene.instances[i].transform, placement.first_vertex,
-                                                   placement.first_triangle, placement.first_shading));
+        const prism::Instance& instance = scene.instances[i];
+        const MeshPlacement& placement = placements[instance.mesh];
+        uint32_t first_shading = placement.first_shading;
+        if (instance.material_override != kNoMaterialOverride) {
+            auto [entry, added] = override_shading.try_emplace({instance.mesh, instance.material_override},
+                                                               static_cast<uint32_t>(device.triangle_shading.size()));
+            if (added) {
+                size_t count = scene.meshes[instance.mesh].triangles.size();
+                for (size_t t = 0; t < count; ++t) {
+                    TriangleShading shading = device.triangle_shading[placement.first_shading + t];
+                    shading.vertices.w = instance.material_override;
+                    device.triangle_shading.push_back(shading);
+                }
+            }
+            first_shading = entry->second;
+        }
+        device.instances.push_back(device_instance(instance.transform, placement.first_vertex,
+                                                   placement.first_triangle, first_shading));
     }
 
     // Materials and their texture stacks.
     for (const prism::Material& material : scene.materials) {
         device.materials.push_back(device_material(material, static_cast<uint32_t>(device.texture_layers.size())));
-        for (const prism::TextureLayer& layer : material.textures) {
+        for (const prism::TextureLayer& layer : material_layers(material)) {
             ::TextureLayer out{};
-            out.info = uint4{layer.texture, static_cast<uint32_t>(layer.mode), layer.uv_set, 0};
+            uint32_t sampler = static_cast<uint32_t>(layer.wrap_u) | static_cast<uint32_t>(layer.wrap_v) << 2 |
+                               (layer.nearest ? RT_SAMPLER_NEAREST : 0u);
+            out.info = uint4{layer.texture, static_cast<uint32_t>(layer.mode), layer.uv_set, sampler};
             out.environment_color = to_float4(layer.environment_color);
             out.uv_row0 = to_float4(layer.uv_row0, 0.0f);
             out.uv_row1 = to_float4(layer.uv_row1, 0.0f);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 
 #include <glm/glm.hpp>
@@ -11,6 +12,7 @@
 
 namespace tinygltf {
 class Model;
+class Value;
 }
 
 namespace prism::gltf {
@@ -25,15 +27,20 @@ public:
 
 private:
     Material convert(int index);
-    // Index in scene.textures of glTF texture `index` decoded as sRGB colour; throws when its image is missing.
-    // Returns false (with a warning) when the texture has no image Prism can decode.
-    bool color_texture(int index, uint32_t& scene_texture);
+    // Index in scene.textures of glTF texture `index`, decoded as sRGB colour or as linear data; throws when its
+    // image is missing. Returns false (with a warning) when the texture has no image Prism can decode.
+    bool texture(int index, bool color_data, uint32_t& scene_texture);
+    // A material's texture reference (texture, texCoord, KHR_texture_transform) as a layer; nothing when the
+    // reference is absent or its image undecodable.
+    // `transform` is the reference's KHR_texture_transform object, if any.
+    std::optional<TextureLayer> layer(int index, int tex_coord, const tinygltf::Value* transform, bool color_data,
+                                      const std::string& material_name);
 
     const tinygltf::Model& model_;
     std::string file_;
     Scene& scene_;
     std::map<int, uint32_t> materials_;
-    std::map<int, uint32_t> textures_;
+    std::map<std::pair<int, bool>, uint32_t> textures_;   // (glTF texture, colour data) -> scene texture
 };
 
 // KHR_materials_dispersion: per-channel IOR (red, green, blue) from the IOR at the d line (587.6 nm) and

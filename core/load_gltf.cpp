@@ -14,9 +14,11 @@
 
 #include "core/error.h"
 #include "core/gltf_accessor.h"
+#include "core/gltf_instancing.h"
 #include "core/gltf_material.h"
 #include "core/input_file.h"
 #include "core/json_depth.h"
+#include "core/mesh_tangents.h"
 #include "core/scene_read_rules.h"
 
 namespace prism {
@@ -214,9 +216,25 @@ private:
         stack.push_back({node_index, world, 0});
     }
 
-    void add_mesh_instances(const tinygltf::Node& node, int mesh_index, const glm::mat4& world) {
+    // One Instance per primitive, times EXT_mesh_gpu_instancing's instances when the node has them.
+    void add_mesh_instances(const tinygltf::Node& node, int mesh_index, const glm::mat4& node_world) {
         if (mesh_index >= static_cast<int>(model_.meshes.size()))
             throw file_error(file_, "mesh " + std::to_string(mesh_index) + " does not exist");
+        warn_if_animated(node, model_.meshes[mesh_index]);
+        for (const glm::mat4& local : gltf::gpu_instance_transforms(model_, node, file_))
+            add_primitive_instances(node, mesh_index, node_world * local);
+    }
+
+    // Prism draws no animation: skinned and morphing meshes appear in their rest pose, said once per file.
+    void warn_if_animated(const tinygltf::Node& node, const tinygltf::Mesh& mesh) {
+        bool morphs = false;
+        for (const tinygltf::Primitive& primitive : mesh.primitives) morphs = morphs || !primitive.targets.empty();
+        if ((node.skin < 0 && !morphs) || warned_animated_) return;
+        scene_.warnings.push_back(file_ + ": skins and morph targets are not applied; meshes are drawn in their rest pose");
+        warned_animated_ = true;
+    }
+
+    void add_primitive_instances(const tinygltf::Node& node, int mesh_index, const glm::mat4& world) {
         // A mirroring transform reverses the winding after transformation; a mirrored copy with reversed winding
         // keeps geometric normals facing the way the file meant.
         bool mirrored = glm::determinant(glm::mat3(world)) < 0.0f;
@@ -303,6 +321,12 @@ private:
                                  colors.components == 4 ? colors.at(i, 3) : 1.0f};
         }
 
+        if (gltf::FloatArray tangents = read_attribute("TANGENT", 4, 4); tangents.count) {
+            out.tangents.resize(vertex_count);
+            for (size_t i = 0; i < vertex_count; ++i)
+                out.tangents[i] = {tangents.at(i, 0), tangents.at(i, 1), tangents.at(i, 2), tangents.at(i, 3)};
+        }
+
         std::vector<uint32_t> indices;
         if (primitive.indices >= 0) {
             indices = gltf::read_indices(model_, primitive.indices, file_);
@@ -319,6 +343,12 @@ private:
             for (glm::uvec3& triangle : out.triangles) std::swap(triangle.y, triangle.z);
         uint32_t material = materials_.material(primitive.material);
         out.triangle_materials.assign(out.triangles.size(), material);
+        const auto& normal_map = scene_.materials[material].normal_map;
+        if (normal_map && out.tangents.empty()) generate_tangents(out, normal_map->uv_set);
+        // The kernel's bitangent is cross(world normal, world tangent) * sign, and a mirroring transform turns
+        // that cross product around: the mirrored copy carries the opposite sign.
+        if (mirrored)
+            for (glm::vec4& tangent : out.tangents) tangent.w = -tangent.w;
         return true;
     }
 
@@ -394,6 +424,7 @@ private:
     std::map<std::tuple<int, int, bool>, uint32_t> meshes_;   // (mesh, primitive, mirrored) -> scene mesh
     std::vector<NodeState> node_state_;                       // per node: unseen, on the current path, done
     bool warned_non_triangles_ = false;
+    bool warned_animated_ = false;
     bool warned_spot_ = false;
 };
 
@@ -438,7 +469,8 @@ void load_gltf(const std::filesystem::path& path, Scene& scene) {
 
     for (const std::string& required : model.extensionsRequired)
         if (required != "KHR_texture_transform" && required != "KHR_materials_emissive_strength" &&
-            required != "KHR_lights_punctual" && required != "KHR_mesh_quantization")
+            required != "KHR_lights_punctual" && required != "KHR_mesh_quantization" &&
+            required != "EXT_mesh_gpu_instancing")
             scene.warnings.push_back(file + ": required extension " + required + " is not supported");
 
     GltfImporter(model, file, scene).import();

@@ -209,14 +209,20 @@ private:
         for (const auto& [name, source] : materials.items()) {
             std::string key_path = "materials." + name;
             expect_keys(source, key_path,
-                        {"diffuse", "use_vertex_colors", "specular", "ambient", "reflectivity", "transmittance",
-                         "fresnel", "ior", "thickness", "emissive", "textures"});
+                        {"diffuse", "use_vertex_colors", "vertex_colors", "specular", "ambient", "reflectivity",
+                         "transmittance", "fresnel", "ior", "thickness", "emissive", "textures"});
             Material material;
             material.name = name;
             auto field = [&](const char* key) { return join(key_path, key); };
             if (source.contains("diffuse")) material.diffuse = number_or_vec3(source["diffuse"], field("diffuse"));
             if (source.contains("use_vertex_colors"))
                 material.use_vertex_colors = boolean(source["use_vertex_colors"], field("use_vertex_colors"));
+            if (source.contains("vertex_colors")) {
+                // How the model's vertex colours combine with `diffuse`: glTF multiplies, the seed replaced.
+                std::string rule = string(source["vertex_colors"], field("vertex_colors"));
+                if (rule != "multiply" && rule != "replace") fail(field("vertex_colors"), "expected multiply or replace");
+                material.vertex_colors_replace = rule == "replace";
+            }
             if (source.contains("specular")) material.specular = number_or_vec3(source["specular"], field("specular"));
             if (source.contains("ambient")) material.ambient = number_or_vec3(source["ambient"], field("ambient"));
             if (source.contains("reflectivity"))
@@ -354,15 +360,15 @@ private:
         return matrix;
     }
 
-    // One model file loaded once per (file, material override); later objects reuse its meshes as instances.
+    // One model file loaded once; later objects reuse its meshes as instances, a material override included
+    // (Instance::material_override: the instances share the mesh).
     struct LoadedModel {
         std::vector<Instance> instances;   // mesh indices already in the scene, transforms in model space
         std::vector<Light> lights;
     };
 
-    const LoadedModel& load_object_model(const std::filesystem::path& file, const std::string& material_name,
-                                         const std::string& key_path, Scene& scene) {
-        auto key = std::make_pair(file.string(), material_name);
+    const LoadedModel& load_object_model(const std::filesystem::path& file, const std::string& key_path, Scene& scene) {
+        std::string key = file.string();
         auto cached = models_.find(key);
         if (cached != models_.end()) return cached->second;
         if (model_format(file) == ModelFormat::SceneJson || model_format(file) == ModelFormat::Unknown)
@@ -381,11 +387,8 @@ private:
             for (TextureLayer& layer : material.textures) layer.texture += texture_offset;
             scene.materials.push_back(std::move(material));
         }
-        uint32_t override_material = 0;
-        if (!material_name.empty()) override_material = material_index_.at(material_name);
         for (Mesh& mesh : part.meshes) {
-            for (uint32_t& material : mesh.triangle_materials)
-                material = material_name.empty() ? material + material_offset : override_material;
+            for (uint32_t& material : mesh.triangle_materials) material += material_offset;
             scene.meshes.push_back(std::move(mesh));
         }
         LoadedModel model;
@@ -417,12 +420,13 @@ private:
             }
             std::string name = source.contains("name") ? string(source["name"], join(key_path, "name")) : "";
             std::filesystem::path file = relative_file(source["file"], join(key_path, "file"), false);
-            const LoadedModel& model = load_object_model(file, material, key_path, scene);
+            const LoadedModel& model = load_object_model(file, key_path, scene);
             std::optional<InstanceSpin> spin;
             if (source.contains("spin")) spin = read_spin(source["spin"], join(key_path, "spin"), placement);
             for (const Instance& part : model.instances) {
                 Instance instance = part;
                 instance.transform = placement * part.transform;
+                if (!material.empty()) instance.material_override = material_index_.at(material);
                 if (!name.empty()) instance.name = name;
                 if (spin) {
                     spin->instance = static_cast<uint32_t>(scene.instances.size());
@@ -443,7 +447,7 @@ private:
     std::filesystem::path folder_;
     std::map<std::string, uint32_t> material_index_;
     std::map<std::string, uint32_t> texture_index_;
-    std::map<std::pair<std::string, std::string>, LoadedModel> models_;
+    std::map<std::string, LoadedModel> models_;   // by file
 };
 
 }  // namespace

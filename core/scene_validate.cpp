@@ -92,15 +92,22 @@ private:
     void check_material(size_t i) const {
         const Material& material = scene_.materials[i];
         const std::string name = labelled("material", i, material.name);
-        for (size_t l = 0; l < material.textures.size(); ++l) {
-            const TextureLayer& layer = material.textures[l];
-            if (layer.texture >= scene_.textures.size())
-                fail(name + ": texture layer " + std::to_string(l) + " uses texture " + std::to_string(layer.texture) +
-                     " but there are " + std::to_string(scene_.textures.size()) + " textures");
-            if (layer.uv_set > 1)
-                fail(name + ": texture layer " + std::to_string(l) + " uses TEXCOORD_" + std::to_string(layer.uv_set) +
-                     " (only 0 and 1 exist)");
-        }
+        for (size_t l = 0; l < material.textures.size(); ++l)
+            check_layer(material.textures[l], name + ": texture layer " + std::to_string(l));
+        const std::pair<const std::optional<TextureLayer>*, const char*> maps[] = {
+            {&material.metal_rough_map, "metallic-roughness map"}, {&material.emissive_map, "emissive map"},
+            {&material.occlusion_map, "occlusion map"}, {&material.normal_map, "normal map"},
+            {&material.specular_map, "specular map"}, {&material.specular_color_map, "specular colour map"}};
+        for (const auto& [map, what] : maps)
+            if (*map) check_layer(**map, name + ": " + what);
+    }
+
+    void check_layer(const TextureLayer& layer, const std::string& name) const {
+        if (layer.texture >= scene_.textures.size())
+            fail(name + " uses texture " + std::to_string(layer.texture) + " but there are " +
+                 std::to_string(scene_.textures.size()) + " textures");
+        if (layer.uv_set > 1)
+            fail(name + " uses TEXCOORD_" + std::to_string(layer.uv_set) + " (only 0 and 1 exist)");
     }
 
     void check_texture(size_t i) const {
@@ -137,6 +144,9 @@ private:
                  std::to_string(scene_.meshes.size()) + " meshes");
         for (int column = 0; column < 4; ++column)
             if (!finite(instance.transform[column])) fail(name + " has a non-finite transform");
+        if (instance.material_override != kNoMaterialOverride && instance.material_override >= scene_.materials.size())
+            fail(name + " overrides its material with " + std::to_string(instance.material_override) +
+                 " but there are " + std::to_string(scene_.materials.size()) + " materials");
     }
 
     const Scene& scene_;

@@ -38,13 +38,13 @@ RT_FUNC float3 rt_environment(KernelGlobals kg, float3 direction) {
     uint kind = frame.env.x;
     if (kind == RT_ENV_CUBEMAP) {
         float3 f = rt_cubemap_lookup(direction);
-        return rt_xyz(rt_sample_texture(kg, frame.env.y + rt_uint(f.x), make_float2(f.y, f.z))) * tint;
+        return rt_xyz(rt_sample_texture(kg, frame.env.y + rt_uint(f.x), make_float2(f.y, f.z), RT_SAMPLER_REPEAT)) * tint;
     }
     if (kind == RT_ENV_EQUIRECT) {
         float3 d = normalize(direction);
         float u = 0.5f + rt_atan2(d.x, -d.z) * (0.5f / RT_PI);
         float v = rt_acos(rt_min(rt_max(d.y, -1.0f), 1.0f)) * (1.0f / RT_PI);
-        return rt_xyz(rt_sample_texture(kg, frame.env.y, make_float2(u, v))) * tint;
+        return rt_xyz(rt_sample_texture(kg, frame.env.y, make_float2(u, v), RT_SAMPLER_REPEAT)) * tint;
     }
     return tint;
 }

@@ -28,21 +28,94 @@ RT_FUNC float2 rt_apply_uv_transform(TextureLayer layer, float2 uv) {
     return make_float2(dot(rt_xyz(layer.uv_row0), h), dot(rt_xyz(layer.uv_row1), h));
 }
 
-// The diffuse colour C at a surface point: material colour times the interpolated vertex colour (the seed used
-// one or the other; with a white material colour this is the seed's rule, and it is glTF's rule for COLOR_0),
-// then each texture layer in order, each consuming the previous result (thesis 6.3.1).
-RT_FUNC float3 rt_diffuse_color(KernelGlobals kg, Material material, float4 vertex_color, float4 uv) {
+// The texture of one texture_layers entry at a surface point: its uv set, its KHR_texture_transform.
+RT_FUNC float4 rt_sample_layer(KernelGlobals kg, TextureLayer layer, float4 uv) {
+    float2 coords = layer.info.z == 1u ? make_float2(uv.z, uv.w) : make_float2(uv.x, uv.y);
+    return rt_sample_texture(kg, layer.info.x, rt_apply_uv_transform(layer, coords), layer.info.w);
+}
+
+// The diffuse colour C at a surface point: the material colour and the interpolated vertex colour, then each
+// texture layer in order, each consuming the previous result (thesis 6.3.1). Vertex colours multiply the material
+// colour (glTF's rule for COLOR_0), or, with RT_MATERIAL_VERTEX_REPLACE, replace it where the mesh has them (the
+// seed's rule, which a scene file asks for).
+RT_FUNC float3 rt_diffuse_color(KernelGlobals kg, Material material, float4 vertex_color, float4 uv, bool has_colors) {
     float3 c = rt_xyz(material.diffuse);
-    if (material.diffuse.w != 0.0f) c = c * rt_xyz(vertex_color);
+    if (material.diffuse.w != 0.0f) {
+        bool replace = (material.textures.z & RT_MATERIAL_VERTEX_REPLACE) != 0u;
+        c = replace ? (has_colors ? rt_xyz(vertex_color) : c) : c * rt_xyz(vertex_color);
+    }
     uint first = material.textures.x;
     uint count = material.textures.y;
     for (uint k = 0u; k < count; ++k) {
         TextureLayer layer = RT_FETCH(kg, texture_layers, first + k);
-        float2 coords = layer.info.z == 1u ? make_float2(uv.z, uv.w) : make_float2(uv.x, uv.y);
-        float4 t = rt_sample_texture(kg, layer.info.x, rt_apply_uv_transform(layer, coords));
+        float4 t = rt_sample_layer(kg, layer, uv);
         c = rt_texture_environment(layer.info.y, c, t, rt_xyz(layer.environment_color));
     }
     return c;
+}
+
+// How much of the surface is there (glTF alphaMode): 1 for opaque materials; MASK gives 0 or 1 against the cutoff,
+// BLEND the alpha itself. Alpha is the factor times the texture stack's alpha (modulated) times the vertex alpha.
+RT_FUNC float rt_coverage(KernelGlobals kg, Material material, float4 vertex_color, float4 uv) {
+    uint flags = material.textures.z;
+    if ((flags & (RT_MATERIAL_ALPHA_MASK | RT_MATERIAL_ALPHA_BLEND)) == 0u) return 1.0f;
+    float alpha = rt_as_float(material.textures.w);
+    if (material.diffuse.w != 0.0f) alpha = alpha * vertex_color.w;
+    for (uint k = 0u; k < material.textures.y; ++k) {
+        TextureLayer layer = RT_FETCH(kg, texture_layers, material.textures.x + k);
+        alpha = alpha * rt_sample_layer(kg, layer, uv).w;
+    }
+    if ((flags & RT_MATERIAL_ALPHA_MASK) != 0u) return alpha >= material.emissive.w ? 1.0f : 0.0f;
+    return rt_clamp01(alpha);
+}
+
+// One of a material's single-purpose maps (Material.maps), or `fallback` where it has none.
+RT_FUNC float4 rt_sample_map(KernelGlobals kg, uint layer, float4 uv, float4 fallback) {
+    if (layer == RT_NONE) return fallback;
+    return rt_sample_layer(kg, RT_FETCH(kg, texture_layers, layer), uv);
+}
+
+// What a hit's material gives besides its diffuse colour, where textures and the view angle can vary it.
+RT_STRUCT_BEGIN(SurfaceTerms)
+    float4 specular;   // xyz: S (tints reflected light), w: reflectivity r
+    float4 emission;   // xyz: emitted radiance, w: ambient occlusion (1: none)
+    float4 fresnel;    // x: R_f (eq. 6.3), the share of eq. 6.7's reflected path
+RT_STRUCT_END(SurfaceTerms)
+
+// glTF metallic-roughness on the seed's model, per hit. A Whitted tracer has no glossy lobe, so roughness dims
+// the mirror reflection by gloss = 1 - roughness / 2 and the rest is diffuse. An opaque surface mixes a metal
+// (reflects gloss x its base colour at every angle) with a dielectric (reflects gloss x F x its specular colour,
+// F = Schlick's Fresnel from the material's F0, so it mirrors the sky at grazing angles); eq. 6.7 with R_f = 1,
+// r = metallic gloss + (1 - metallic) gloss F and S = (reflected colour) / r gives exactly that, with
+// C (1 - r) left for the diffuse term. Transmissive materials keep the seed's split (r = 1, R_f from the
+// Fresnel term). Emission is the emissive factor times its texture; occlusion (glTF: 1 + strength (texel - 1))
+// darkens only the ambient term, the one light with no shadow ray.
+RT_FUNC SurfaceTerms rt_surface_terms(KernelGlobals kg, Material m, float3 color, float4 uv, float i_dot_n) {
+    SurfaceTerms terms;
+    float4 white = make_float4(1.0f, 1.0f, 1.0f, 1.0f);
+    // KHR_materials_specular's textures: A scales the whole Fresnel term, RGB tints the dielectric reflection.
+    float specular_texel = rt_sample_map(kg, m.specular_maps.x, uv, white).w;
+    float3 specular_tint = rt_xyz(rt_sample_map(kg, m.specular_maps.y, uv, white));
+    terms.specular = rt_float4(rt_xyz(m.specular) * specular_tint, m.specular.w);
+    terms.fresnel = make_float4(rt_fresnel_reflection(m.fresnel, i_dot_n) * specular_texel, 0.0f, 0.0f, 0.0f);
+    terms.emission = rt_float4(rt_xyz(m.emissive) * rt_xyz(rt_sample_map(kg, m.maps.y, uv, white)), 1.0f);
+    if ((m.textures.z & RT_MATERIAL_METAL_ROUGH) != 0u) {
+        float4 texel = rt_sample_map(kg, m.maps.x, uv, white);
+        float metallic = m.metal_rough.x * texel.z;
+        float gloss = 1.0f - 0.5f * (m.metal_rough.y * texel.y);
+        if (m.ambient.w > 0.0f) {
+            terms.specular = rt_float4(rt_lerp3(rt_xyz(terms.specular), color, metallic), m.specular.w);
+        } else {
+            float dielectric = (1.0f - metallic) * gloss * terms.fresnel.x;
+            float3 reflected = color * (metallic * gloss) + rt_xyz(terms.specular) * dielectric;
+            float r = metallic * gloss + dielectric;
+            terms.specular = rt_float4(r > 0.0f ? reflected * (1.0f / r) : rt_xyz(terms.specular), r);
+            terms.fresnel.x = 1.0f;
+        }
+        float occlusion = rt_sample_map(kg, m.maps.z, uv, white).x;
+        terms.emission.w = 1.0f + m.metal_rough.z * (occlusion - 1.0f);
+    }
+    return terms;
 }
 
 #endif

@@ -14,7 +14,7 @@
 
 #include "material.h"
 
-#define RT_MAX_CHILDREN 4
+#define RT_MAX_CHILDREN 5   // reflection, three dispersed refractions, the pass-through of a partly covered surface
 
 // The surface at a hit, in world space. Normals face the incoming ray.
 RT_STRUCT_BEGIN(Surface)
@@ -23,7 +23,7 @@ RT_STRUCT_BEGIN(Surface)
     float4 geometric;   // geometric normal; w = 1 when the ray arrives from outside (the front side)
     float4 vertex_color;
     float4 uv;          // TEXCOORD_0 in xy, TEXCOORD_1 in zw
-    uint4 ids;          // x = material
+    uint4 ids;          // x = material, y = RT_VERTEX_HAS_COLOR when the mesh has vertex colours
 RT_STRUCT_END(Surface)
 
 RT_FUNC Surface rt_surface(KernelGlobals kg, float3 origin, float3 direction, Hit hit) {
@@ -42,23 +42,50 @@ RT_FUNC Surface rt_surface(KernelGlobals kg, float3 origin, float3 direction, Hi
     float3 ng = cross(rt_xyz(geometry.e1), rt_xyz(geometry.e2));
     ng = normalize(rt_transform_normal(inst.world_to_object0, inst.world_to_object1, inst.world_to_object2, ng));
     float3 n = ng;
-    if (a.normal.w > 0.5f) {
+    uint vertex_flags = rt_uint(a.normal.w);
+    if ((vertex_flags & RT_VERTEX_HAS_NORMAL) != 0u) {
         float3 n_object = rt_xyz(a.normal) * w + rt_xyz(b.normal) * u + rt_xyz(c.normal) * v;
         float3 n_world =
             rt_transform_normal(inst.world_to_object0, inst.world_to_object1, inst.world_to_object2, n_object);
         if (dot(n_world, n_world) > 0.0f) n = normalize(n_world);
     }
+    // A normal map tilts the shading normal in the frame of the interpolated tangent, bitangent and normal
+    // (glTF: tangent along +u, bitangent = cross(normal, tangent) * sign; texel 0.5 is no tilt).
+    Material material = RT_FETCH(kg, materials, shading.vertices.w);
+    if (material.maps.w != RT_NONE && a.tangent.w != 0.0f) {
+        float3 t_object = rt_xyz(a.tangent) * w + rt_xyz(b.tangent) * u + rt_xyz(c.tangent) * v;
+        float3 t_world =
+            rt_transform_vector(inst.object_to_world0, inst.object_to_world1, inst.object_to_world2, t_object);
+        t_world = t_world - n * dot(n, t_world);
+        if (dot(t_world, t_world) > 0.0f) {
+            t_world = normalize(t_world);
+            float3 bitangent = cross(n, t_world) * (a.tangent.w < 0.0f ? -1.0f : 1.0f);
+            float4 uv4 = a.uv * w + b.uv * u + c.uv * v;
+            float4 texel = rt_sample_layer(kg, RT_FETCH(kg, texture_layers, material.maps.w), uv4);
+            float scale = material.metal_rough.w;
+            float3 tilt = make_float3((2.0f * texel.x - 1.0f) * scale, (2.0f * texel.y - 1.0f) * scale, 2.0f * texel.z - 1.0f);
+            float3 mapped = t_world * tilt.x + bitangent * tilt.y + n * tilt.z;
+            if (dot(mapped, mapped) > 0.0f) n = normalize(mapped);
+        }
+    }
     bool front = dot(direction, ng) < 0.0f;
     float3 ng_facing = front ? ng : -ng;
     float3 n_facing = dot(n, ng_facing) < 0.0f ? -n : n;
 
+    // The hit point from the barycentrics on the triangle itself, not origin + t * direction: its error then
+    // depends on the triangle's coordinates only, not on how far the ray travelled or how each API rounds t,
+    // so the offset of rt_offset_ray_origin always clears the surface (Ray Tracing Gems ch. 6).
+    float3 p_object = rt_xyz(geometry.v0) + rt_xyz(geometry.e1) * u + rt_xyz(geometry.e2) * v;
+    float3 p_world =
+        rt_transform_point(inst.object_to_world0, inst.object_to_world1, inst.object_to_world2, p_object);
+
     Surface s;
-    s.position = rt_float4(origin + direction * hit.tuv.x, 0.0f);
+    s.position = rt_float4(p_world, 0.0f);
     s.normal = rt_float4(n_facing, 0.0f);
     s.geometric = rt_float4(ng_facing, front ? 1.0f : 0.0f);
     s.vertex_color = a.color * w + b.color * u + c.color * v;
     s.uv = a.uv * w + b.uv * u + c.uv * v;
-    s.ids = make_uint4(shading.vertices.w, 0u, 0u, 0u);
+    s.ids = make_uint4(shading.vertices.w, vertex_flags & RT_VERTEX_HAS_COLOR, 0u, 0u);
     return s;
 }
 
@@ -67,6 +94,7 @@ RT_STRUCT_BEGIN(ShadeResult)
     float4 light_weight;   // xyz: multiplies each light's irradiance reaching the point (shadow rays)
     float4 lit_origin;     // xyz: the point moved off the surface on the side the ray came from
     float4 normal;         // xyz: shading normal facing the ray
+    float4 geometric;      // xyz: geometric normal facing the ray
     Ray children[RT_MAX_CHILDREN];
     uint4 counts;          // x = number of children
 RT_STRUCT_END(ShadeResult)
@@ -116,28 +144,45 @@ RT_FUNC ShadeResult rt_shade(KernelGlobals kg, Ray ray, Hit hit) {
     Material m = RT_FETCH(kg, materials, s.ids.x);
     float3 n = rt_xyz(s.normal);
     float3 ng = rt_xyz(s.geometric);
-    float3 weight = rt_xyz(ray.weight);
+    // A partly covered surface (alpha) shades with the covered share of the ray's weight; the rest passes on.
+    float coverage = rt_coverage(kg, m, s.vertex_color, s.uv);
+    float3 arriving = rt_xyz(ray.weight);
+    // A ray leaving a solid medium has crossed it from where it entered: Beer-Lambert over that distance.
+    if (s.geometric.w == 0.0f && rt_max3(rt_xyz(m.absorption)) > 0.0f) {
+        float3 a = rt_xyz(m.absorption) * (-hit.tuv.x * 1.44269504f);   // exp(-x) = 2^(-x log2 e)
+        arriving = arriving * make_float3(rt_exp2(a.x), rt_exp2(a.y), rt_exp2(a.z));
+    }
+    float3 weight = arriving * coverage;
+    float3 passing = arriving * (1.0f - coverage);
     uint pixel = ray.info.x;
     uint mask = ray.info.y;
     uint depth = ray.info.z;
 
-    float3 color = rt_diffuse_color(kg, m, s.vertex_color, s.uv);
-    float reflectivity = m.specular.w;
+    float3 color = rt_diffuse_color(kg, m, s.vertex_color, s.uv, s.ids.y != 0u);
+    SurfaceTerms terms = rt_surface_terms(kg, m, color, s.uv, dot(d, n));
+    float reflectivity = terms.specular.w;
     float transmittance = m.ambient.w;
-    float rf = rt_fresnel_reflection(m.fresnel, dot(d, n));
+    float rf = terms.fresnel.x;
     float tf = 1.0f - rf;
     float3 base = color * (rf * (1.0f - reflectivity) + tf * (1.0f - transmittance));
 
     ShadeResult result;
     result.light_weight = rt_float4(weight * base, 0.0f);
-    result.emitted = rt_float4(weight * (base * rt_xyz(frame.ambient_light) + rt_xyz(m.emissive)), 0.0f);
+    result.emitted = rt_float4(
+        weight * (base * rt_xyz(frame.ambient_light) * terms.emission.w + rt_xyz(terms.emission)), 0.0f);
     result.lit_origin = rt_float4(rt_offset_ray_origin(rt_xyz(s.position), ng), 0.0f);
     result.normal = s.normal;
+    result.geometric = s.geometric;
     result.counts = make_uint4(0u, 0u, 0u, 0u);
     uint count = 0u;
     if (depth + 1u < frame.size.z) {
         float min_weight = frame.ambient_light.w;
-        float3 w_reflect = weight * rt_xyz(m.specular) * (rf * reflectivity);
+        if (rt_max3(passing) > min_weight) {
+            float3 through = rt_offset_ray_origin(rt_xyz(s.position), -ng);
+            result.children[count] = rt_make_ray(through, d, passing, pixel, mask, depth + 1u);
+            count += 1u;
+        }
+        float3 w_reflect = weight * rt_xyz(terms.specular) * (rf * reflectivity);
         if (rt_max3(w_reflect) > min_weight) {
             float3 dir = rt_reflect(d, n);
             if (dot(dir, ng) <= 0.0f) dir = rt_reflect(d, ng);   // shading normal pointed it into the surface
@@ -187,7 +232,9 @@ RT_FUNC ShadowRay rt_shadow_ray(KernelGlobals kg, ShadeResult shade, uint index,
         to_light = l * (1.0f / distance);
         falloff = 1.0f / d2;
     }
-    float cosine = dot(rt_xyz(shade.normal), to_light);
+    // A light below the geometric surface is hidden by the surface itself, whatever the shading normal says;
+    // tracing that ray would only find the surface's own neighbours at distances each API rounds differently.
+    float cosine = dot(rt_xyz(shade.geometric), to_light) > 0.0f ? dot(rt_xyz(shade.normal), to_light) : 0.0f;
     ShadowRay sr;
     sr.origin = rt_float4(origin, 0.0f);
     sr.direction = rt_float4(to_light, distance);

@@ -1,4 +1,4 @@
-// Texture reads from the shared texel array: the same bilinear filter and decoding on every API (no hardware
+// Texture reads from the shared texel array: the same filters, wrap modes and decoding on every API (no hardware
 // samplers, whose filtering precision differs between vendors and would break cross-API agreement).
 #ifndef RT_TEXTURE_H
 #define RT_TEXTURE_H
@@ -41,29 +41,45 @@ RT_FUNC int rt_wrap_repeat(int i, int size) {
     return m < 0 ? m + size : m;
 }
 
-RT_FUNC float4 rt_texel(KernelGlobals kg, TextureInfo info, int x, int y) {
+// glTF sampler wrap modes (RT_WRAP_*) on an integer texel coordinate.
+RT_FUNC int rt_wrap(int i, int size, uint mode) {
+    if (mode == RT_WRAP_CLAMP) return rt_int(rt_min(rt_max(rt_float(i), 0.0f), rt_float(size - 1)));
+    if (mode == RT_WRAP_MIRROR) {
+        int period = rt_wrap_repeat(i, 2 * size);
+        return period < size ? period : 2 * size - 1 - period;
+    }
+    return rt_wrap_repeat(i, size);
+}
+
+RT_FUNC float4 rt_texel(KernelGlobals kg, TextureInfo info, int x, int y, uint sampling) {
     int width = rt_int(info.info.y);
     int height = rt_int(info.info.z);
-    uint offset = info.info.x + rt_uint(rt_wrap_repeat(y, height) * width + rt_wrap_repeat(x, width));
+    int wx = rt_wrap(x, width, sampling & 3u);
+    int wy = rt_wrap(y, height, (sampling >> 2u) & 3u);
+    uint offset = info.info.x + rt_uint(wy * width + wx);
     return rt_decode_texel(RT_FETCH(kg, texels, offset), info.info.w);
 }
 
-// Bilinear, repeat wrap; uv (0, 0) is the top-left corner of the image (glTF convention; loaders convert).
-RT_FUNC float4 rt_sample_texture(KernelGlobals kg, uint texture, float2 uv) {
+// Bilinear (or nearest with RT_SAMPLER_NEAREST) with the sampler's wrap modes (RT_SAMPLER_REPEAT: repeat both
+// ways); uv (0, 0) is the top-left corner of the image (glTF convention; loaders convert). Mipmaps are not built:
+// a minification filter counts as its base filter.
+RT_FUNC float4 rt_sample_texture(KernelGlobals kg, uint texture, float2 uv, uint sampling) {
     TextureInfo info = RT_FETCH(kg, texture_infos, texture);
     float x = uv.x * rt_float(info.info.y) - 0.5f;
     float y = uv.y * rt_float(info.info.z) - 0.5f;
     if (!(rt_abs(x) < 1e8f && rt_abs(y) < 1e8f)) return make_float4(0.0f, 0.0f, 0.0f, 1.0f);   // NaN or huge uv
+    if ((sampling & RT_SAMPLER_NEAREST) != 0u)
+        return rt_texel(kg, info, rt_int(rt_floor(x + 0.5f)), rt_int(rt_floor(y + 0.5f)), sampling);
     float fx = rt_floor(x);
     float fy = rt_floor(y);
     float ax = x - fx;
     float ay = y - fy;
     int x0 = rt_int(fx);
     int y0 = rt_int(fy);
-    float4 c00 = rt_texel(kg, info, x0, y0);
-    float4 c10 = rt_texel(kg, info, x0 + 1, y0);
-    float4 c01 = rt_texel(kg, info, x0, y0 + 1);
-    float4 c11 = rt_texel(kg, info, x0 + 1, y0 + 1);
+    float4 c00 = rt_texel(kg, info, x0, y0, sampling);
+    float4 c10 = rt_texel(kg, info, x0 + 1, y0, sampling);
+    float4 c01 = rt_texel(kg, info, x0, y0 + 1, sampling);
+    float4 c11 = rt_texel(kg, info, x0 + 1, y0 + 1, sampling);
     float4 top = c00 * (1.0f - ax) + c10 * ax;
     float4 bottom = c01 * (1.0f - ax) + c11 * ax;
     return top * (1.0f - ay) + bottom * ay;

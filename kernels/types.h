@@ -94,11 +94,13 @@ RT_STRUCT_BEGIN(TriangleShading)
     uint4 vertices;
 RT_STRUCT_END(TriangleShading)
 
-// Per-vertex shading attributes. normal.w = 1 when the mesh has vertex normals (else the geometric normal is used).
+// Per-vertex shading attributes. normal.w = RT_VERTEX_* bits as a float: whether the mesh has vertex normals (else
+// the geometric normal is used) and colours.
 RT_STRUCT_BEGIN(Vertex)
     float4 normal;
-    float4 color;   // linear RGBA; (1,1,1,1) when the mesh has none
-    float4 uv;      // xy = TEXCOORD_0, zw = TEXCOORD_1
+    float4 color;     // linear RGBA; (1,1,1,1) when the mesh has none
+    float4 uv;        // xy = TEXCOORD_0, zw = TEXCOORD_1
+    float4 tangent;   // xyz = tangent (along +u), w = bitangent sign (+1/-1); all 0 when the mesh has none
 RT_STRUCT_END(Vertex)
 
 // An instance of a mesh (thesis 6.2: the Node Primitive). Rows of 3x4 affine matrices.
@@ -121,8 +123,13 @@ RT_STRUCT_END(Instance)
 // ---- Materials and textures ----------------------------------------------------------------------------------
 // The seed's material (thesis 6.3, eq. 6.7). See core/scene.h Material for the meaning of each field.
 //  diffuse.w = 1 to use vertex colours, specular.w = reflectivity r, ambient.w = transmittance t
-//  fresnel = (bias, scale, power, thickness), ior.xyz = per-channel IOR, emissive.w unused
-//  textures.x = first layer in texture_layers, textures.y = layer count
+//  fresnel = (bias, scale, power, thickness), ior.xyz = per-channel IOR
+//  textures.x = first layer in texture_layers, textures.y = layer count, textures.z = RT_MATERIAL_* flags,
+//  textures.w = as_uint(alpha factor); emissive.w = alpha cutoff (RT_MATERIAL_ALPHA_MASK)
+//  metal_rough = (metallic factor, roughness factor, occlusion strength, normal scale): glTF's metallic-roughness model,
+//                read when RT_MATERIAL_METAL_ROUGH is set (material.h says how it maps onto the seed's terms)
+//  maps = texture_layers entries (RT_NONE: none) of the metallic-roughness (B = metallic, G = roughness),
+//         emissive (multiplies `emissive`), occlusion (R) and normal textures
 RT_STRUCT_BEGIN(Material)
     float4 diffuse;
     float4 specular;
@@ -131,20 +138,45 @@ RT_STRUCT_BEGIN(Material)
     float4 ior;
     float4 emissive;
     uint4 textures;
+    float4 metal_rough;
+    uint4 maps;
+    float4 absorption;   // xyz: Beer-Lambert coefficients per unit length inside a solid medium (0: clear)
+    uint4 specular_maps; // texture_layers entries (RT_NONE: none) of KHR_materials_specular's specularTexture
+                         // (A scales the Fresnel term) and specularColorTexture (RGB tints it); zw unused
 RT_STRUCT_END(Material)
+
+#define RT_VERTEX_HAS_NORMAL 1u
+#define RT_VERTEX_HAS_COLOR 2u
+
+// The material's reflectivity and specular colour come from glTF metallic/roughness, per hit (textures), in the
+// kernel; else they are the seed's constants.
+#define RT_MATERIAL_METAL_ROUGH 1u
+// glTF alphaMode: MASK cuts the surface out where alpha < the cutoff (emissive.w); BLEND lets 1 - alpha of the
+// light pass straight through. alpha = textures.w (the factor, as float bits) x base texture alpha x vertex alpha.
+#define RT_MATERIAL_ALPHA_MASK 2u
+#define RT_MATERIAL_ALPHA_BLEND 4u
+// Vertex colours replace the material colour where the mesh has them (the seed's rule) instead of multiplying it.
+#define RT_MATERIAL_VERTEX_REPLACE 8u
 
 #define RT_TEXMODE_REPLACE 0u
 #define RT_TEXMODE_DECAL 1u
 #define RT_TEXMODE_MODULATE 2u
 #define RT_TEXMODE_BLEND 3u
 
-// info.x = texture index, info.y = mode, info.z = uv set; uv_row0/1 = KHR_texture_transform affine rows (xyz)
+// info.x = texture index, info.y = mode, info.z = uv set, info.w = sampler (RT_WRAP_* of u in bits 0-1, of v in
+// bits 2-3, RT_SAMPLER_NEAREST); uv_row0/1 = KHR_texture_transform affine rows (xyz)
 RT_STRUCT_BEGIN(TextureLayer)
     uint4 info;
     float4 environment_color;
     float4 uv_row0;
     float4 uv_row1;
 RT_STRUCT_END(TextureLayer)
+
+#define RT_WRAP_REPEAT 0u
+#define RT_WRAP_CLAMP 1u
+#define RT_WRAP_MIRROR 2u
+#define RT_SAMPLER_NEAREST 16u
+#define RT_SAMPLER_REPEAT 0u   // bilinear, repeat both ways
 
 #define RT_TEXENC_SRGB8 0u
 #define RT_TEXENC_LINEAR8 1u

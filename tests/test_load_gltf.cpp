@@ -4,6 +4,7 @@
 #include <fstream>
 #include <iterator>
 #include <random>
+#include <set>
 
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
@@ -89,13 +90,15 @@ TEST(LoadGltf, DamagedHelmetCountsAndTextureMatchInBothForms) {
     EXPECT_EQ(binary.triangle_count(), 15452u);   // its one index accessor holds 46,356 indices
     EXPECT_EQ(separate.triangle_count(), 15452u);
     ASSERT_EQ(binary.materials.size(), 1u);
-    ASSERT_EQ(binary.materials[0].textures.size(), 1u);   // base colour only; the emissive map has no seed slot
+    ASSERT_EQ(binary.materials[0].textures.size(), 1u);   // the base colour stack; the other maps have their slots
+    EXPECT_TRUE(binary.materials[0].emissive_map && binary.materials[0].metal_rough_map &&
+                binary.materials[0].normal_map && binary.materials[0].occlusion_map);
     const Texture& albedo = binary.textures[binary.materials[0].textures[0].texture];
     EXPECT_EQ(albedo.width, 2048);
     EXPECT_EQ(albedo.encoding, TextureEncoding::Srgb8);
     EXPECT_GT(binary.materials[0].emissive.x, 0.0f);
-    ASSERT_EQ(separate.textures.size(), 1u);
-    EXPECT_EQ(separate.textures[0].texels, albedo.texels);
+    ASSERT_EQ(separate.textures.size(), binary.textures.size());
+    EXPECT_EQ(separate.textures[separate.materials[0].textures[0].texture].texels, albedo.texels);
 }
 
 TEST(LoadGltf, MetalRoughSpheresOneInstancePerPrimitive) {
@@ -179,8 +182,8 @@ TEST(LoadGltf, TextureTransformRowsFollowTheExtension) {
     const TextureLayer& rotation = material("Rotation").textures.at(0);
     float angle = 0.39269908169872414f;
     EXPECT_NEAR(rotation.uv_row0.x, std::cos(angle), 1e-6f);
-    EXPECT_NEAR(rotation.uv_row0.y, -std::sin(angle), 1e-6f);
-    EXPECT_NEAR(rotation.uv_row1.x, std::sin(angle), 1e-6f);
+    EXPECT_NEAR(rotation.uv_row0.y, std::sin(angle), 1e-6f);   // the sample viewer's direction
+    EXPECT_NEAR(rotation.uv_row1.x, -std::sin(angle), 1e-6f);
     const TextureLayer& scale = material("Scale").textures.at(0);
     EXPECT_EQ(scale.uv_row0, glm::vec3(1.5f, 0.0f, 0.0f));
     EXPECT_EQ(material("Correct").textures.at(0).uv_row0, glm::vec3(1.0f, 0.0f, 0.0f));
@@ -202,12 +205,15 @@ TEST(LoadGltf, TransmissiveSamplesGetTransmittance) {
     }
 }
 
-TEST(LoadGltf, AttenuationColourBecomesAmbient) {
+// AttenuationTest's rows vary attenuationDistance: each becomes its own Beer-Lambert coefficient (not one flat
+// tint for all), and a shorter distance absorbs more.
+TEST(LoadGltf, AttenuationDistanceBecomesAbsorption) {
     Scene scene = load(test::scene("gltf/AttenuationTest/AttenuationTest.glb"));
-    bool tinted = false;
+    std::set<float> coefficients;
     for (const Material& material : scene.materials)
-        if (material.transmittance > 0.0f && material.ambient != glm::vec3(1.0f)) tinted = true;
-    EXPECT_TRUE(tinted);
+        if (material.transmittance > 0.0f && glm::length(material.absorption) > 0.0f)
+            coefficients.insert(glm::length(material.absorption));
+    EXPECT_GE(coefficients.size(), 5u);
 }
 
 TEST(LoadGltf, VertexColoursArePresent) {
@@ -365,19 +371,26 @@ TEST(LoadGltf, MaterialExtensionsMapOntoTheSeedModel) {
     };
     const Material& metal = by_name("metal");
     EXPECT_FLOAT_EQ(metal.reflectivity, 1.0f);
-    EXPECT_NEAR(metal.specular.y, 0.6f, 1e-6f);   // metals tint reflections with their base colour
+    // Metals tint reflections with their base colour: the kernel mixes per hit, from the metallic factor.
+    EXPECT_TRUE(metal.metal_rough);
+    EXPECT_EQ(metal.metallic, 1.0f);
+    EXPECT_EQ(metal.roughness, 0.0f);
+    EXPECT_EQ(metal.specular, glm::vec3(1.0f));
     EXPECT_EQ(metal.transmittance, 0.0f);
-    EXPECT_EQ(metal.fresnel_bias, 1.0f);
-    EXPECT_EQ(metal.fresnel_scale, 0.0f);
+    // Opaque glTF surfaces carry the dielectric's Schlick term; the kernel weighs it by 1 - metallic.
+    EXPECT_NEAR(metal.fresnel_bias, 0.04f, 1e-6f);
+    EXPECT_NEAR(metal.fresnel_scale, 0.96f, 1e-6f);
 
     const Material& glass = by_name("glass");
     EXPECT_EQ(glass.transmittance, 1.0f);
-    float f0 = std::pow((1.7f - 1.0f) / (1.7f + 1.0f), 2.0f) * 0.5f;   // KHR_materials_specular scales F0
-    EXPECT_NEAR(glass.fresnel_bias, f0, 1e-6f);
-    EXPECT_NEAR(glass.fresnel_scale, 1.0f - f0, 1e-6f);
+    float f0 = std::pow((1.7f - 1.0f) / (1.7f + 1.0f), 2.0f);   // KHR_materials_specular scales the whole term
+    EXPECT_NEAR(glass.fresnel_bias, f0 * 0.5f, 1e-6f);
+    EXPECT_NEAR(glass.fresnel_scale, (1.0f - f0) * 0.5f, 1e-6f);
     EXPECT_EQ(glass.fresnel_power, 5.0f);
     EXPECT_NEAR(glass.specular.y, 0.5f, 1e-6f);
-    EXPECT_EQ(glass.ambient, glm::vec3(0.5f, 0.8f, 1.0f));
+    // No attenuationDistance: infinite, so the solid volume absorbs nothing (glTF's default).
+    EXPECT_EQ(glass.ambient, glm::vec3(1.0f));
+    EXPECT_EQ(glass.absorption, glm::vec3(0.0f));
     EXPECT_EQ(glass.thickness, 0.0f);   // a volume: solid glass
     EXPECT_LT(glass.ior.x, glass.ior.y);
     EXPECT_LT(glass.ior.y, glass.ior.z);
@@ -392,8 +405,9 @@ TEST(LoadGltf, MaterialExtensionsMapOntoTheSeedModel) {
     EXPECT_EQ(thin.thickness, gltf::kThinWalledThickness);
 
     const Material& blend = by_name("blend");
-    EXPECT_FLOAT_EQ(blend.transmittance, 0.75f);
-    EXPECT_EQ(blend.ior, glm::vec3(1.0f));
+    EXPECT_EQ(blend.alpha_mode, AlphaMode::Blend);   // the kernel lets 1 - alpha pass straight through
+    EXPECT_FLOAT_EQ(blend.alpha, 0.25f);
+    EXPECT_EQ(blend.transmittance, 0.0f);
 
     EXPECT_EQ(by_name("lamp").emissive, glm::vec3(4.0f, 2.0f, 0.0f));
     EXPECT_EQ(by_name("default").diffuse, glm::vec3(0.8f));

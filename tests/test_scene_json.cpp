@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/device_scene.h"
 #include "core/load_scene_json.h"
 #include "core/scene_read_rules.h"
 #include "core/scene_loader.h"
@@ -98,12 +99,17 @@ TEST(SceneJson, ComposesPlyAndGltfWithTransformsAndMaterials) {
     EXPECT_NEAR(box->transform[3].y, 3.0f, 1e-6f);
     EXPECT_NEAR(glm::length(glm::vec3(box->transform[0])), 2.0f, 1e-5f);
 
-    // Material overrides: the PLYs take the named materials, the box keeps its own.
-    const Material& chrome = scene.materials[scene.meshes[bunny->mesh].triangle_materials[0]];
+    // Material overrides: the PLYs take the named materials, the box keeps its own; the two bunnies are
+    // instances of one mesh, each with its own material.
+    EXPECT_EQ(bunny->mesh, glass_bunny->mesh);
+    ASSERT_NE(bunny->material_override, kNoMaterialOverride);
+    ASSERT_NE(glass_bunny->material_override, kNoMaterialOverride);
+    EXPECT_EQ(box->material_override, kNoMaterialOverride);
+    const Material& chrome = scene.materials[bunny->material_override];
     EXPECT_EQ(chrome.name, "chrome");
     EXPECT_EQ(chrome.reflectivity, 0.8f);
     EXPECT_EQ(chrome.diffuse, glm::vec3(0.7f));
-    const Material& glass = scene.materials[scene.meshes[glass_bunny->mesh].triangle_materials[0]];
+    const Material& glass = scene.materials[glass_bunny->material_override];
     EXPECT_EQ(glass.name, "glass");
     EXPECT_EQ(glass.ior, glm::vec3(1.5f, 1.52f, 1.54f));
     EXPECT_EQ(glass.thickness, 0.01f);
@@ -241,4 +247,34 @@ TEST(SceneJson, ErrorsInsideAModelFileNameThatFile) {
 }
 
 }  // namespace
+}  // namespace prism
+
+namespace prism {
+
+// Two instances of one mesh with different material overrides: one set of vertices and one BVH on the device,
+// each instance reading its own material.
+TEST(SceneJson, MaterialOverridesShareTheMeshOnTheDevice) {
+    Scene scene;
+    Mesh mesh;
+    mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    mesh.triangles = {{0, 1, 2}};
+    mesh.triangle_materials = {0};
+    scene.meshes.push_back(mesh);
+    scene.materials.resize(3);
+    scene.instances.push_back(Instance{0, glm::mat4(1.0f), "own"});
+    scene.instances.push_back(Instance{0, glm::mat4(1.0f), "red", 1});
+    scene.instances.push_back(Instance{0, glm::mat4(1.0f), "blue", 2});
+    scene.instances.push_back(Instance{0, glm::mat4(1.0f), "red again", 1});
+    DeviceScene device = build_device_scene(scene);
+    EXPECT_EQ(device.vertices.size(), 3u);
+    EXPECT_EQ(device.triangles.size(), 1u);
+    std::vector<uint32_t> materials;
+    for (const ::Instance& instance : device.instances) {
+        EXPECT_EQ(instance.info.x, device.instances[0].info.x);   // one BVH root
+        materials.push_back(device.triangle_shading.at(instance.info.z).vertices.w);
+    }
+    EXPECT_EQ(materials, (std::vector<uint32_t>{0, 1, 2, 1}));
+    EXPECT_EQ(device.instances[1].info.z, device.instances[3].info.z);   // one copy per (mesh, material)
+}
+
 }  // namespace prism

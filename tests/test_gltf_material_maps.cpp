@@ -1,0 +1,346 @@
+// glTF material channels beyond the base colour, checked on rendered pixels (cpu-ref; the backends run the same
+// kernels/ code, and the agreement tests compare them): emissive texture and strength, metallic-roughness
+// texture, occlusion on the ambient term.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include <glm/glm.hpp>
+
+#include "tests/gltf_builder.h"
+#include "tests/gltf_render_probe.h"
+
+namespace prism {
+namespace {
+
+using nlohmann::json;
+using test::GltfBuilder;
+
+constexpr uint32_t kRed = 0xff0000ffu, kGreen = 0xff00ff00u, kBlue = 0xffff0000u, kWhite = 0xffffffffu,
+                   kBlack = 0xff000000u;
+
+// A unit quad in z = 0 facing +z with uv (0, 0) at its top-left corner, so texel (0, 0) of a 2x2 texture covers
+// the top-left quarter of the quad on screen.
+// With `tangents`, a TANGENT attribute along +x (+u) is given; else the loader generates it.
+int textured_quad(GltfBuilder& gltf, bool tangents = false) {
+    int positions = gltf.positions({-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0});
+    int normals = gltf.positions({0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1});
+    std::vector<float> uv = {0, 1, 1, 1, 1, 0, 0, 0};
+    int uvs = gltf.accessor({{"bufferView", gltf.view(uv)}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}});
+    int indices = gltf.indices({0, 1, 2, 0, 2, 3});
+    json attributes = {{"POSITION", positions}, {"NORMAL", normals}, {"TEXCOORD_0", uvs}};
+    if (tangents) {
+        std::vector<float> xyzw = {1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1};
+        attributes["TANGENT"] =
+            gltf.accessor({{"bufferView", gltf.view(xyzw)}, {"componentType", 5126}, {"count", 4}, {"type", "VEC4"}});
+    }
+    return gltf.mesh(json::array({{{"attributes", attributes}, {"indices", indices}, {"material", 0}}}));
+}
+
+// One texture per image name, sampled nearest-texel-centre by the probes.
+void add_textures(GltfBuilder& gltf, const std::vector<std::string>& images) {
+    for (size_t i = 0; i < images.size(); ++i) {
+        gltf.document["images"].push_back({{"uri", images[i]}});
+        gltf.document["textures"].push_back({{"source", i}});
+    }
+}
+
+// The pixel showing world point (x, y) of the z = 0 plane from render_gltf's camera (45 degrees, distance 3).
+test::Rgb at_world(const test::ProbeImage& image, float x, float y) {
+    const float ndc_per_unit = 1.0f / (3.0f * std::tan(glm::radians(22.5f)));
+    return image.at_ndc(x * ndc_per_unit, y * ndc_per_unit);
+}
+
+bool is_red(test::Rgb c) { return c.r > 200 && c.g < 60 && c.b < 60; }
+bool is_green(test::Rgb c) { return c.g > 200 && c.r < 60 && c.b < 60; }
+bool is_blue(test::Rgb c) { return c.b > 200 && c.r < 60 && c.g < 60; }
+
+void no_light(Scene& scene) {
+    scene.lights.clear();
+    scene.ambient_light = glm::vec3(0.0f);
+    scene.environment.color = glm::vec3(0.0f);
+}
+
+}  // namespace
+
+TEST(GltfMaterialMaps, EmissiveTextureShowsItsColours) {
+    std::string image = test::write_test_png("emissive_rgbw.png", 2, 2, {kRed, kGreen, kBlue, kWhite});
+    auto build = [&](const std::string& name, json emissive_factor, json extensions) {
+        GltfBuilder gltf;
+        add_textures(gltf, {image});
+        json material = {{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0}}},
+                         {"emissiveFactor", emissive_factor},
+                         {"emissiveTexture", {{"index", 0}}}};
+        if (!extensions.is_null()) material["extensions"] = extensions;
+        gltf.document["materials"] = json::array({material});
+        gltf.node({{"mesh", textured_quad(gltf)}});
+        return gltf.write(name);
+    };
+    test::ProbeImage plain = test::render_gltf(build("emissive.gltf", {1, 1, 1}, nullptr), no_light);
+    // Texel centres: world (+-0.5, +-0.5).
+    test::Rgb top_left = at_world(plain, -0.5f, 0.5f), top_right = at_world(plain, 0.5f, 0.5f);
+    test::Rgb bottom_left = at_world(plain, -0.5f, -0.5f), bottom_right = at_world(plain, 0.5f, -0.5f);
+    EXPECT_GT(top_left.r, 200);
+    EXPECT_LT(top_left.g, 60);
+    EXPECT_GT(top_right.g, 200);
+    EXPECT_LT(top_right.r, 60);
+    EXPECT_GT(bottom_left.b, 200);
+    EXPECT_LT(bottom_left.g, 60);
+    EXPECT_GT(bottom_right.r, 200);
+    EXPECT_GT(bottom_right.b, 200);
+
+    // KHR_materials_emissive_strength scales the factor: 0.25 x 4 is the same light.
+    test::ProbeImage strong = test::render_gltf(
+        build("emissive_strength.gltf", {0.25, 0.25, 0.25},
+              {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4.0}}}}),
+        no_light);
+    EXPECT_GE(test::psnr_rgba8(plain.frame.image, strong.frame.image), 50.0);
+    test::ProbeImage dim = test::render_gltf(build("emissive_dim.gltf", {0.25, 0.25, 0.25}, nullptr), no_light);
+    EXPECT_LT(at_world(dim, -0.5f, 0.5f).r, top_left.r - 50);
+}
+
+// metallicFactor 1 with the real values in the texture (B = metallic, G = roughness): the metal half mirrors the
+// green sky, the dielectric half stays a grey diffuse surface.
+TEST(GltfMaterialMaps, MetallicRoughnessTextureDecidesWhatMirrors) {
+    // Left column dielectric (B = 0), right column smooth metal (B = 255, G = 0).
+    std::string image = test::write_test_png("metal_rough.png", 2, 2, {kBlack, kBlue, kBlack, kBlue});
+    GltfBuilder gltf;
+    add_textures(gltf, {image});
+    gltf.document["materials"] = json::array(
+        {{{"pbrMetallicRoughness",
+           {{"baseColorFactor", {0.5, 0.5, 0.5, 1}}, {"metallicFactor", 1}, {"roughnessFactor", 1},
+            {"metallicRoughnessTexture", {{"index", 0}}}}}}});
+    gltf.node({{"mesh", textured_quad(gltf)}});
+    test::ProbeImage image_out = test::render_gltf(gltf.write("metal_rough.gltf"), [](Scene& scene) {
+        scene.lights.clear();
+        scene.ambient_light = glm::vec3(0.5f);
+        scene.environment.kind = EnvironmentKind::Constant;
+        scene.environment.color = glm::vec3(0.0f, 1.0f, 0.0f);
+    });
+    test::Rgb dielectric = at_world(image_out, -0.5f, 0.0f), metal = at_world(image_out, 0.5f, 0.0f);
+    EXPECT_LT(dielectric.g - dielectric.r, 25);   // grey: the ambient light, and Fresnel's few % of the sky
+    EXPECT_GT(dielectric.r, 60);
+    EXPECT_LT(metal.r, 20);                        // a mirror of the green sky, tinted by the grey base colour
+    EXPECT_GT(metal.g, 150);
+}
+
+// Occlusion darkens the ambient term only: under ambient light alone, the occluded half is black.
+TEST(GltfMaterialMaps, OcclusionTextureDarkensTheAmbientTerm) {
+    std::string image = test::write_test_png("occlusion.png", 2, 2, {kBlack, kWhite, kBlack, kWhite});
+    auto build = [&](const std::string& name, double strength) {
+        GltfBuilder gltf;
+        add_textures(gltf, {image});
+        gltf.document["materials"] = json::array(
+            {{{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}}},
+              {"occlusionTexture", {{"index", 0}, {"strength", strength}}}}});
+        gltf.node({{"mesh", textured_quad(gltf)}});
+        return gltf.write(name);
+    };
+    auto ambient_only = [](Scene& scene) {
+        scene.lights.clear();
+        scene.ambient_light = glm::vec3(0.5f);
+        scene.environment.color = glm::vec3(0.0f);
+    };
+    test::ProbeImage full = test::render_gltf(build("occlusion.gltf", 1.0), ambient_only);
+    EXPECT_LT(at_world(full, -0.5f, 0.0f).r, 30);   // unoccluded: 188
+    EXPECT_GT(at_world(full, 0.5f, 0.0f).r, 150);
+    test::ProbeImage half = test::render_gltf(build("occlusion_half.gltf", 0.5), ambient_only);
+    EXPECT_GT(at_world(half, -0.5f, 0.0f).r, 100);   // strength 0.5: half the ambient light
+    EXPECT_LT(at_world(half, -0.5f, 0.0f).r, at_world(full, 0.5f, 0.0f).r - 20);
+}
+
+// A normal map tilting every normal 37 degrees towards +x (+u): a light low on the +x side lights the quad more
+// than the flat quad gets, one low on the -x side not at all. Generated tangents give the file's own.
+TEST(GltfMaterialMaps, NormalMapTiltsTheShadingNormal) {
+    // (0.6, 0, 0.8) encoded as (n + 1) / 2.
+    std::string image = test::write_test_png("normal_tilt.png", 1, 1, {0xffe680ccu});
+    auto build = [&](const std::string& name, bool normal_map, bool tangents) {
+        GltfBuilder gltf;
+        add_textures(gltf, {image});
+        json material = {{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}}}};
+        if (normal_map) material["normalTexture"] = {{"index", 0}};
+        gltf.document["materials"] = json::array({material});
+        gltf.node({{"mesh", textured_quad(gltf, tangents)}});
+        return gltf.write(name);
+    };
+    auto light_from = [](float side) {
+        return [side](Scene& scene) {
+            scene.lights.clear();
+            Light light;
+            light.type = LightType::Directional;
+            light.direction = glm::normalize(glm::vec3(-side, 0.0f, -0.25f));   // the way the light travels
+            scene.lights.push_back(light);
+            scene.ambient_light = glm::vec3(0.0f);
+            scene.environment.color = glm::vec3(0.0f);
+        };
+    };
+    test::Rgb flat = test::render_gltf(build("normal_flat.gltf", false, true), light_from(1.0f)).at_ndc(0.0f, 0.0f);
+    test::ProbeImage lit = test::render_gltf(build("normal_lit.gltf", true, true), light_from(1.0f));
+    test::Rgb dark = test::render_gltf(build("normal_dark.gltf", true, true), light_from(-1.0f)).at_ndc(0.0f, 0.0f);
+    EXPECT_GT(lit.at_ndc(0.0f, 0.0f).r, flat.r + 50);
+    EXPECT_LT(dark.r, 10);
+    EXPECT_GT(flat.r, 60);
+    test::ProbeImage generated = test::render_gltf(build("normal_generated.gltf", true, false), light_from(1.0f));
+    EXPECT_GE(test::psnr_rgba8(lit.frame.image, generated.frame.image), 50.0);
+}
+
+// alphaMode MASK cuts the quad out where the base texture's alpha is below the cutoff (the green sky shows);
+// BLEND lets 1 - alpha of the sky through, unrefracted.
+TEST(GltfMaterialMaps, AlphaMaskCutsOutAndBlendMixes) {
+    constexpr uint32_t kClearRed = 0x000000ffu;   // red, alpha 0
+    std::string image = test::write_test_png("alpha_cutout.png", 2, 2, {kClearRed, kRed, kClearRed, kRed});
+    auto build = [&](const std::string& name, json mode_and_factor, bool textured) {
+        GltfBuilder gltf;
+        add_textures(gltf, {image});
+        json pbr = {{"baseColorFactor", mode_and_factor["factor"]}, {"metallicFactor", 0}};
+        if (textured) pbr["baseColorTexture"] = {{"index", 0}};
+        json material = {{"pbrMetallicRoughness", pbr}, {"alphaMode", mode_and_factor["mode"]}};
+        gltf.document["materials"] = json::array({material});
+        gltf.node({{"mesh", textured_quad(gltf)}});
+        return gltf.write(name);
+    };
+    auto green_sky = [](Scene& scene) {
+        scene.lights.clear();
+        scene.ambient_light = glm::vec3(1.0f);
+        scene.environment.kind = EnvironmentKind::Constant;
+        scene.environment.color = glm::vec3(0.0f, 1.0f, 0.0f);
+    };
+    test::ProbeImage mask =
+        test::render_gltf(build("alpha_mask.gltf", {{"mode", "MASK"}, {"factor", {1, 1, 1, 1}}}, true), green_sky);
+    test::Rgb cut = at_world(mask, -0.5f, 0.0f), solid = at_world(mask, 0.5f, 0.0f);
+    EXPECT_LT(cut.r, 10);
+    EXPECT_GT(cut.g, 240);
+    EXPECT_GT(solid.r, 230);
+    EXPECT_LT(solid.g, 60);   // a dielectric: Fresnel reflects a little of the sky even head-on
+    // OPAQUE ignores alpha: both halves are red.
+    test::ProbeImage opaque =
+        test::render_gltf(build("alpha_opaque.gltf", {{"mode", "OPAQUE"}, {"factor", {1, 1, 1, 1}}}, true), green_sky);
+    EXPECT_GT(at_world(opaque, -0.5f, 0.0f).r, 230);
+    // BLEND at alpha 0.5: half red, half sky (linear), so both channels sit near sRGB 188.
+    test::ProbeImage blend =
+        test::render_gltf(build("alpha_blend.gltf", {{"mode", "BLEND"}, {"factor", {1, 0, 0, 0.5}}}, false), green_sky);
+    test::Rgb mixed = blend.at_ndc(0.0f, 0.0f);
+    EXPECT_NEAR(mixed.r, 188, 6);
+    EXPECT_NEAR(mixed.g, 188, 6);
+}
+
+// An opaque dielectric mirrors a bright sky by Schlick's Fresnel: a few % head-on, far more at a grazing angle;
+// KHR_materials_specular's specularFactor 0 turns the reflection off.
+TEST(GltfMaterialMaps, OpaqueDielectricsReflectMoreAtGrazingAngles) {
+    auto build = [&](const std::string& name, double tilt_degrees, json extensions) {
+        GltfBuilder gltf;
+        json material = {{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 0}}}};
+        if (!extensions.is_null()) material["extensions"] = extensions;
+        gltf.document["materials"] = json::array({material});
+        double half = tilt_degrees * 3.14159265358979 / 360.0;
+        gltf.node({{"mesh", textured_quad(gltf)}, {"rotation", {std::sin(half), 0, 0, std::cos(half)}}});
+        return gltf.write(name);
+    };
+    auto white_sky = [](Scene& scene) {
+        scene.lights.clear();
+        scene.ambient_light = glm::vec3(0.0f);
+        scene.environment.kind = EnvironmentKind::Constant;
+        scene.environment.color = glm::vec3(1.0f);
+    };
+    test::Rgb head_on = test::render_gltf(build("fresnel_head_on.gltf", 0.0, nullptr), white_sky).at_ndc(0.0f, 0.0f);
+    test::Rgb grazing = test::render_gltf(build("fresnel_grazing.gltf", -75.0, nullptr), white_sky).at_ndc(0.0f, 0.0f);
+    EXPECT_GT(head_on.r, 30);    // F0 = 0.04: sRGB 56
+    EXPECT_LT(head_on.r, 80);
+    EXPECT_GT(grazing.r, head_on.r + 50);
+    test::Rgb no_specular = test::render_gltf(build("fresnel_off.gltf", -75.0, {{"KHR_materials_specular", {{"specularFactor", 0.0}}}}),
+                                              white_sky).at_ndc(0.0f, 0.0f);
+    EXPECT_LT(no_specular.r, 10);
+}
+
+namespace {
+
+// An emissive-only quad (so the probes read the texture's own colours) with the given KHR_texture_transform and
+// sampler on its 2x2 red/green/blue/white texture.
+test::ProbeImage render_transformed(const std::string& name, json transform, json sampler) {
+    std::string image = test::write_test_png("transform_rgbw.png", 2, 2, {kRed, kGreen, kBlue, kWhite});
+    GltfBuilder gltf;
+    add_textures(gltf, {image});
+    if (!sampler.is_null()) {
+        gltf.document["samplers"] = json::array({sampler});
+        gltf.document["textures"][0]["sampler"] = 0;
+    }
+    json texture = {{"index", 0}};
+    if (!transform.is_null()) texture["extensions"] = {{"KHR_texture_transform", transform}};
+    gltf.document["materials"] = json::array(
+        {{{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0}}},
+          {"emissiveFactor", {1, 1, 1}},
+          {"emissiveTexture", texture}}});
+    gltf.node({{"mesh", textured_quad(gltf)}});
+    return test::render_gltf(gltf.write(name), no_light, 96);
+}
+
+}  // namespace
+
+// A quarter turn: the Khronos sample viewer maps (u, v) to (cos u + sin v, -sin u + cos v) = (v, -u), so the
+// top-left quarter of the quad shows the texture's bottom-left texel (blue) and the top-right its top-left (red).
+// The other sign would show green top-left.
+TEST(GltfMaterialMaps, TextureTransformRotatesAsTheSampleViewer) {
+    test::ProbeImage image = render_transformed("rotated.gltf", {{"rotation", 1.5707963}}, nullptr);
+    EXPECT_TRUE(is_blue(at_world(image, -0.5f, 0.5f)));
+    EXPECT_TRUE(is_red(at_world(image, 0.5f, 0.5f)));
+    test::ProbeImage plain = render_transformed("unrotated.gltf", nullptr, nullptr);
+    EXPECT_TRUE(is_red(at_world(plain, -0.5f, 0.5f)));
+    EXPECT_TRUE(is_green(at_world(plain, 0.5f, 0.5f)));
+}
+
+// u scaled by 2 (the quad's right half samples u in [1, 2]), nearest texels: repeat starts the texture again,
+// clamp-to-edge holds the last column, mirrored repeat runs it backwards.
+TEST(GltfMaterialMaps, SamplerWrapModesAndNearestFilter) {
+    json scale = {{"scale", {2.0, 1.0}}};
+    auto render = [&](const std::string& name, int wrap) {
+        return render_transformed(name, scale, {{"magFilter", 9728}, {"minFilter", 9728}, {"wrapS", wrap}, {"wrapT", 10497}});
+    };
+    test::ProbeImage repeat = render("wrap_repeat.gltf", 10497);
+    test::ProbeImage clamp = render("wrap_clamp.gltf", 33071);
+    test::ProbeImage mirror = render("wrap_mirror.gltf", 33648);
+    // u' = 1.375 and 1.875 on the top row (red, green).
+    EXPECT_TRUE(is_red(at_world(repeat, 0.375f, 0.5f)));
+    EXPECT_TRUE(is_green(at_world(repeat, 0.875f, 0.5f)));
+    EXPECT_TRUE(is_green(at_world(clamp, 0.375f, 0.5f)));
+    EXPECT_TRUE(is_green(at_world(clamp, 0.875f, 0.5f)));
+    EXPECT_TRUE(is_green(at_world(mirror, 0.375f, 0.5f)));
+    EXPECT_TRUE(is_red(at_world(mirror, 0.875f, 0.5f)));
+    // Nearest: no blend at a texel border (u' = 0.5 lies between red and green; probe just left of it).
+    test::Rgb edge = at_world(repeat, -0.52f, 0.5f);
+    EXPECT_TRUE(is_red(edge) || is_green(edge));
+}
+
+// KHR_materials_specular's textures: specularTexture's alpha scales the Fresnel term (left column 0: no
+// reflection), specularColorTexture tints the reflection.
+TEST(GltfMaterialMaps, SpecularTexturesScaleAndTintTheReflection) {
+    constexpr uint32_t kClearWhite = 0x00ffffffu;
+    std::string strength = test::write_test_png("specular_alpha.png", 2, 2, {kClearWhite, kWhite, kClearWhite, kWhite});
+    std::string tint = test::write_test_png("specular_red.png", 1, 1, {kRed});
+    auto build = [&](const std::string& name, bool tinted) {
+        GltfBuilder gltf;
+        add_textures(gltf, {strength, tint});
+        json specular = {{"specularTexture", {{"index", 0}}}};
+        if (tinted) specular["specularColorTexture"] = {{"index", 1}};
+        gltf.document["materials"] = json::array(
+            {{{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 0}}},
+              {"extensions", {{"KHR_materials_specular", specular}}}}});
+        double half = -75.0 * 3.14159265358979 / 360.0;
+        gltf.node({{"mesh", textured_quad(gltf)}, {"rotation", {std::sin(half), 0, 0, std::cos(half)}}});
+        return gltf.write(name);
+    };
+    auto white_sky = [](Scene& scene) {
+        scene.lights.clear();
+        scene.ambient_light = glm::vec3(0.0f);
+        scene.environment.kind = EnvironmentKind::Constant;
+        scene.environment.color = glm::vec3(1.0f);
+    };
+    test::ProbeImage plain = test::render_gltf(build("specular_texture.gltf", false), white_sky, 96);
+    EXPECT_LT(at_world(plain, -0.5f, 0.0f).r, 10);
+    EXPECT_GT(at_world(plain, 0.5f, 0.0f).r, 80);
+    test::ProbeImage tinted = test::render_gltf(build("specular_color_texture.gltf", true), white_sky, 96);
+    test::Rgb red = at_world(tinted, 0.5f, 0.0f);
+    EXPECT_GT(red.r, 80);
+    EXPECT_LT(red.g, 10);
+}
+
+}  // namespace prism
