@@ -11,6 +11,7 @@
 #   PRISM_SCENES         the shared scenes the seeds come from (default ../shared/scenes beside the repository)
 #   PRISM_FUZZ_OUT       logs, crash inputs and fuzz-summary.json (default build/fuzz/results)
 #   PRISM_FUZZ_CORPUS    keep the grown corpora here across runs (default: a temporary folder, removed)
+#   PRISM_FUZZ_BIN       run the fuzzers already built in this folder instead of building the fuzz preset
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repo=$(pwd)
@@ -29,10 +30,14 @@ for target in "${targets[@]}"; do
 done
 [ -d "$scenes" ] || { echo "fuzz.sh: $scenes: no such folder (the shared scenes the seeds come from)" >&2; exit 1; }
 
-echo "== build (fuzz preset: clang, libFuzzer, ASan + UBSan)"
-cmake --preset fuzz >/dev/null
-cmake --build --preset fuzz -j "$(nproc)" --target prism_fuzzers
-bin=$repo/build/fuzz/fuzz
+if [ -n "${PRISM_FUZZ_BIN:-}" ]; then
+  bin=$PRISM_FUZZ_BIN   # fuzzers built elsewhere (another machine with more cores runs them)
+else
+  echo "== build (fuzz preset: clang, libFuzzer, ASan + UBSan)"
+  cmake --preset fuzz >/dev/null
+  cmake --build --preset fuzz -j "$(nproc)" --target prism_fuzzers
+  bin=$repo/build/fuzz/fuzz
+fi
 built=$(date +%s)
 
 work=$(mktemp -d)
@@ -99,10 +104,10 @@ finished=$(date +%s)
 
 {
   echo "{"
-  echo "  \"commit\": \"$(git rev-parse --short=12 HEAD 2>/dev/null || echo unknown)\","
+  echo "  \"commit\": \"${PRISM_COMMIT:-$(git rev-parse --short=12 HEAD 2>/dev/null || echo unknown)}\","
   echo "  \"date\": \"$(date -u +%Y-%m-%dT%H:%M:%SZ)\","
   echo "  \"host\": {\"cpu\": \"$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1)\", \"threads\": $(nproc)},"
-  echo "  \"compiler\": \"$(clang++ --version | head -1)\","
+  echo "  \"compiler\": \"${PRISM_FUZZ_COMPILER:-$(clang++ --version 2>/dev/null | head -1)}\","
   echo "  \"seconds_per_target\": $seconds, \"parallel_targets\": $jobs,"
   echo "  \"build_seconds\": $((built - started)), \"total_seconds\": $((finished - started)),"
   echo "  \"targets\": ["
