@@ -1,13 +1,18 @@
 #!/usr/bin/env python3
 """Draws Prism's benchmark charts from the result files alone, so a chart can be redrawn anywhere from bench/results.
 
-    bench/plot_bench.py RESULT.json [RESULT.json ...] --out CHART.png
+    bench/plot_bench.py RESULT.json [RESULT.json ...] [--baseline STATS.json ...] --out CHART.png
 
 Each file becomes one row of the chart, by its contents:
   - `prism bench` results ("kind": "frames"): the seed table (median frame time per scene, one bar per backend)
     beside the ray throughput per API (primary, secondary and shadow Mrays/s per scene);
   - `prism bandwidth` results ("schema": "prism-bandwidth/1"): the bandwidth sweep, one panel per kind of copy,
-    median GB/s against transfer size (log-log), one line per device.
+    median GB/s against transfer size (log-log), one line per device;
+  - `prism render --stats` files of split renders (they have "workers"; docs/scaling.md): all of them together make
+    one row, the speedup of each over its --baseline (a one-device render of the same frame, or the same sequence:
+    frame_ms or sequence_ms) against the ideal N (N = the run's GPU devices, distinct by rank and device; every
+    worker when none is a GPU) with the 0.9 N target for a tiled frame and 0.95 N for a sequence, beside each run's
+    tiles or frames per worker. --baseline is given once per kind (a frame's stats, a sequence's stats).
 Each API keeps one colour in every panel (a second device of the same API gets a dashed line or hatched bars).
 `prism bandwidth --plot F.png` runs this script. Needs matplotlib (Debian: python3-matplotlib, which
 scripts/install-deps.sh installs). Exit status: 0 drawn, 1 a result file it cannot read, 2 bad arguments,
@@ -89,8 +94,12 @@ def read_result(path):
         return "bandwidth", data
     if data.get("kind") == "frames":
         return "frames", data
-    raise ResultError(f"{path}: not a `prism bench` (\"kind\": \"frames\") or `prism bandwidth` "
-                      "(\"schema\": \"prism-bandwidth/1\") result")
+    if "workers" in data and "ranks" in data:
+        return "split", data
+    if "frame_ms" in data and "backend" in data and "stages" in data:
+        return "render", data
+    raise ResultError(f"{path}: not a `prism bench` (\"kind\": \"frames\"), `prism bandwidth` "
+                      "(\"schema\": \"prism-bandwidth/1\") or `prism render --stats` result")
 
 
 def field(data, path, keys):
@@ -232,12 +241,134 @@ def draw_bandwidth(figure, cell, data, path, palette):
     return handles
 
 
+CPU_APIS = ("cpu", "cpu-ref", "embree")
+SCALE_TARGETS = {"frame": 0.9, "sequence": 0.95}   # issue 20: of the ideal N, per kind of split
+
+
+def split_kind(data, path):
+    """"frame" (tiles of one frame) or "sequence" (whole frames), and the time the speedup compares."""
+    if "sequence_ms" in data:
+        return "sequence", field(data, path, ["sequence_ms"])
+    return "frame", field(data, path, ["frame_ms"])
+
+
+def what_is_rendered(data, path):
+    return tuple(field(data, path, [key]) for key in ("scene", "width", "height", "max_depth"))
+
+
+def gpu_devices(workers, path):
+    """Distinct (rank, device) pairs of GPU workers; a bare `cuda` is its API's device 0."""
+    devices = set()
+    for w in workers:
+        backend = field(w, path, ["backend"])
+        api = api_of(backend)
+        if api not in CPU_APIS:
+            devices.add((field(w, path, ["rank"]), backend if ":" in backend else f"{api}:0"))
+    return devices
+
+
+def scale_runs(results, baselines):
+    """One entry per split render: its name, kind, N, speedup and workers, checked against its baseline."""
+    runs = []
+    for data, path in results:
+        kind, ms = split_kind(data, path)
+        if kind not in baselines:
+            raise ResultError(f"{path}: a split {kind}: give a one-device {kind} with --baseline to compare it with")
+        base, base_path = baselines[kind]
+        _, base_ms = split_kind(base, base_path)
+        if what_is_rendered(base, base_path) != what_is_rendered(data, path):
+            raise ResultError(f"{path}: renders {what_is_rendered(data, path)}, its baseline {base_path} "
+                              f"{what_is_rendered(base, base_path)}")
+        workers = field(data, path, ["workers"])
+        if not workers or ms <= 0:
+            raise ResultError(f"{path}: no workers or no time recorded")
+        n = len(gpu_devices(workers, path)) or len(workers)
+        item = "frames" if kind == "sequence" else "tiles"
+        runs.append({"name": os.path.basename(path).removesuffix(".json"), "kind": kind, "n": n,
+                     "speedup": base_ms / ms, "ms": ms, "workers": workers, "item": item, "data": data,
+                     "path": path})
+    return runs
+
+
+def run_caption(run):
+    data = run["data"]
+    path = run["path"]
+    how = f'tiles of {data.get("tile_size", "?")}' if run["kind"] == "frame" else \
+        f'{field(data, path, ["frames", "last"]) - field(data, path, ["frames", "first"]) + 1} frames'
+    ranks = data.get("ranks", 1)
+    return f'{run["name"]}\n{how}, {len(run["workers"])} workers' + (f", {ranks} ranks" if ranks > 1 else "")
+
+
+def run_color(run, palette):
+    apis = [api_of(w["backend"]) for w in run["workers"]]
+    return palette.color(next((a for a in apis if a not in CPU_APIS), apis[0]))
+
+
+def draw_speedup(ax, runs, baselines, palette):
+    for x, run in enumerate(runs):
+        target = SCALE_TARGETS[run["kind"]] * run["n"]
+        ax.bar(x, run["speedup"], 0.6, color=run_color(run, palette), edgecolor="white")
+        ax.hlines(run["n"], x - 0.4, x + 0.4, colors="black", linewidths=2, label="ideal N" if x == 0 else None)
+        ax.hlines(target, x - 0.4, x + 0.4, colors="black", linestyles="dashed", linewidths=1.2,
+                  label="target: 0.9 N (frame), 0.95 N (sequence)" if x == 0 else None)
+        mark = "met" if run["speedup"] >= target else "missed"
+        ax.annotate(f'{run["speedup"]:.2f}x\nN={run["n"]}, {mark}', (x, max(run["speedup"], run["n"])),
+                    xytext=(0, 3), textcoords="offset points", ha="center", va="bottom", fontsize=8)
+    ax.set_xticks(range(len(runs)), [run_caption(r) for r in runs], fontsize=8)
+    ax.set_ylabel("speedup (baseline time / run time)")
+    ax.set_ylim(0, max(max(r["speedup"], r["n"]) for r in runs) * 1.3)
+    parts = []
+    for kind, (data, path) in sorted(baselines.items()):
+        _, ms = split_kind(data, path)
+        parts.append(f'{os.path.basename(path)}: {ms:.1f} ms per {kind}')
+    ax.set_title("Split renders: speedup over one device (baseline " + "; ".join(parts) + ")")
+    ax.legend(fontsize=8, loc="upper left")
+    ax.grid(True, axis="y", color="#dddddd")
+
+
+def draw_shares(ax, runs, palette):
+    handles = {}
+    for x, run in enumerate(runs):
+        total = sum(w.get(run["item"], 0) for w in run["workers"])
+        bottom = 0.0
+        for w in run["workers"]:
+            share = 100.0 * w.get(run["item"], 0) / total if total else 0.0
+            api = api_of(w["backend"])
+            label = f'{api}: {w["device"]}'
+            _, hatch = palette.style(api, w["device"])
+            bar = ax.bar(x, share, 0.6, bottom=bottom, color=palette.color(api), hatch=hatch, edgecolor="white")
+            handles.setdefault(label, bar)
+            if share >= 6:
+                who = w["backend"] + (f' (rank {w["rank"]})' if run["data"].get("ranks", 1) > 1 else "")
+                ax.text(x, bottom + share / 2, f'{who}\n{w.get(run["item"], 0)} {run["item"]}, {share:.0f}%',
+                        ha="center", va="center", fontsize=7, color="white")
+            bottom += share
+    ax.set_xticks(range(len(runs)), [run_caption(r) for r in runs], fontsize=8)
+    ax.set_ylim(0, 100)
+    ax.set_ylabel("share of the tiles / frames (%)")
+    ax.set_title("Work taken by each worker")
+    ax.legend(list(handles.values()), list(handles.keys()), fontsize=8, loc="upper center",
+              bbox_to_anchor=(0.5, -0.2), ncol=min(3, len(handles)))
+
+
 def title_of(data):
     parts = [f"commit {data.get('commit', '?')}", str(data.get("date", "?"))]
     return ", ".join(parts)
 
 
-def draw(results, out):
+def draw(results, out, baselines=None):
+    # The split renders make one row together, where the first of them is.
+    split = [(data, path) for kind, data, path in results if kind == "split"]
+    runs = scale_runs(split, baselines or {}) if split else []
+    rows_in = []
+    for kind, data, path in results:
+        if kind == "render":
+            raise ResultError(f"{path}: a one-device render's stats: give it with --baseline")
+        if kind != "split":
+            rows_in.append((kind, data, path))
+        elif not any(k == "split" for k, _, _ in rows_in):
+            rows_in.append(("split", None, None))
+    results = rows_in
     try:
         import matplotlib
     except ImportError:
@@ -248,12 +379,16 @@ def draw(results, out):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    heights = [9.0 if kind == "bandwidth" else 5.5 for kind, _, _ in results]
+    heights = [9.0 if kind == "bandwidth" else 11.0 if kind == "split" else 5.5 for kind, _, _ in results]
     figure = plt.figure(figsize=(FIGURE_WIDTH_INCHES, sum(heights) + 0.8))
     rows = figure.add_gridspec(len(results), 1, height_ratios=heights, hspace=0.35)
     palette = Palette()
     for row, (kind, data, path) in enumerate(results):
-        if kind == "frames":
+        if kind == "split":
+            cells = rows[row].subgridspec(2, 1, hspace=0.35)
+            draw_speedup(figure.add_subplot(cells[0]), runs, baselines, palette)
+            draw_shares(figure.add_subplot(cells[1]), runs, palette)
+        elif kind == "frames":
             cells = rows[row].subgridspec(1, 2, wspace=0.2, width_ratios=[1, 1.4])
             draw_seed_table(figure.add_subplot(cells[0]), data, path, palette)
             ax = figure.add_subplot(cells[1])
@@ -284,14 +419,27 @@ def draw(results, out):
 
 def main():
     parser = argparse.ArgumentParser(description="Draw Prism benchmark charts from result JSON files.")
-    parser.add_argument("results", nargs="+", help="result files of `prism bench` or `prism bandwidth`")
+    parser.add_argument("results", nargs="+", help="result files of `prism bench`, `prism bandwidth` or split "
+                        "`prism render --stats`")
+    parser.add_argument("--baseline", action="append", default=[],
+                        help="`prism render --stats` of one device that split renders are compared with: one frame, "
+                             "one sequence (give it once per kind)")
     parser.add_argument("--out", required=True, help="the PNG to write")
     args = parser.parse_args()
     if not args.out.lower().endswith(".png"):
         parser.error(f"--out: expected a .png file name, got '{args.out}'")
     try:
         results = [(*read_result(path), path) for path in args.results]
-        return draw(results, args.out)
+        baselines = {}
+        for path in args.baseline:
+            kind, data = read_result(path)
+            if kind not in ("render", "split"):
+                raise ResultError(f"{path}: --baseline: not a `prism render --stats` file")
+            split, _ = split_kind(data, path)
+            if split in baselines:
+                raise ResultError(f"{path}: --baseline: a second {split} baseline beside {baselines[split][1]}")
+            baselines[split] = (data, path)
+        return draw(results, args.out, baselines)
     except ResultError as error:
         print(f"plot_bench.py: error: {error}", file=sys.stderr)
         return 1

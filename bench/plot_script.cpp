@@ -88,10 +88,11 @@ void require_plotting(const std::string& option) {
 }
 
 void run_plot_script(const std::vector<std::filesystem::path>& results, const std::filesystem::path& out,
-                     const std::string& option) {
+                     const std::string& option, const std::vector<std::filesystem::path>& baselines) {
     require_plotting(option);
     std::string command = shell_quote(plot_python().string()) + " " + shell_quote(plot_script_path().string());
     for (const std::filesystem::path& result : results) command += " " + shell_quote(result.string());
+    for (const std::filesystem::path& baseline : baselines) command += " --baseline " + shell_quote(baseline.string());
     command += " --out " + shell_quote(out.string()) + " 2>&1";
     FILE* pipe = popen(command.c_str(), "r");
     if (!pipe) throw Error(option + ": cannot start " + plot_python().string());

@@ -22,9 +22,10 @@ std::filesystem::path plot_python();
 // and exactly what to run.
 void require_plotting(const std::string& option);
 
-// Draws `results` (bench JSON files) into the PNG `out` with plot_bench.py. Throws prism::Error with the script's
-// own one-line message when it fails.
+// Draws `results` (bench JSON files) into the PNG `out` with plot_bench.py; `baselines` are its --baseline files
+// (the one-device renders that split renders are compared with). Throws prism::Error with the script's own one-line
+// message when it fails.
 void run_plot_script(const std::vector<std::filesystem::path>& results, const std::filesystem::path& out,
-                     const std::string& option);
+                     const std::string& option, const std::vector<std::filesystem::path>& baselines = {});
 
 }  // namespace prism::bench
