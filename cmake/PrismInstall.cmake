@@ -9,6 +9,17 @@ set(PRISM_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/Prism)
 
 install(TARGETS prism RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 
+# builtin:bunny and builtin:dragon read the Stanford models from the data folder; an installed prism looks in
+# <prefix>/share/prism/scenes (apps/data_dir.cpp). Naming a scenes folder laid out like ../shared/scenes here
+# installs its stanford/ models there, so the installed command renders every builtin scene from any folder.
+set(PRISM_INSTALL_SCENES "" CACHE PATH "Scenes folder (like ../shared/scenes) whose stanford/ models to install")
+if(PRISM_INSTALL_SCENES)
+  if(NOT IS_DIRECTORY ${PRISM_INSTALL_SCENES}/stanford)
+    message(FATAL_ERROR "PRISM_INSTALL_SCENES=${PRISM_INSTALL_SCENES}: no stanford/ folder in it")
+  endif()
+  install(DIRECTORY ${PRISM_INSTALL_SCENES}/stanford DESTINATION ${CMAKE_INSTALL_DATADIR}/prism/scenes)
+endif()
+
 set(prism_exported prism_api prism_backends prism_core prism_kernels_cpu ${PRISM_BACKEND_LIBRARIES})
 install(TARGETS ${prism_exported} EXPORT PrismTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}

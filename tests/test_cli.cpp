@@ -276,6 +276,29 @@ TEST(Cli, BuiltinScenesFindTheirDataFromAnyFolder) {
     EXPECT_NE(r.output.find("Scene builtin:bunny"), std::string::npos) << r.output;
 }
 
+// An installed prism (<prefix>/bin/prism) reads the builtin scenes' models from <prefix>/share/prism/scenes, where
+// -DPRISM_INSTALL_SCENES puts them, from any folder.
+TEST(Cli, InstalledPrismFindsTheScenesOfItsPrefix) {
+    const char* binary = std::getenv("PRISM_BINARY") ? std::getenv("PRISM_BINARY") : PRISM_BINARY;
+    fs::path prefix = prism::test::temp_dir("cli-installed-prefix");
+    fs::remove_all(prefix);
+    fs::create_directories(prefix / "bin");
+    fs::create_directories(prefix / "share" / "prism" / "scenes");
+    fs::copy_file(binary, prefix / "bin" / "prism");
+    fs::create_directory_symlink(fs::absolute(prism::test::scenes_dir() / "stanford"),
+                                 prefix / "share" / "prism" / "scenes" / "stanford");
+    std::string command = "cd / && env -u PRISM_DATA_DIR '" + (prefix / "bin" / "prism").string() +
+                          "' info --scene builtin:bunny 2>&1";
+    FILE* pipe = popen(command.c_str(), "r");
+    ASSERT_NE(pipe, nullptr);
+    std::string output;
+    char buffer[4096];
+    for (size_t n; (n = fread(buffer, 1, sizeof buffer, pipe)) > 0;) output.append(buffer, n);
+    EXPECT_EQ(pclose(pipe), 0) << output;
+    EXPECT_NE(output.find("Scene builtin:bunny"), std::string::npos) << output;
+    fs::remove_all(prefix);
+}
+
 TEST(Cli, ProgressIsPlainLinesWithElapsedAndEtaWhenNotATerminal) {
     fs::path out = prism::test::temp_dir("cli") / "progress.png";
     SplitResult r = run_prism_split("render --backend cpu --width 48 --height 32 --depth 3 --out '" + out.string() + "'");
