@@ -19,6 +19,7 @@
 #include "apps/cli_conventions.h"
 #include "apps/commands.h"
 #include "apps/frame_report.h"
+#include "apps/option_checks.h"
 #include "apps/progress.h"
 #include "apps/scene_options.h"
 #include "bench/bench_json.h"
@@ -223,6 +224,7 @@ void run_bench(BenchOptions options) {
         options.settings.height = 250;
     }
     if (options.runs == 0) throw Error("bench: --runs must be at least 1");
+    for (const std::string& backend : split(options.backends)) check_frame_options(backend, options.settings);
 #ifndef PRISM_HAVE_EMBREE
     if (options.embree) throw Error("bench: --embree needs a build with Embree (apt-get install libembree-dev)");
 #endif

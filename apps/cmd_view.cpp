@@ -12,6 +12,7 @@
 #include "apps/cli_conventions.h"
 #include "apps/commands.h"
 #include "apps/frame_report.h"
+#include "apps/option_checks.h"
 #include "apps/scene_options.h"
 #include "core/build_info.h"
 #include "core/error.h"
@@ -747,6 +748,7 @@ private:
 };
 
 void run_view(const ViewOptions& options) {
+    check_frame_options(options.backend, options.settings);   // before the window or the scene
     if (options.frames == 0 && !options.screenshot.empty())
         throw Error("view: --screenshot needs --frames (P saves screenshots in an interactive session)");
     if (!options.screenshot.empty()) check_output_extension(options.screenshot);

@@ -47,6 +47,15 @@ void check_writable_option(const std::string& option, const std::string& path) {
     ::unlink(probe.c_str());
 }
 
+void check_frame_options(const std::string& backend, const RenderSettings& settings) {
+    check_backend_option(backend);
+    check_render_settings(settings);
+    check_min_weight_option(settings.min_weight);
+    check_host_memory(frame_host_bytes(settings, frame_arrays_of(backend)),
+                      "--width " + std::to_string(settings.width) + " --height " + std::to_string(settings.height) +
+                          " on " + shorten(backend));
+}
+
 void check_render_options(const std::string& backend, const RenderSettings& settings, const std::string& out,
                           const std::string& stats) {
     check_backend_option(backend);

@@ -16,6 +16,11 @@ void check_min_weight_option(float min_weight);
 // not say it (root ignores them; a read-only mount or a missing folder does not). `option` names it ("--out").
 void check_writable_option(const std::string& option, const std::string& path);
 
+// The frame a run will render, on one backend: the backend's device, frame size and depth, min weight, and the
+// host memory the frame needs there (PRISM_HOST_MEMORY_LIMIT lowers the limit). `prism view` and `prism bench`
+// check it before loading; `prism render` as part of check_render_options.
+void check_frame_options(const std::string& backend, const RenderSettings& settings);
+
 // Everything `prism render` can check before loading: backend, frame size and depth, min weight, the host memory
 // the frame needs on that backend, and both output paths (different, writable).
 void check_render_options(const std::string& backend, const RenderSettings& settings, const std::string& out,

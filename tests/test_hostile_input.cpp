@@ -215,6 +215,21 @@ TEST(HostileInput, HugeFrameOnCpuRefIsRefusedBeforeAllocating) {
     EXPECT_FALSE(fs::exists(out));
 }
 
+// prism view and prism bench check the frame's host memory before loading, like prism render.
+TEST(HostileInput, HugeFrameIsRefusedBeforeLoadingByViewAndBench) {
+    const fs::path json = fresh_folder("huge-frame-bench") / "bench.json";
+    for (const std::string& command :
+         {std::string("view --headless --frames 1 --backend cpu-ref --width 16384 --height 16384"),
+          "bench --backends cpu,cpu-ref --scenes builtin:sphere --width 16384 --height 16384 --json '" + json.string() + "'"}) {
+        const CommandResult r = run_prism(command, kOneGiB);
+        EXPECT_EQ(r.exit_code, 1) << command << "\n" << r.output;
+        EXPECT_EQ(lines_of(r.output), 1u) << command << "\n" << r.output;
+        EXPECT_NE(r.output.find("--width 16384 --height 16384 on cpu"), std::string::npos) << r.output;
+        EXPECT_NE(r.output.find("needs about"), std::string::npos) << r.output;
+    }
+    EXPECT_FALSE(fs::exists(json));
+}
+
 TEST(HostileInput, HostMemoryLimitVariableLowersTheLimit) {
     const fs::path out = fresh_folder("host-limit") / "small.png";
     const CommandResult r = run_prism("render --backend cpu --width 640 --height 480 --out '" + out.string() + "'",
