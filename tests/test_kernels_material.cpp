@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "core/device_scene.h"
+#include "core/host_globals.h"
 #include "kernels/stages.h"
 
 namespace {
@@ -87,19 +88,7 @@ struct OneTriangle {
         device = prism::build_device_scene(scene);
         frame.ambient_light = float4{0.1f, 0.1f, 0.1f, 1e-4f};
         frame.size = uint4{1, 1, 8, 0};
-        kg.nodes = device.nodes.data();
-        kg.wide_nodes = device.wide_nodes.data();
-        kg.instances = device.instances.data();
-        kg.triangles = device.triangles.data();
-        kg.triangle_blocks = device.triangle_blocks.data();
-        kg.triangle_shading = device.triangle_shading.data();
-        kg.vertices = device.vertices.data();
-        kg.materials = device.materials.data();
-        kg.texture_layers = device.texture_layers.data();
-        kg.texture_infos = device.texture_infos.data();
-        kg.texels = device.texels.data();
-        kg.lights = device.lights.data();
-        kg.frame = &frame;
+        kg = prism::host_globals(device, &frame);
     }
 
     ShadeResult shade_head_on(float3 weight, uint mask) {
