@@ -36,7 +36,7 @@ struct RenderOptions {
 void run_render(const RenderOptions& options) {
     route_output();
     RenderSettings settings = options.settings;
-    ImageFormat format;
+    ImageFormat format = ImageFormat::Png8;
     try {   // every check before any work
         format = output_image_format(options.out, options.png_depth);
         settings.read_radiance = needs_linear_radiance(format);
