@@ -11,6 +11,7 @@
 
 #include "apps/cli_conventions.h"
 #include "apps/commands.h"
+#include "apps/option_checks.h"
 #include "apps/scene_options.h"
 #include "core/error.h"
 #include "core/output_file.h"
@@ -36,7 +37,7 @@ std::vector<RayQuery> read_rays(const std::string& path) {
     if (bytes.size() % sizeof(RayQuery) != 0)
         throw Error(path + ": size " + std::to_string(bytes.size()) + " is not a multiple of 32 bytes (8 float32 per ray)");
     std::vector<RayQuery> rays(bytes.size() / sizeof(RayQuery));
-    std::memcpy(rays.data(), bytes.data(), bytes.size());
+    if (!rays.empty()) std::memcpy(rays.data(), bytes.data(), bytes.size());   // memcpy takes no null pointer
     for (size_t i = 0; i < rays.size(); ++i) {
         const RayQuery& r = rays[i];
         bool finite = std::isfinite(r.origin[0]) && std::isfinite(r.origin[1]) && std::isfinite(r.origin[2]) &&
@@ -49,6 +50,8 @@ std::vector<RayQuery> read_rays(const std::string& path) {
 
 void run_rays(const RaysOptions& options) {
     route_output();
+    check_backend_option(options.backend);   // options before any work
+    check_writable_option("--out", options.out);
     std::vector<RayQuery> rays = read_rays(options.in);
     LoadedScene loaded = load_and_build(options.scene, options.backend);
     RenderEngine engine(options.backend, loaded.device);

@@ -33,6 +33,7 @@ template <typename T>
 void take(const std::vector<char>& bytes, size_t& at, std::vector<T>& out, size_t count) {
     if (at + count * sizeof(T) > bytes.size()) throw Error("MPI: a work message is shorter than its header says");
     out.resize(count);
+    if (count == 0) return;   // memcpy takes no null pointer, even for zero bytes
     std::memcpy(out.data(), bytes.data() + at, count * sizeof(T));
     at += count * sizeof(T);
 }
