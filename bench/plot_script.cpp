@@ -91,9 +91,11 @@ void run_plot_script(const std::vector<std::filesystem::path>& results, const st
                      const std::string& option, const std::vector<std::filesystem::path>& baselines) {
     require_plotting(option);
     std::string command = shell_quote(plot_python().string()) + " " + shell_quote(plot_script_path().string());
-    for (const std::filesystem::path& result : results) command += " " + shell_quote(result.string());
-    for (const std::filesystem::path& baseline : baselines) command += " --baseline " + shell_quote(baseline.string());
-    command += " --out " + shell_quote(out.string()) + " 2>&1";
+    // Appended piece by piece: GCC 12 at -O3 warns (-Wrestrict, falsely) on `literal + std::string` here.
+    for (const std::filesystem::path& result : results) command.append(" ").append(shell_quote(result.string()));
+    for (const std::filesystem::path& baseline : baselines)
+        command.append(" --baseline ").append(shell_quote(baseline.string()));
+    command.append(" --out ").append(shell_quote(out.string())).append(" 2>&1");
     FILE* pipe = popen(command.c_str(), "r");
     if (!pipe) throw Error(option + ": cannot start " + plot_python().string());
     std::string output;
