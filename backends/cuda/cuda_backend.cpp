@@ -11,6 +11,7 @@
 #ifdef PRISM_CUDA_GL_INTEROP
 #include "backends/cuda/cuda_gl_interop.h"
 #endif
+#include "core/device_filter.h"
 #include "core/error.h"
 
 namespace prism {
@@ -36,9 +37,8 @@ cuda::DeviceDescription select_device(const std::string& filter) {
     if (filter.empty()) return devices.front();
     std::string known;
     for (const auto& d : devices) known += (known.empty() ? "" : ", ") + std::to_string(d.index) + ": " + d.name;
-    if (std::all_of(filter.begin(), filter.end(), [](unsigned char c) { return std::isdigit(c); })) {
-        size_t index = std::stoul(filter);
-        if (index < devices.size()) return devices[index];
+    if (std::optional<size_t> index = device_index(filter)) {
+        if (*index < devices.size()) return devices[*index];
         throw Error("cuda: no device " + filter + " (devices: " + known + ")");
     }
     for (const auto& d : devices)

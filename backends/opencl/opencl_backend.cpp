@@ -21,6 +21,7 @@
 #include "backends/opencl/opencl_internal.h"
 #include "core/pocl_cache.h"
 #include "core/error.h"
+#include "core/device_filter.h"
 #include "core/device_memory_limit.h"
 #include "core/launch_config.h"
 
@@ -199,9 +200,8 @@ DeviceEntry select_device(const std::string& filter) {
     std::string list;
     for (const DeviceEntry& d : devices) list += (list.empty() ? "" : ", ") + d.label();
     // A number is the device's place in that order (`prism render --backend opencl:all` names devices so).
-    if (std::all_of(filter.begin(), filter.end(), [](unsigned char c) { return std::isdigit(c); })) {
-        size_t index = std::stoul(filter);
-        if (index < devices.size()) return devices[index];
+    if (std::optional<size_t> index = device_index(filter)) {
+        if (*index < devices.size()) return devices[*index];
         throw Error("opencl: no device " + filter + " (devices: " + list + ")");
     }
     std::string needle = lower(filter);

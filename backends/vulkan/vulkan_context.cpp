@@ -10,6 +10,7 @@
 
 #include "backends/vulkan/vulkan_backend.h"
 #include "core/backend.h"
+#include "core/device_filter.h"
 #include "core/error.h"
 #include "core/launch_config.h"
 
@@ -246,11 +247,10 @@ DeviceCandidate Instance::select(const std::string& filter) const {
         throw Error("Vulkan: no compute-capable device (found: " + list + ")");
     }
     // A number is the device's place in the list (`prism render --backend vulkan:all` names devices so).
-    if (std::all_of(filter.begin(), filter.end(), [](unsigned char c) { return std::isdigit(c); })) {
-        size_t index = std::stoul(filter);
-        if (index >= all.size()) throw Error("vulkan: no device " + filter + " (found: " + list + ")");
-        if (!all[index].unusable.empty()) throw Error("vulkan: device " + all[index].describe());
-        return all[index];
+    if (std::optional<size_t> index = device_index(filter)) {
+        if (*index >= all.size()) throw Error("vulkan: no device " + filter + " (found: " + list + ")");
+        if (!all[*index].unusable.empty()) throw Error("vulkan: device " + all[*index].describe());
+        return all[*index];
     }
     std::string needle = lower(filter);
     for (const DeviceCandidate& d : all) {

@@ -1,0 +1,19 @@
+#include "core/device_filter.h"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <limits>
+
+namespace prism {
+
+std::optional<size_t> device_index(const std::string& filter) {
+    if (filter.empty() || !std::all_of(filter.begin(), filter.end(), [](unsigned char c) { return std::isdigit(c); }))
+        return std::nullopt;
+    size_t index = 0;
+    auto [end, error] = std::from_chars(filter.data(), filter.data() + filter.size(), index);
+    if (error != std::errc() || end != filter.data() + filter.size()) return std::numeric_limits<size_t>::max();
+    return index;
+}
+
+}  // namespace prism
