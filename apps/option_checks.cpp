@@ -38,11 +38,11 @@ void check_min_weight_option(float min_weight) {
 void check_writable_option(const std::string& option, const std::string& path) {
     std::error_code error;
     if (std::filesystem::is_directory(path, error))
-        throw Error(option + " " + shorten(path) + ": is a directory");
+        throw Error(option + " " + shorten_path(path) + ": is a directory");
     std::filesystem::path probe = path;
     probe += ".probe-" + std::to_string(::getpid());
     const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NONBLOCK, 0600);
-    if (fd < 0) throw Error(option + " " + shorten(path) + ": cannot write there (" + std::strerror(errno) + ")");
+    if (fd < 0) throw Error(option + " " + shorten_path(path) + ": cannot write there (" + std::strerror(errno) + ")");
     ::close(fd);
     ::unlink(probe.c_str());
 }
@@ -65,7 +65,7 @@ void check_render_options(const std::string& backend, const RenderSettings& sett
     if (!stats.empty()) {
         std::error_code error;
         if (stats == out || std::filesystem::equivalent(stats, out, error))
-            throw Error("--stats " + shorten(stats) + ": the same file as --out");
+            throw Error("--stats " + shorten_path(stats) + ": the same file as --out");
         check_writable_option("--stats", stats);
     }
     check_host_memory(frame_host_bytes(settings, frame_arrays_of(backend)),

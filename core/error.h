@@ -16,6 +16,10 @@ std::string one_line(std::string_view text);
 // (1048597 characters)"), so a megabyte URI does not become a megabyte error line.
 std::string shorten(std::string_view text, size_t max = 80);
 
+// A file path quoted in a message: whole up to PATH_MAX, since a path cut short names no file; only a hostile
+// megabyte "path" is cut.
+inline std::string shorten_path(std::string_view path) { return shorten(path, 4096); }
+
 // A third-party library's error text in Prism's words: its first non-empty line, without nlohmann's
 // "[json.exception.parse_error.101] " tags, shortened; `fallback` when nothing is left.
 std::string library_message(std::string_view text, std::string_view fallback);

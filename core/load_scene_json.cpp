@@ -127,7 +127,7 @@ private:
         if (!exists) {
             std::filesystem::path found = find_file_case_insensitive(folder_, name);
             if (found.empty()) fail(key_path, "no such " + std::string(must_be_directory ? "folder" : "file") + " '" +
-                                                  shorten(path.string()) + "'");
+                                                  shorten_path(path.string()) + "'");
             path = found;
         }
         check_scene_reference(file_, name, path, key_path);
