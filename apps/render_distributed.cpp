@@ -174,6 +174,7 @@ void run_distributed_render(const DistributedRender& render) {
         failure = std::current_exception();
     }
     local.join();
+    coordinator.workers_finished();
     if (failure) std::rethrow_exception(failure);
     coordinator.check_complete();
     double wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();

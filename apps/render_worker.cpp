@@ -1,5 +1,7 @@
 #include "apps/render_worker.h"
 
+#include "apps/frame_writer.h"
+
 #include <chrono>
 #include <filesystem>
 #include <new>
@@ -11,7 +13,8 @@
 namespace prism::app {
 namespace {
 
-WorkMessage render_item(const WorkerJob& job, RenderEngine& engine, LoadedScene& loaded, int worker, int32_t item) {
+WorkMessage render_item(const WorkerJob& job, RenderEngine& engine, LoadedScene& loaded, FrameWriter& writer, int worker,
+                        int32_t item) {
     RenderSettings settings = job.settings;
     const Camera& camera = loaded.scene.camera;
     Camera frame_camera = camera;
@@ -27,7 +30,6 @@ WorkMessage render_item(const WorkerJob& job, RenderEngine& engine, LoadedScene&
     }
     auto start = std::chrono::steady_clock::now();
     FrameResult frame = engine.render(frame_camera, settings);
-    if (job.sequence) write_rendered_image(frame_path, job.format, frame.width, frame.height, frame.image, frame.radiance);
     WorkMessage result;
     result.kind = MessageKind::Result;
     result.worker = worker;
@@ -35,7 +37,11 @@ WorkMessage render_item(const WorkerJob& job, RenderEngine& engine, LoadedScene&
     result.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     result.rays_per_depth = frame.stats.rays_per_depth;
     result.shadow_rays_per_depth = frame.stats.shadow_rays_per_depth;
-    if (!job.sequence) {
+    if (job.sequence) {
+        // Encoded while the next frame renders; the worker reports done only once every frame is on disk.
+        writer.submit({frame_path, job.format, frame.width, frame.height, std::move(frame.image),
+                       std::move(frame.radiance)});
+    } else {
         result.image = std::move(frame.image);
         result.radiance = std::move(frame.radiance);
     }
@@ -67,7 +73,9 @@ void run_worker(const WorkerJob& job, const std::string& backend, int worker,
         hello.worker = worker;
         hello.text = backend + "\n" + engine.info().device;
         WorkMessage answer = exchange(hello);
-        while (answer.item >= 0) answer = exchange(render_item(job, engine, loaded, worker, answer.item));
+        FrameWriter writer(job.sequence ? 0 : 1);
+        while (answer.item >= 0) answer = exchange(render_item(job, engine, loaded, writer, worker, answer.item));
+        writer.finish();
         return;
     } catch (const std::bad_alloc&) {
         cause = "out of host memory";

@@ -97,6 +97,11 @@ double WorkCoordinator::busy_ms() const {
     return std::chrono::duration<double, std::milli>(*last_returned_ - *first_assigned_).count();
 }
 
+void WorkCoordinator::workers_finished() {
+    std::lock_guard lock(mutex_);
+    if (tiles_.empty() && last_returned_) last_returned_ = std::chrono::steady_clock::now();
+}
+
 void WorkCoordinator::check_complete() const {
     if (!error_.empty()) throw Error(error_);
     if (done_ != items_)

@@ -42,6 +42,9 @@ public:
     // Wall time from the first item handed out to the last one returned: the frame's (or sequence's) time without
     // the workers' scene loading and device start-up.
     double busy_ms() const;
+    // Every worker has returned: a sequence's busy time then runs to here, since its workers write their last
+    // frames after returning them (apps/frame_writer.h).
+    void workers_finished();
     const std::vector<WorkerRecord>& workers() const { return workers_; }
     const std::vector<uint32_t>& image() const { return image_; }
     const std::vector<float>& radiance() const { return radiance_; }

@@ -283,6 +283,19 @@ TEST(Sequence, SpinningObjectsOfASceneFileTurnOverTheFrames) {
     EXPECT_NE(r.output.find("must not be zero"), std::string::npos) << r.output;
 }
 
+// Frames are written on encoder threads while the next one renders (apps/frame_writer.h): a frame that cannot be
+// written still fails the run, with one line naming its file, after the frames before it are on disk.
+TEST(Sequence, AFrameThatCannotBeWrittenFailsTheRunNamingIt) {
+    fs::path dir = prism::test::temp_dir("sequence-unwritable");
+    fs::remove_all(dir);
+    fs::create_directories(dir / "out_05.png");   // a folder where frame 5 goes
+    CommandResult r = run_prism("render -q --backend cpu" + kFrame + " --frames 3-7 --out " + quoted(dir / "out_%02d.png"));
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("out_05.png"), std::string::npos) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_TRUE(fs::exists(dir / "out_03.png"));
+}
+
 TEST(Sequence, AnOutputWithoutAFrameNumberIsRejectedBeforeWork) {
     fs::path out = prism::test::temp_dir("sequence-bad") / "still.png";
     CommandResult r = run_prism("render --backend cpu" + kFrame + " --frames 0-2 --out " + quoted(out));
