@@ -42,10 +42,30 @@ void WorkCoordinator::add_counts(std::vector<uint32_t>& total, const std::vector
     for (size_t d = 0; d < counts.size(); ++d) total[d] += counts[d];
 }
 
-WorkMessage WorkCoordinator::assign_next() {
+bool WorkCoordinator::too_slow_for_what_is_left(const WorkerRecord& asking) const {
+    if (asking.items == 0) return false;   // not measured yet
+    // The others' combined rate, from the items each has returned, and the items they still hold; the asker's
+    // time for one item. Without the asker, the others finish what they hold and what is left in about
+    // (held + left) / rate.
+    double others_per_ms = 0.0, held = 0.0;
+    for (const WorkerRecord& other : workers_)
+        if (&other != &asking && !other.stopped && other.items > 0 && other.render_ms > 0.0) {
+            others_per_ms += double(other.items) / other.render_ms;
+            held += other.busy ? 1.0 : 0.0;
+        }
+    if (others_per_ms <= 0.0) return false;
+    const double asker_ms = asking.render_ms / double(asking.items);
+    const double left = double(items_ - next_);
+    return asker_ms > (held + left) / others_per_ms;
+}
+
+WorkMessage WorkCoordinator::assign_next(WorkerRecord& asking) {
     WorkMessage answer;
     answer.kind = MessageKind::Assign;
-    answer.item = error_.empty() && next_ < items_ ? int32_t(next_++) : -1;
+    const bool give = error_.empty() && next_ < items_ && !too_slow_for_what_is_left(asking);
+    answer.item = give ? int32_t(next_++) : -1;
+    asking.busy = give;
+    if (!give) asking.stopped = true;
     if (answer.item >= 0 && !first_assigned_) first_assigned_ = std::chrono::steady_clock::now();
     return answer;
 }
@@ -60,7 +80,7 @@ std::optional<WorkMessage> WorkCoordinator::handle(int rank, const WorkMessage& 
             WorkerRecord& r = record(rank, message.worker);
             r.backend = backend;
             r.device = detail;
-            return assign_next();
+            return assign_next(r);
         }
         case MessageKind::Result: {
             if (message.item < 0 || uint32_t(message.item) >= items_)
@@ -81,7 +101,7 @@ std::optional<WorkMessage> WorkCoordinator::handle(int rank, const WorkMessage& 
                 if (!radiance_.empty() && message.radiance.size() == size_t(tile.pixels()) * 4)
                     place_region(std::span<float>(radiance_), width_, tile, std::span<const float>(message.radiance), 4);
             }
-            return assign_next();
+            return assign_next(r);
         }
         case MessageKind::Failed:
             if (error_.empty()) error_ = name_of(rank, message.worker, backend) + detail;

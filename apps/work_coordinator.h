@@ -1,6 +1,8 @@
 // Rank 0's side of a split render: hands out items (tiles or frames) in order to whichever worker asks next, so a
 // slow device takes fewer; puts returned tiles into the image; keeps each worker's device, items and time; stops
 // handing out work after the first failure and keeps that failure's message.
+// Near the end, a worker is sent home rather than given an item it would finish after the others have finished
+// everything left: a CPU beside a GPU must not hold the frame up with its last tile (too_slow_for_what_is_left).
 #pragma once
 
 #include <chrono>
@@ -20,6 +22,8 @@ struct WorkerRecord {
     std::string backend, device;
     uint32_t items = 0;
     double render_ms = 0.0;   // wall time of its items, rendering only
+    bool stopped = false;     // told to stop (no items left, a failure, or too slow for what was left)
+    bool busy = false;        // holds an item it has not returned
 };
 
 // How a failing worker is named in the error: not at all (one worker), "device W" (one process) or "rank R".
@@ -55,7 +59,8 @@ private:
     WorkerRecord& record(int rank, int worker);
     std::string name_of(int rank, int worker, const std::string& backend) const;
     void add_counts(std::vector<uint32_t>& total, const std::vector<uint32_t>& counts);
-    WorkMessage assign_next();
+    WorkMessage assign_next(WorkerRecord& asking);
+    bool too_slow_for_what_is_left(const WorkerRecord& asking) const;
 
     std::mutex mutex_;
     std::optional<std::chrono::steady_clock::time_point> first_assigned_, last_returned_;

@@ -198,11 +198,13 @@ TEST_P(VulkanAgreement, ImageMatchesReference) {
     prism::FrameResult actual = prism::RenderEngine(kDevice, device).render(scene.camera, settings);
     EXPECT_GE(prism::test::psnr_rgba8(expected.image, actual.image), 50.0);
     // Every depth traced what the oracle traced, up to rounding: GPU float math (FMA contraction, sqrt/division
-    // precision) may tip a grazing ray or light the other way (dragon: 1 shadow ray in 9331).
+    // precision) may tip a grazing ray or light the other way (dragon: 1 shadow ray in 9331), and a ray tipped at one
+    // depth splits into reflection and refraction at the next (TransmissionTest on NVIDIA: 2 shadow rays of 1276 at
+    // depth 3): a few rays of slack on small counts.
     auto near = [](const std::vector<uint32_t>& e, const std::vector<uint32_t>& a, const char* what) {
         ASSERT_EQ(e.size(), a.size()) << what;
         for (size_t d = 0; d < e.size(); ++d)
-            EXPECT_LE(std::abs(double(e[d]) - double(a[d])), std::max(1.0, e[d] * 1e-3)) << what << " at depth " << d;
+            EXPECT_LE(std::abs(double(e[d]) - double(a[d])), std::max(4.0, e[d] * 1e-3)) << what << " at depth " << d;
     };
     near(expected.stats.rays_per_depth, actual.stats.rays_per_depth, "rays");
     near(expected.stats.shadow_rays_per_depth, actual.stats.shadow_rays_per_depth, "shadow rays");
