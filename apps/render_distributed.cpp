@@ -148,7 +148,6 @@ void run_distributed_render(const DistributedRender& render) {
     const int rank = session ? session->rank() : 0;
     const int ranks = session ? session->size() : 1;
     std::vector<std::string> backends = plan_local_workers(render.backend, rank, ranks, session ? session->local_rank() : 0);
-    job.cpu_threads = cpu_threads_beside_devices(backends);
     if (rank != 0) return run_worker_rank(*session, job, backends);
 
     auto start = Clock::now();

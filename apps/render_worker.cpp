@@ -67,10 +67,7 @@ void run_worker(const WorkerJob& job, const std::string& backend, int worker,
             moving.moving_instances = true;
             loaded.device = build_device_scene_for(loaded.scene, moving, loaded.device.bvh_options.layout);
         }
-        // The cpu backend's device filter is its thread count (checked options never name one).
-        const bool cpu = backend == "cpu" || backend == "cpu:0";
-        RenderEngine engine(cpu && job.cpu_threads > 0 ? "cpu:" + std::to_string(job.cpu_threads) : backend,
-                            loaded.device);
+        RenderEngine engine(backend, loaded.device);
         WorkMessage hello;
         hello.kind = MessageKind::Hello;
         hello.worker = worker;

@@ -21,7 +21,6 @@ struct WorkerJob {
     std::string out;                // the image, or the numbered pattern of a sequence
     ImageFormat format = ImageFormat::Png8;   // of out (core/image_output.h)
     DistributedOptions options;
-    unsigned cpu_threads = 0;       // threads of a cpu worker (0: every core; worker_plan.h's cpu_threads_beside_devices)
 };
 
 // `exchange` sends a message and returns the coordinator's Assign; `notify` sends one that has no answer. Every

@@ -56,6 +56,7 @@ LoadedScene load_and_build(const SceneOptions& options, const std::string& backe
     load_options.data_dir = options.data_dir.empty() ? default_data_dir() : std::filesystem::path(options.data_dir);
     Progress loading("loading " + options.scene);
     load_options.allow_any_path = options.allow_any_path;
+    load_options.progress = [&loading](double fraction) { loading.update(fraction); };
     loaded.scene = load_scene(options.scene, load_options);
     loading.finish();
     loaded.load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -1,7 +1,6 @@
 #include "apps/worker_plan.h"
 
 #include <algorithm>
-#include <thread>
 
 #include "core/backend.h"
 #include "core/error.h"
@@ -70,12 +69,6 @@ std::vector<std::string> plan_local_workers(const std::string& backend, int rank
     return workers;
 }
 
-unsigned cpu_threads_beside_devices(const std::vector<std::string>& workers) {
-    unsigned device_workers = 0;
-    for (const std::string& w : workers) device_workers += is_cpu_api(w) ? 0 : 1;
-    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-    return device_workers == 0 || device_workers >= cores ? 0 : cores - device_workers;
-}
 
 BvhLayout shared_bvh_layout(const std::string& requested, const std::string& backend) {
     for (const std::string& entry : split_backend_list(backend))

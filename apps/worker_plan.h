@@ -20,11 +20,6 @@ bool names_several_devices(const std::string& backend);
 // (CUDA, which numbers its devices).
 std::vector<std::string> plan_local_workers(const std::string& backend, int rank, int ranks, int local_rank);
 
-// The threads a cpu worker gets beside the GPU workers of its process: the host's cores less one per GPU worker
-// (0: all of them, when there is no GPU worker). With every core taken by the cpu backend, the threads that launch
-// and wait for the GPUs (and hand out the items) queue behind it and the GPUs stand idle.
-unsigned cpu_threads_beside_devices(const std::vector<std::string>& workers);
-
 // One BVH layout for every worker, so every tile is traced the same way: `requested`, or for "auto" the wide layout
 // when every backend of the list is a cpu one, else the GPU backends' layout.
 BvhLayout shared_bvh_layout(const std::string& requested, const std::string& backend);

@@ -18,6 +18,7 @@
 #include "core/gltf_material.h"
 #include "core/input_file.h"
 #include "core/json_depth.h"
+#include "core/load_progress.h"
 #include "core/mesh_tangents.h"
 #include "core/scene_read_rules.h"
 
@@ -124,6 +125,7 @@ std::string_view json_text(std::string_view bytes, bool binary) {
 
 // Deeper JSON than this is refused before tinygltf, which recurses once per level; real files nest about 8 deep.
 constexpr size_t kMaxJsonDepth = 64;
+constexpr size_t kBytesWorthReporting = size_t(8) << 20;   // glTF files that report their load's progress
 
 glm::mat4 local_transform(const tinygltf::Node& node) {
     if (node.matrix.size() == 16) {
@@ -145,8 +147,9 @@ glm::mat4 local_transform(const tinygltf::Node& node) {
 
 class GltfImporter {
 public:
-    GltfImporter(const tinygltf::Model& model, std::string file, Scene& scene)
-        : model_(model), file_(std::move(file)), scene_(scene), materials_(model, file_, scene) {}
+    GltfImporter(const tinygltf::Model& model, std::string file, Scene& scene, bool report_progress)
+        : model_(model), file_(std::move(file)), scene_(scene), materials_(model, file_, scene),
+          report_progress_(report_progress) {}
 
     void import() {
         std::vector<int> roots;
@@ -165,7 +168,10 @@ public:
                 if (!is_child[i]) roots.push_back(static_cast<int>(i));
         }
         node_state_.assign(model_.nodes.size(), NodeState::Unseen);
-        for (int root : roots) visit_tree(root);
+        for (size_t i = 0; i < roots.size(); ++i) {
+            visit_tree(roots[i]);
+            if (report_progress_) report_load_progress(double(i + 1) / double(roots.size()));
+        }
     }
 
 private:
@@ -421,6 +427,7 @@ private:
     std::string file_;
     Scene& scene_;
     gltf::MaterialConverter materials_;
+    bool report_progress_;
     std::map<std::tuple<int, int, bool>, uint32_t> meshes_;   // (mesh, primitive, mirrored) -> scene mesh
     std::vector<NodeState> node_state_;                       // per node: unseen, on the current path, done
     bool warned_non_triangles_ = false;
@@ -473,7 +480,11 @@ void load_gltf(const std::filesystem::path& path, Scene& scene) {
             required != "EXT_mesh_gpu_instancing")
             scene.warnings.push_back(file + ": required extension " + required + " is not supported");
 
-    GltfImporter(model, file, scene).import();
+    // Progress for large files only: a small one loads at once, and one that fails leaves only its error line.
+    const bool report_progress = bytes.size() >= kBytesWorthReporting;
+    if (report_progress) report_load_progress(0.3);   // parsed; the meshes and textures follow
+    LoadProgressShare importing(0.3, 1.0);
+    GltfImporter(model, file, scene, report_progress).import();
 }
 
 }  // namespace prism

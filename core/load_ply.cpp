@@ -22,6 +22,7 @@
 
 #include "core/error.h"
 #include "core/input_file.h"
+#include "core/load_progress.h"
 
 namespace prism {
 namespace {
@@ -45,6 +46,15 @@ public:
 private:
     z_stream stream_{};
 };
+
+// Progress (core/load_progress.h): the element loops report every kElementsPerReport elements of a body with at
+// least kElementsWorthReporting (a small file loads at once, and one that fails leaves only its error line); a
+// gzip stream of kGzipBytesWorthReporting or more reports its inflation, which takes about kInflateShare of the
+// load (the dragon's).
+constexpr uint64_t kElementsPerReport = 1u << 16;
+constexpr uint64_t kElementsWorthReporting = 1u << 20;
+constexpr size_t kGzipBytesWorthReporting = size_t(4) << 20;
+constexpr double kInflateShare = 0.4;
 
 template <typename Limit>
 std::string read_gzip_file(const std::filesystem::path& path, const std::string& compressed, Limit limit) {
@@ -72,6 +82,8 @@ std::string read_gzip_file(const std::filesystem::path& path, const std::string&
         }
         status = inflate(&stream, Z_NO_FLUSH);
         bytes.resize(used + (step - stream.avail_out));
+        if (compressed.size() >= kGzipBytesWorthReporting)
+            report_load_progress(double(compressed.size() - input_left - stream.avail_in) / double(compressed.size()));
         if (status == Z_STREAM_END) {
             // Concatenated gzip members (gzip a b > c.gz) are one file to gzip's tools.
             if (stream.avail_in == 0 && input_left == 0) break;
@@ -443,8 +455,8 @@ size_t reservable(uint64_t count, size_t remaining_bytes) {
 }
 
 template <typename Source>
-void read_vertices(Source& source, const Element& element, const VertexLayout& layout, Mesh& mesh,
-                   uint64_t& index) {
+void read_vertices(Source& source, const Element& element, const VertexLayout& layout, Mesh& mesh, uint64_t& index,
+                   uint64_t report_every) {
     const size_t capacity = reservable(element.count, source.remaining());
     mesh.positions.reserve(capacity);
     if (layout.has_normals) mesh.normals.reserve(capacity);
@@ -454,6 +466,7 @@ void read_vertices(Source& source, const Element& element, const VertexLayout& l
     values[Alpha] = 1.0f;
     const size_t property_count = element.properties.size();
     for (index = 0; index < element.count; ++index) {
+        if (index % report_every == 0 && index > 0) report_load_progress(double(index) / double(element.count));
         for (size_t p = 0; p < property_count; ++p) {
             const Property& property = element.properties[p];
             if (property.is_list) skip_property(source, property);
@@ -473,11 +486,12 @@ struct FaceResult {
 
 template <typename Source>
 void read_faces(Source& source, const Element& element, size_t index_property, Mesh& mesh, FaceResult& result,
-                uint64_t& index) {
+                uint64_t& index, uint64_t report_every) {
     mesh.triangles.reserve(mesh.triangles.size() + reservable(element.count, source.remaining()));
     const Property& indices = element.properties[index_property];
     std::vector<uint32_t> polygon;
     for (index = 0; index < element.count; ++index) {
+        if (index % report_every == 0 && index > 0) report_load_progress(double(index) / double(element.count));
         for (size_t p = 0; p < element.properties.size(); ++p) {
             const Property& property = element.properties[p];
             if (p != index_property) {
@@ -567,11 +581,18 @@ Mesh read_body(const std::string& file, std::string_view bytes, const Header& he
 
     Mesh mesh;
     FaceResult faces_read;
+    // Each element's share of the progress: its part of the header's element count.
+    double elements = 0.0, elements_before = 0.0;
+    for (const Element& element : header.elements) elements += double(element.count);
+    const uint64_t report_every = elements >= double(kElementsWorthReporting) ? kElementsPerReport : UINT64_MAX;
     for (const Element& element : header.elements) {
         uint64_t index = 0;
+        LoadProgressShare share(elements_before / std::max(elements, 1.0),
+                                (elements_before + double(element.count)) / std::max(elements, 1.0));
+        elements_before += double(element.count);
         try {
-            if (&element == vertices) read_vertices(source, element, layout, mesh, index);
-            else if (&element == faces) read_faces(source, element, index_property, mesh, faces_read, index);
+            if (&element == vertices) read_vertices(source, element, layout, mesh, index, report_every);
+            else if (&element == faces) read_faces(source, element, index_property, mesh, faces_read, index, report_every);
             else skip_element(source, element, index);
         } catch (const ParseFailure& failure) {
             const std::string where = element.name + " " + std::to_string(index);
@@ -596,7 +617,9 @@ Mesh read_body(const std::string& file, std::string_view bytes, const Header& he
 Mesh load_ply(const std::filesystem::path& path) {
     const std::string file = path.string();
     std::string bytes = read_input_file(path);
-    if (looks_gzipped(bytes)) {
+    const bool gzipped = looks_gzipped(bytes);
+    if (gzipped) {
+        LoadProgressShare inflating(0.0, kInflateShare);
         std::optional<size_t> limit;   // known once the header has inflated
         bytes = read_gzip_file(path, bytes, [&](std::string_view inflated) {
             if (limit) return *limit;
@@ -614,6 +637,7 @@ Mesh load_ply(const std::filesystem::path& path) {
             return std::numeric_limits<size_t>::max();
         });
     }
+    LoadProgressShare parsing(gzipped ? kInflateShare : 0.0, 1.0);
     const std::string_view view(bytes);
     const Header header = parse_header(file, view);
     const char* body = bytes.data() + header.body_offset;

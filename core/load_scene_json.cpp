@@ -17,6 +17,7 @@
 #include "core/image_io.h"
 #include "core/input_file.h"
 #include "core/load_model.h"
+#include "core/load_progress.h"
 #include "core/scene_read_rules.h"
 #include "core/seed_material.h"
 
@@ -403,6 +404,7 @@ private:
     void read_objects(const json& objects, Scene& scene) {
         if (!objects.is_array()) fail("objects", "expected an array");
         for (size_t i = 0; i < objects.size(); ++i) {
+            LoadProgressShare share(double(i) / double(objects.size()), double(i + 1) / double(objects.size()));
             std::string key_path = element("objects", i);
             const json& source = objects[i];
             expect_keys(source, key_path, {"file", "transform", "matrix", "material", "name", "spin"});

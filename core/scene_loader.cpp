@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/input_file.h"
 #include "core/load_model.h"
+#include "core/load_progress.h"
 #include "core/load_scene_json.h"
 #include "core/scene_read_rules.h"
 #include "core/seed_material.h"
@@ -50,6 +51,7 @@ void add_default_lights(Scene& scene) {
 }  // namespace
 
 Scene load_scene(const std::string& spec, const LoadOptions& options) {
+    LoadProgressScope progress(options.progress);
     Scene scene;
     bool bare_model = false;
     if (spec.rfind(kBuiltinPrefix, 0) == 0) {

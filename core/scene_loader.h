@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include "core/scene.h"
@@ -14,6 +15,8 @@ struct LoadOptions {
     std::filesystem::path data_dir = "../shared/scenes";   // where builtin:bunny/dragon find the Stanford models
     // Let the scene read files outside its own folder (absolute URIs, "../.."); core/scene_read_rules.h.
     bool allow_any_path = false;
+    // Called with the fraction of the load done (0 to 1) as the loaders read (core/load_progress.h).
+    std::function<void(double fraction)> progress;
 };
 
 Scene load_scene(const std::string& spec, const LoadOptions& options = {});

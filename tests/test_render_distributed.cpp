@@ -101,7 +101,7 @@ TEST(SplitRender, EveryDeviceOfAnApiMatchesOneDeviceBitForBit) {
     size_t devices = 0;
     for (const prism::BackendFactory& factory : prism::registered_backends())
         if (factory.name == "opencl") devices = factory.probe().devices.size();
-    ASSERT_EQ(json.at("workers").size(), devices);
+    ASSERT_EQ(json.at("workers").size(), devices) << json.dump(1) << "\n" << r.output;
     EXPECT_EQ(json.at("workers")[0].at("backend"), "opencl:0");
     EXPECT_EQ(items_done(json, "tiles"), 12u);
 }
