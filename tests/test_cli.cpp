@@ -317,13 +317,14 @@ TEST(Cli, ProgressIsPlainLinesWithElapsedAndEtaWhenNotATerminal) {
 // Loading reports how far it has read (PLY elements, gzip input), so a large model's load has an ETA too.
 TEST(Cli, LoadingAModelShowsItsFractionAndEta) {
     fs::path out = prism::test::temp_dir("cli") / "loading.png";
-    SplitResult r = run_prism_split("render --backend cpu --scene builtin:dragon --width 8 --height 8 --depth 1 --out '" +
-                                    out.string() + "'");
+    const std::string dragon = prism::test::scene("stanford/dragon.ply.gz").string();
+    SplitResult r = run_prism_split("render --backend cpu --scene '" + dragon + "' --width 8 --height 8 --depth 1 "
+                                    "--out '" + out.string() + "'");
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_NE(r.err.find("prism: loading builtin:dragon ("), std::string::npos) << r.err;
-    const size_t line = r.err.find("prism: loading builtin:dragon (");
+    const size_t line = r.err.find("prism: loading " + dragon + " (");
+    ASSERT_NE(line, std::string::npos) << r.err;
     EXPECT_NE(r.err.find("elapsed, ETA ", line), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find("prism: loading builtin:dragon: done in "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("prism: loading " + dragon + ": done in "), std::string::npos) << r.err;
 }
 
 TEST(Cli, QuietPrintsNothingButWritesTheImage) {
