@@ -35,8 +35,8 @@ void trace_recursive(KernelGlobals kg, const Ray& ray, RayCounts& counts) {
         ShadowRay sr = rt_shadow_ray(kg, shade, l, ray.info.x);
         if (sr.contribution.w == 0.0f) continue;
         counts.shadows_per_depth[depth]++;
-        Hit blocker = rt_trace(kg, rt_xyz(sr.origin), rt_xyz(sr.direction), 0.0f, sr.direction.w, true);
-        if (!(blocker.tuv.x < RT_INFINITY)) rt_accumulate(kg, sr.info.x, rt_xyz(sr.contribution));
+        float3 reaching = rt_light_reaching(kg, sr);
+        if (rt_max3(reaching) > 0.0f) rt_accumulate(kg, sr.info.x, reaching);
     }
     for (uint32_t c = 0; c < shade.counts.x; ++c) trace_recursive(kg, shade.children[c], counts);
 }

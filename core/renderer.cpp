@@ -70,6 +70,10 @@ FrameParams make_frame_params(const DeviceScene& scene, const Camera& camera, co
                   shadow_capacity};
     if (scene.instances.size() == 1 && scene.top_level.primitive_order.size() == 1) flags |= RT_FLAG_ONE_INSTANCE;
     if (scene.bvh_options.flatten_instances) flags |= RT_FLAG_FLAT_INSTANCES;   // as built (build_device_scene)
+    if (std::any_of(scene.materials.begin(), scene.materials.end(), [](const ::Material& m) {
+            return (m.textures.z & (RT_MATERIAL_ALPHA_MASK | RT_MATERIAL_ALPHA_BLEND)) != 0u;
+        }))
+        flags |= RT_FLAG_ALPHA_SHADOWS;
     p.scene = uint4{static_cast<uint32_t>(scene.instances.size()), static_cast<uint32_t>(scene.bvh_options.layout),
                     flags, 0};
     PixelRect region = render_region(settings);

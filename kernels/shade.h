@@ -26,7 +26,9 @@ RT_STRUCT_BEGIN(Surface)
     uint4 ids;          // x = material, y = RT_VERTEX_HAS_COLOR when the mesh has vertex colours
 RT_STRUCT_END(Surface)
 
-RT_FUNC Surface rt_surface(KernelGlobals kg, float3 origin, float3 direction, Hit hit) {
+// `shading_normal` false leaves the shading normal at the geometric one (no vertex normals, no normal map): what a
+// shadow ray needs to know of a surface it meets (where it is, its material, uv and vertex colour) costs less.
+RT_FUNC Surface rt_surface_at(KernelGlobals kg, float3 direction, Hit hit, bool shading_normal) {
     Instance inst = RT_FETCH(kg, instances, hit.ids.x);
     TriangleGeometry geometry = RT_FETCH(kg, triangles, hit.ids.z);
     TriangleShading shading = RT_FETCH(kg, triangle_shading, inst.info.z + hit.ids.y);
@@ -43,7 +45,7 @@ RT_FUNC Surface rt_surface(KernelGlobals kg, float3 origin, float3 direction, Hi
     ng = normalize(rt_transform_normal(inst.world_to_object0, inst.world_to_object1, inst.world_to_object2, ng));
     float3 n = ng;
     uint vertex_flags = rt_uint(a.normal.w);
-    if ((vertex_flags & RT_VERTEX_HAS_NORMAL) != 0u) {
+    if (shading_normal && (vertex_flags & RT_VERTEX_HAS_NORMAL) != 0u) {
         float3 n_object = rt_xyz(a.normal) * w + rt_xyz(b.normal) * u + rt_xyz(c.normal) * v;
         float3 n_world =
             rt_transform_normal(inst.world_to_object0, inst.world_to_object1, inst.world_to_object2, n_object);
@@ -52,7 +54,7 @@ RT_FUNC Surface rt_surface(KernelGlobals kg, float3 origin, float3 direction, Hi
     // A normal map tilts the shading normal in the frame of the interpolated tangent, bitangent and normal
     // (glTF: tangent along +u, bitangent = cross(normal, tangent) * sign; texel 0.5 is no tilt).
     Material material = RT_FETCH(kg, materials, shading.vertices.w);
-    if (material.maps.w != RT_NONE && a.tangent.w != 0.0f) {
+    if (shading_normal && material.maps.w != RT_NONE && a.tangent.w != 0.0f) {
         float3 t_object = rt_xyz(a.tangent) * w + rt_xyz(b.tangent) * u + rt_xyz(c.tangent) * v;
         float3 t_world =
             rt_transform_vector(inst.object_to_world0, inst.object_to_world1, inst.object_to_world2, t_object);
@@ -87,6 +89,10 @@ RT_FUNC Surface rt_surface(KernelGlobals kg, float3 origin, float3 direction, Hi
     s.uv = a.uv * w + b.uv * u + c.uv * v;
     s.ids = make_uint4(shading.vertices.w, vertex_flags & RT_VERTEX_HAS_COLOR, 0u, 0u);
     return s;
+}
+
+RT_FUNC Surface rt_surface(KernelGlobals kg, float3 origin, float3 direction, Hit hit) {
+    return rt_surface_at(kg, direction, hit, true);
 }
 
 RT_STRUCT_BEGIN(ShadeResult)

@@ -91,12 +91,43 @@ RT_FUNC void rt_stage_shade(KernelGlobals kg, uint index, uint depth) {
     }
 }
 
-// A light reaches the point unless something lies between (any hit).
+#define RT_SHADOW_LAYERS 8u   // cut-out or blended surfaces a shadow ray looks through before it counts as blocked
+
+// What of a shadow ray's contribution reaches its point: all of it unless something lies between (one any-hit
+// query). Where some material is cut out or blended (RT_FLAG_ALPHA_SHADOWS), the ray takes the surfaces between in
+// turn, nearest first, and keeps what each one's coverage leaves (MASK: all where cut out, none elsewhere; BLEND:
+// 1 - alpha), as the shade stage passes camera and secondary rays through them; after RT_SHADOW_LAYERS surfaces it
+// counts as blocked. Refractive surfaces block, as in the seed (Whitted shadows do not refract).
+RT_FUNC float3 rt_light_reaching(KernelGlobals kg, ShadowRay sr) {
+    FrameParams frame = RT_FETCH(kg, frame, 0u);
+    float3 origin = rt_xyz(sr.origin);
+    float3 direction = rt_xyz(sr.direction);
+    float distance = sr.direction.w;
+    float3 reaching = rt_xyz(sr.contribution);
+    if ((frame.scene.z & RT_FLAG_ALPHA_SHADOWS) == 0u) {
+        Hit hit = rt_trace(kg, origin, direction, 0.0f, distance, true);
+        return hit.tuv.x < RT_INFINITY ? make_float3(0.0f, 0.0f, 0.0f) : reaching;
+    }
+    for (uint layer = 0u; layer < RT_SHADOW_LAYERS; ++layer) {
+        Hit hit = rt_trace(kg, origin, direction, 0.0f, distance, false);
+        if (!(hit.tuv.x < RT_INFINITY)) return reaching;
+        Surface s = rt_surface_at(kg, direction, hit, false);
+        Material m = RT_FETCH(kg, materials, s.ids.x);
+        reaching = reaching * (1.0f - rt_coverage(kg, m, s.vertex_color, s.uv));
+        if (!(rt_max3(reaching) > 0.0f)) break;
+        // On from the surface's far side, the rest of the way (a directional light's stays infinite).
+        float3 next = rt_offset_ray_origin(rt_xyz(s.position), -rt_xyz(s.geometric));
+        distance = distance - dot(next - origin, direction);
+        origin = next;
+    }
+    return make_float3(0.0f, 0.0f, 0.0f);
+}
+
+// A light reaches the point unless something lies between (rt_light_reaching).
 RT_FUNC void rt_stage_shadow(KernelGlobals kg, uint index, uint depth) {
     ShadowRay sr = RT_FETCH(kg, shadow_rays, index);
-    Hit hit = rt_trace(kg, rt_xyz(sr.origin), rt_xyz(sr.direction), 0.0f, sr.direction.w, true);
-    if (hit.tuv.x < RT_INFINITY) return;
-    rt_accumulate(kg, sr.info.x, rt_xyz(sr.contribution));
+    float3 reaching = rt_light_reaching(kg, sr);
+    if (rt_max3(reaching) > 0.0f) rt_accumulate(kg, sr.info.x, reaching);
 }
 
 // Fixed point to linear radiance (for .hdr output) and to 8-bit sRGB (PNG, display). No tone curve: values

@@ -217,6 +217,9 @@ RT_STRUCT_END(Light)
 // The wide layout with its instances flattened (static scenes, core/device_scene_flat.cpp): wide_nodes hold one
 // world-space BVH over every instance's triangles, and each block lane names its instance.
 #define RT_FLAG_FLAT_INSTANCES 8u
+// Some material is cut out or blended (glTF alphaMode MASK/BLEND): shadow rays look at what they hit
+// (rt_light_reaching) instead of stopping at the first surface.
+#define RT_FLAG_ALPHA_SHADOWS 16u
 
 // One per frame (array of one element). The camera basis is precomputed on the host.
 //  camera_position.w = tan(vertical fov / 2), camera_forward.w = aspect ratio

@@ -224,6 +224,55 @@ TEST(GltfMaterialMaps, AlphaMaskCutsOutAndBlendMixes) {
     EXPECT_NEAR(mixed.g, 188, 6);
 }
 
+// Shadows through cut-outs: a MASK quad half cut out, half above the cutoff, floats 0.5 in front of a white
+// floor, lit along -z. Through the cut-out half the camera sees the floor lit (the shadow ray passes the cut-out as
+// the camera ray did); a BLEND quad at alpha 0.5 lets half the light through to the floor behind it.
+TEST(GltfMaterialMaps, ShadowRaysPassCutOutsAndBlendedSurfaces) {
+    constexpr uint32_t kClearRed = 0x000000ffu;   // red, alpha 0
+    std::string image = test::write_test_png("shadow_cutout.png", 2, 2, {kClearRed, kRed, kClearRed, kRed});
+    auto build = [&](const std::string& name, json mode_and_factor, bool textured) {
+        GltfBuilder gltf;
+        add_textures(gltf, {image});
+        json pbr = {{"baseColorFactor", mode_and_factor["factor"]}, {"metallicFactor", 0}};
+        if (textured) pbr["baseColorTexture"] = {{"index", 0}};
+        json white = {{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}}},
+                      {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0}}}}}};
+        gltf.document["materials"] = json::array(
+            {{{"pbrMetallicRoughness", pbr}, {"alphaMode", mode_and_factor["mode"]}}, white});
+        gltf.node({{"mesh", textured_quad(gltf)}, {"translation", {0, 0, 0.5}}});
+        const int floor = textured_quad(gltf);
+        gltf.document["meshes"][floor]["primitives"][0]["material"] = 1;
+        gltf.node({{"mesh", floor}, {"scale", {3, 3, 1}}});
+        return gltf.write(name);
+    };
+    auto light_along_minus_z = [](Scene& scene) {
+        scene.lights.clear();
+        Light sun;
+        sun.type = LightType::Directional;
+        sun.direction = {0.0f, 0.0f, -1.0f};
+        scene.lights.push_back(sun);
+        scene.ambient_light = glm::vec3(0.0f);
+        scene.environment.kind = EnvironmentKind::Constant;
+        scene.environment.color = glm::vec3(0.0f);
+    };
+    // The floor point (-0.5, 0, 0) is seen through the cut-out half; its shadow ray leaves along +z through it.
+    test::ProbeImage mask = test::render_gltf(
+        build("shadow_mask.gltf", {{"mode", "MASK"}, {"factor", {1, 1, 1, 1}}}, true), light_along_minus_z);
+    test::Rgb through = at_world(mask, -0.5f, 0.0f);
+    EXPECT_GT(through.r, 200) << "the floor behind a cut-out is lit";
+    EXPECT_GT(through.g, 200);
+    EXPECT_GT(at_world(mask, 0.5f, 0.0f).r, 200);   // the solid half: red, lit
+    EXPECT_LT(at_world(mask, 0.5f, 0.0f).g, 60);
+    // BLEND at alpha 0.5: half the quad's red over the floor, which gets half the light (sRGB of 0.5 is 188).
+    test::ProbeImage blend = test::render_gltf(
+        build("shadow_blend.gltf", {{"mode", "BLEND"}, {"factor", {1, 0, 0, 0.5}}}, false), light_along_minus_z);
+    test::Rgb mixed = blend.at_ndc(0.0f, 0.0f);
+    // Linear: red 0.5 (the quad) + 0.5 x 0.5 (the floor, half lit) = 0.75; green and blue 0.25.
+    EXPECT_NEAR(mixed.r, 225, 8);
+    EXPECT_NEAR(mixed.g, 137, 8);
+    EXPECT_NEAR(mixed.b, 137, 8);
+}
+
 // An opaque dielectric mirrors a bright sky by Schlick's Fresnel: a few % head-on, far more at a grazing angle;
 // KHR_materials_specular's specularFactor 0 turns the reflection off.
 TEST(GltfMaterialMaps, OpaqueDielectricsReflectMoreAtGrazingAngles) {
