@@ -55,6 +55,19 @@ bool is_red(test::Rgb c) { return c.r > 200 && c.g < 60 && c.b < 60; }
 bool is_green(test::Rgb c) { return c.g > 200 && c.r < 60 && c.b < 60; }
 bool is_blue(test::Rgb c) { return c.b > 200 && c.r < 60 && c.g < 60; }
 
+// A document whose material 0 has the alpha mode and base colour factor of `mode_and_factor` ({"mode", "factor"}),
+// textured (when `textured`) by a 2x2 red image whose left column has alpha 0; no nodes yet.
+GltfBuilder alpha_quad(json mode_and_factor, bool textured) {
+    constexpr uint32_t kClearRed = 0x000000ffu;   // red, alpha 0
+    std::string image = test::write_test_png("alpha_cutout.png", 2, 2, {kClearRed, kRed, kClearRed, kRed});
+    GltfBuilder gltf;
+    add_textures(gltf, {image});
+    json pbr = {{"baseColorFactor", mode_and_factor["factor"]}, {"metallicFactor", 0}};
+    if (textured) pbr["baseColorTexture"] = {{"index", 0}};
+    gltf.document["materials"] = json::array({{{"pbrMetallicRoughness", pbr}, {"alphaMode", mode_and_factor["mode"]}}});
+    return gltf;
+}
+
 void no_light(Scene& scene) {
     scene.lights.clear();
     scene.ambient_light = glm::vec3(0.0f);
@@ -187,15 +200,8 @@ TEST(GltfMaterialMaps, NormalMapTiltsTheShadingNormal) {
 // alphaMode MASK cuts the quad out where the base texture's alpha is below the cutoff (the green sky shows);
 // BLEND lets 1 - alpha of the sky through, unrefracted.
 TEST(GltfMaterialMaps, AlphaMaskCutsOutAndBlendMixes) {
-    constexpr uint32_t kClearRed = 0x000000ffu;   // red, alpha 0
-    std::string image = test::write_test_png("alpha_cutout.png", 2, 2, {kClearRed, kRed, kClearRed, kRed});
-    auto build = [&](const std::string& name, json mode_and_factor, bool textured) {
-        GltfBuilder gltf;
-        add_textures(gltf, {image});
-        json pbr = {{"baseColorFactor", mode_and_factor["factor"]}, {"metallicFactor", 0}};
-        if (textured) pbr["baseColorTexture"] = {{"index", 0}};
-        json material = {{"pbrMetallicRoughness", pbr}, {"alphaMode", mode_and_factor["mode"]}};
-        gltf.document["materials"] = json::array({material});
+    auto build = [](const std::string& name, json mode_and_factor, bool textured) {
+        GltfBuilder gltf = alpha_quad(mode_and_factor, textured);
         gltf.node({{"mesh", textured_quad(gltf)}});
         return gltf.write(name);
     };
@@ -228,17 +234,11 @@ TEST(GltfMaterialMaps, AlphaMaskCutsOutAndBlendMixes) {
 // floor, lit along -z. Through the cut-out half the camera sees the floor lit (the shadow ray passes the cut-out as
 // the camera ray did); a BLEND quad at alpha 0.5 lets half the light through to the floor behind it.
 TEST(GltfMaterialMaps, ShadowRaysPassCutOutsAndBlendedSurfaces) {
-    constexpr uint32_t kClearRed = 0x000000ffu;   // red, alpha 0
-    std::string image = test::write_test_png("shadow_cutout.png", 2, 2, {kClearRed, kRed, kClearRed, kRed});
-    auto build = [&](const std::string& name, json mode_and_factor, bool textured) {
-        GltfBuilder gltf;
-        add_textures(gltf, {image});
-        json pbr = {{"baseColorFactor", mode_and_factor["factor"]}, {"metallicFactor", 0}};
-        if (textured) pbr["baseColorTexture"] = {{"index", 0}};
-        json white = {{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}}},
-                      {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0}}}}}};
-        gltf.document["materials"] = json::array(
-            {{{"pbrMetallicRoughness", pbr}, {"alphaMode", mode_and_factor["mode"]}}, white});
+    auto build = [](const std::string& name, json mode_and_factor, bool textured) {
+        GltfBuilder gltf = alpha_quad(mode_and_factor, textured);
+        gltf.document["materials"].push_back(   // material 1: a white floor that does not mirror
+            {{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}}},
+             {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0}}}}}});
         gltf.node({{"mesh", textured_quad(gltf)}, {"translation", {0, 0, 0.5}}});
         const int floor = textured_quad(gltf);
         gltf.document["meshes"][floor]["primitives"][0]["material"] = 1;

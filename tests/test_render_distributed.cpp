@@ -102,8 +102,9 @@ TEST(SplitRender, EveryDeviceOfAnApiMatchesOneDeviceBitForBit) {
     const fs::path listing = dir / "info.json";
     CommandResult info = run_prism("info --json " + quoted(listing));
     ASSERT_EQ(info.exit_code, 0) << info.output;
+    const nlohmann::json seen = read_json(listing);
     size_t devices = 0;
-    for (const nlohmann::json& backend : read_json(listing).at("backends"))
+    for (const nlohmann::json& backend : seen.at("backends"))
         if (backend.at("name") == "opencl") devices = backend.at("devices").size();
     ASSERT_EQ(json.at("workers").size(), devices) << json.dump(1) << "\n" << r.output;
     EXPECT_EQ(json.at("workers")[0].at("backend"), "opencl:0");
