@@ -1,10 +1,11 @@
 #include "apps/render_worker.h"
 
-#include "apps/frame_writer.h"
-
 #include <chrono>
 #include <filesystem>
 #include <new>
+#include <optional>
+
+#include "apps/frame_writer.h"
 
 #include "core/image_output.h"
 #include "core/render_engine.h"
@@ -13,7 +14,8 @@
 namespace prism::app {
 namespace {
 
-WorkMessage render_item(const WorkerJob& job, RenderEngine& engine, LoadedScene& loaded, FrameWriter& writer, int worker,
+// `writer`: a sequence's frame writer (null for tiles, which go back to the coordinator).
+WorkMessage render_item(const WorkerJob& job, RenderEngine& engine, LoadedScene& loaded, FrameWriter* writer, int worker,
                         int32_t item) {
     RenderSettings settings = job.settings;
     const Camera& camera = loaded.scene.camera;
@@ -39,8 +41,8 @@ WorkMessage render_item(const WorkerJob& job, RenderEngine& engine, LoadedScene&
     result.shadow_rays_per_depth = frame.stats.shadow_rays_per_depth;
     if (job.sequence) {
         // Encoded while the next frame renders; the worker reports done only once every frame is on disk.
-        writer.submit({frame_path, job.format, frame.width, frame.height, std::move(frame.image),
-                       std::move(frame.radiance)});
+        writer->submit({frame_path, job.format, frame.width, frame.height, std::move(frame.image),
+                        std::move(frame.radiance)});
     } else {
         result.image = std::move(frame.image);
         result.radiance = std::move(frame.radiance);
@@ -73,9 +75,11 @@ void run_worker(const WorkerJob& job, const std::string& backend, int worker,
         hello.worker = worker;
         hello.text = backend + "\n" + engine.info().device;
         WorkMessage answer = exchange(hello);
-        FrameWriter writer(job.sequence ? 0 : 1);
-        while (answer.item >= 0) answer = exchange(render_item(job, engine, loaded, writer, worker, answer.item));
-        writer.finish();
+        std::optional<FrameWriter> writer;
+        if (job.sequence) writer.emplace();
+        FrameWriter* frames = writer ? &*writer : nullptr;
+        while (answer.item >= 0) answer = exchange(render_item(job, engine, loaded, frames, worker, answer.item));
+        if (writer) writer->finish();
         return;
     } catch (const std::bad_alloc&) {
         cause = "out of host memory";

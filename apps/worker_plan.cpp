@@ -69,7 +69,6 @@ std::vector<std::string> plan_local_workers(const std::string& backend, int rank
     return workers;
 }
 
-
 BvhLayout shared_bvh_layout(const std::string& requested, const std::string& backend) {
     for (const std::string& entry : split_backend_list(backend))
         if (!is_cpu_api(entry)) return resolve_bvh_layout(requested, entry);

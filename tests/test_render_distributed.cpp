@@ -97,8 +97,9 @@ TEST(SplitRender, EveryDeviceOfAnApiMatchesOneDeviceBitForBit) {
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_EQ(read_bytes(out), read_bytes(expected));
     nlohmann::json json = read_json(stats);
-    // The devices a prism process sees, asked of one: this test process holds the devices it probed, and a GPU in
-    // exclusive-process compute mode then hides from a second process.
+    // The devices a prism process sees, asked of one: this test process has probed the devices itself, and on the
+    // H200 machine its count (two) differed from the render's (one); a GPU in exclusive-process compute mode would
+    // hide from a second process like that (suspected, not confirmed).
     const fs::path listing = dir / "info.json";
     CommandResult info = run_prism("info --json " + quoted(listing));
     ASSERT_EQ(info.exit_code, 0) << info.output;
