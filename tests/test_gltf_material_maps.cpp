@@ -68,6 +68,20 @@ GltfBuilder alpha_quad(json mode_and_factor, bool textured) {
     return gltf;
 }
 
+// A node of textured_quad turned about x by `tilt_degrees` (-75: seen at a grazing angle from render_gltf's camera).
+void add_tilted_quad(GltfBuilder& gltf, double tilt_degrees) {
+    double half = tilt_degrees * 3.14159265358979 / 360.0;
+    gltf.node({{"mesh", textured_quad(gltf)}, {"rotation", {std::sin(half), 0, 0, std::cos(half)}}});
+}
+
+// Lit only by a white sky: what a surface shows is what it mirrors.
+void white_sky(Scene& scene) {
+    scene.lights.clear();
+    scene.ambient_light = glm::vec3(0.0f);
+    scene.environment.kind = EnvironmentKind::Constant;
+    scene.environment.color = glm::vec3(1.0f);
+}
+
 void no_light(Scene& scene) {
     scene.lights.clear();
     scene.ambient_light = glm::vec3(0.0f);
@@ -281,15 +295,8 @@ TEST(GltfMaterialMaps, OpaqueDielectricsReflectMoreAtGrazingAngles) {
         json material = {{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 0}}}};
         if (!extensions.is_null()) material["extensions"] = extensions;
         gltf.document["materials"] = json::array({material});
-        double half = tilt_degrees * 3.14159265358979 / 360.0;
-        gltf.node({{"mesh", textured_quad(gltf)}, {"rotation", {std::sin(half), 0, 0, std::cos(half)}}});
+        add_tilted_quad(gltf, tilt_degrees);
         return gltf.write(name);
-    };
-    auto white_sky = [](Scene& scene) {
-        scene.lights.clear();
-        scene.ambient_light = glm::vec3(0.0f);
-        scene.environment.kind = EnvironmentKind::Constant;
-        scene.environment.color = glm::vec3(1.0f);
     };
     test::Rgb head_on = test::render_gltf(build("fresnel_head_on.gltf", 0.0, nullptr), white_sky).at_ndc(0.0f, 0.0f);
     test::Rgb grazing = test::render_gltf(build("fresnel_grazing.gltf", -75.0, nullptr), white_sky).at_ndc(0.0f, 0.0f);
@@ -373,15 +380,8 @@ TEST(GltfMaterialMaps, SpecularTexturesScaleAndTintTheReflection) {
         gltf.document["materials"] = json::array(
             {{{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 0}}},
               {"extensions", {{"KHR_materials_specular", specular}}}}});
-        double half = -75.0 * 3.14159265358979 / 360.0;
-        gltf.node({{"mesh", textured_quad(gltf)}, {"rotation", {std::sin(half), 0, 0, std::cos(half)}}});
+        add_tilted_quad(gltf, -75.0);
         return gltf.write(name);
-    };
-    auto white_sky = [](Scene& scene) {
-        scene.lights.clear();
-        scene.ambient_light = glm::vec3(0.0f);
-        scene.environment.kind = EnvironmentKind::Constant;
-        scene.environment.color = glm::vec3(1.0f);
     };
     test::ProbeImage plain = test::render_gltf(build("specular_texture.gltf", false), white_sky, 96);
     EXPECT_LT(at_world(plain, -0.5f, 0.0f).r, 10);

@@ -15,6 +15,22 @@ namespace {
 using nlohmann::json;
 using test::GltfBuilder;
 
+// The centre pixel of `scene` on cpu-ref, seen from (0, 0, 3) under white ambient light alone, so a surface
+// shows its colour as it is.
+test::Rgb centre_in_white_ambient_light(Scene scene) {
+    scene.lights.clear();
+    scene.ambient_light = glm::vec3(1.0f);
+    scene.environment.color = glm::vec3(0.0f);
+    scene.camera.position = {0.0f, 0.0f, 3.0f};
+    scene.camera.target = {0.0f, 0.0f, 0.0f};
+    scene.has_camera = true;
+    DeviceScene device = build_device_scene(scene);
+    RenderSettings settings;
+    settings.width = settings.height = 32;
+    settings.max_depth = 2;
+    return test::ProbeImage{RenderEngine("cpu-ref", device).render(scene.camera, settings)}.at_ndc(0.0f, 0.0f);
+}
+
 // A red quad (vertex colours) in z = 0 under a material whose own colour is (0.2, 0.2, 1).
 test::Rgb render_rule(const std::string& name, const char* rule) {
     std::filesystem::path ply = test::write_file(
@@ -28,18 +44,7 @@ test::Rgb render_rule(const std::string& name, const char* rule) {
     json document = {{"materials", {{"tinted", material}}},
                      {"objects", {{{"file", ply.filename().string()}, {"material", "tinted"}}}}};
     std::filesystem::path file = test::write_file(name + ".json", document.dump());
-    Scene scene = load_scene_json(file);
-    scene.lights.clear();
-    scene.ambient_light = glm::vec3(1.0f);
-    scene.environment.color = glm::vec3(0.0f);
-    scene.camera.position = {0.0f, 0.0f, 3.0f};
-    scene.camera.target = {0.0f, 0.0f, 0.0f};
-    scene.has_camera = true;
-    DeviceScene device = build_device_scene(scene);
-    RenderSettings settings;
-    settings.width = settings.height = 32;
-    settings.max_depth = 2;
-    return test::ProbeImage{RenderEngine("cpu-ref", device).render(scene.camera, settings)}.at_ndc(0.0f, 0.0f);
+    return centre_in_white_ambient_light(load_scene_json(file));
 }
 
 }  // namespace
@@ -64,17 +69,7 @@ TEST(VertexColorRule, ReplaceKeepsTheMaterialColourWhereTheMeshHasNoColours) {
     std::filesystem::path model = gltf.write("uncoloured_quad.gltf");
     json document = {{"materials", {{"seed", {{"diffuse", {0.0, 1.0, 0.0}}, {"vertex_colors", "replace"}}}}},
                      {"objects", {{{"file", model.filename().string()}, {"material", "seed"}}}}};
-    Scene scene = load_scene_json(test::write_file("uncoloured.json", document.dump()));
-    scene.lights.clear();
-    scene.ambient_light = glm::vec3(1.0f);
-    scene.environment.color = glm::vec3(0.0f);
-    scene.camera.position = {0.0f, 0.0f, 3.0f};
-    scene.has_camera = true;
-    DeviceScene device = build_device_scene(scene);
-    RenderSettings settings;
-    settings.width = settings.height = 32;
-    settings.max_depth = 2;
-    test::Rgb pixel = test::ProbeImage{RenderEngine("cpu-ref", device).render(scene.camera, settings)}.at_ndc(0.0f, 0.0f);
+    test::Rgb pixel = centre_in_white_ambient_light(load_scene_json(test::write_file("uncoloured.json", document.dump())));
     EXPECT_GT(pixel.g, 240);
     EXPECT_LT(pixel.r, 10);
 }
