@@ -260,15 +260,17 @@ TEST(ViewerInterop, LavapipeSharesItsFrameWithLlvmpipe) {
 
 // --alternate-display with the Vulkan-GL path: hidden frames skip the frame's copy into GL's buffer and the
 // draw, the shown ones after them must still see the new frame (the semaphores/fences stay paired), and the last
-// frame (in a hidden block here) is shown for the screenshot.
+// frame (in a hidden block here) is shown for the screenshot. Both runs fix --interactive-scale at 1: "auto" sizes
+// a moving frame from the measured render times, so on a busy machine two runs would render the last frame at
+// different resolutions.
 TEST(ViewerInterop, AlternatingDisplayKeepsTheInteropInStep) {
     REQUIRE_XVFB();
     REQUIRE_BACKEND("vulkan", "llvmpipe");
     auto dir = prism::test::temp_dir("viewer-interop-alternate");
     std::filesystem::path stats = dir / "stats.json", shot = dir / "alternate.png";
     prism::test::CommandResult result =
-        view("--backend vulkan:llvmpipe --frames 7 --alternate-display 2 --keys 0:M --display interop "
-             "--screenshot '" + shot.string() + "' --stats '" + stats.string() + "'");
+        view("--backend vulkan:llvmpipe --frames 7 --alternate-display 2 --keys 0:M --interactive-scale 1 "
+             "--display interop --screenshot '" + shot.string() + "' --stats '" + stats.string() + "'");
     SKIP_IF_MESA_CANNOT_SHARE(result);
     ASSERT_EQ(result.exit_code, 0) << result.output;
     EXPECT_NE(result.output.find("; alternating: shown "), std::string::npos) << result.output;
@@ -285,8 +287,8 @@ TEST(ViewerInterop, AlternatingDisplayKeepsTheInteropInStep) {
     // The screenshot is the last frame with the object moved 7 times: `prism render` cannot pose it, so compare
     // with the same run fully shown.
     std::filesystem::path every = dir / "every.png";
-    prism::test::CommandResult reference = view("--backend vulkan:llvmpipe --frames 7 --keys 0:M --display interop "
-                                                "--screenshot '" + every.string() + "'");
+    prism::test::CommandResult reference = view("--backend vulkan:llvmpipe --frames 7 --keys 0:M --interactive-scale 1 "
+                                                "--display interop --screenshot '" + every.string() + "'");
     ASSERT_EQ(reference.exit_code, 0) << reference.output;
     int width = 0, height = 0, every_width = 0, every_height = 0;
     std::vector<uint32_t> alternated = prism::test::read_png(shot, &width, &height);
