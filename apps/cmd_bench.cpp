@@ -132,15 +132,15 @@ nlohmann::json bench_frames(RenderEngine& engine, const Scene& scene, const Benc
     for (uint32_t d = 0; d < s.rays_per_depth.size(); ++d) {
         double intersect_ms = stages.at(Stage::Intersect, d);
         double shadow_stage_ms = stages.at(Stage::Shadow, d);
-        per_depth.push_back({{"depth", d},
-                             {"rays", s.rays_per_depth[d]},
-                             {"shadow_rays", s.shadow_rays_per_depth[d]},
-                             {"intersect_ms", intersect_ms},
-                             {"shade_ms", stages.at(Stage::Shade, d)},
-                             {"miss_ms", stages.at(Stage::Miss, d)},
-                             {"shadow_ms", shadow_stage_ms},
-                             {"intersect_mrays_per_s", mrays(s.rays_per_depth[d], intersect_ms)},
-                             {"shadow_mrays_per_s", mrays(s.shadow_rays_per_depth[d], shadow_stage_ms)}});
+        nlohmann::json row = {{"depth", d},
+                              {"rays", s.rays_per_depth[d]},
+                              {"shadow_rays", s.shadow_rays_per_depth[d]},
+                              {"intersect_mrays_per_s", mrays(s.rays_per_depth[d], intersect_ms)},
+                              {"shadow_mrays_per_s", mrays(s.shadow_rays_per_depth[d], shadow_stage_ms)}};
+        for (size_t stage = 0; stage < stage_count; ++stage)   // <stage>_ms for every per-depth stage
+            if (stage_pass(Stage(stage)) == StagePass::Bounce)
+                row[std::string(stage_name(Stage(stage))) + "_ms"] = stages.at(Stage(stage), d);
+        per_depth.push_back(std::move(row));
         if (d > 0) {
             secondary += s.rays_per_depth[d];
             secondary_ms += intersect_ms;

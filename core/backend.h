@@ -16,7 +16,7 @@ namespace prism {
 
 // One id per line of kernels/data_arrays.h, equal to its Vulkan binding.
 enum class DeviceArray : uint32_t {
-#define RT_DATA_ARRAY(slot, type, name, access) name = slot,
+#define RT_DATA_ARRAY(slot, type, name, access, role) name = slot,
 #include "kernels/data_arrays.h"
 #undef RT_DATA_ARRAY
     Count
@@ -24,11 +24,32 @@ enum class DeviceArray : uint32_t {
 inline constexpr size_t device_array_count = static_cast<size_t>(DeviceArray::Count);
 const char* device_array_name(DeviceArray array);
 size_t device_array_element_size(DeviceArray array);
+// The last column of kernels/data_arrays.h (which explains the roles).
+enum class DeviceArrayRole { Scene, Frame, Queue, Pixel };
+DeviceArrayRole device_array_role(DeviceArray array);
 
-// The stages of kernels/stages.h, in frame order.
-enum class Stage : uint32_t { Generate, Intersect, Miss, Shade, Shadow, Resolve, Count };
+// Inside an RT_DATA_ARRAY definition: PRISM_IF_SCENE_ARRAY(role, code) is `code` for the scene arrays and nothing
+// for the others, so DeviceScene's fields, their upload and host_globals come from the same list.
+#define PRISM_IF_SCENE_ARRAY(role, ...) PRISM_IF_SCENE_ARRAY_##role(__VA_ARGS__)
+#define PRISM_IF_SCENE_ARRAY_scene(...) __VA_ARGS__
+#define PRISM_IF_SCENE_ARRAY_frame(...)
+#define PRISM_IF_SCENE_ARRAY_queue(...)
+#define PRISM_IF_SCENE_ARRAY_pixel(...)
+
+// The stages of kernels/stage_list.h, in frame order.
+enum class Stage : uint32_t {
+#define RT_STAGE(name, Name, pass, launch) Name,
+#include "kernels/stage_list.h"
+#undef RT_STAGE
+    Count
+};
 inline constexpr size_t stage_count = static_cast<size_t>(Stage::Count);
+// When a stage runs in the frame, and over how many items (kernels/stage_list.h explains both).
+enum class StagePass { Before, Bounce, After };
+enum class StageLaunch { Grid, GridSizesQueue, Queue, QueueGrows };
 const char* stage_name(Stage stage);
+StagePass stage_pass(Stage stage);
+StageLaunch stage_launch(Stage stage);
 
 struct StageTiming {
     Stage stage;

@@ -8,7 +8,7 @@ namespace prism {
 
 const char* device_array_name(DeviceArray array) {
     switch (array) {
-#define RT_DATA_ARRAY(slot, type, name, access) \
+#define RT_DATA_ARRAY(slot, type, name, access, role) \
     case DeviceArray::name:                     \
         return #name;
 #include "kernels/data_arrays.h"
@@ -20,7 +20,7 @@ const char* device_array_name(DeviceArray array) {
 
 size_t device_array_element_size(DeviceArray array) {
     switch (array) {
-#define RT_DATA_ARRAY(slot, type, name, access) \
+#define RT_DATA_ARRAY(slot, type, name, access, role) \
     case DeviceArray::name:                     \
         return sizeof(type);
 #include "kernels/data_arrays.h"
@@ -30,9 +30,44 @@ size_t device_array_element_size(DeviceArray array) {
     }
 }
 
+DeviceArrayRole device_array_role(DeviceArray array) {
+    static constexpr DeviceArrayRole roles[] = {
+#define PRISM_ROLE_scene DeviceArrayRole::Scene
+#define PRISM_ROLE_frame DeviceArrayRole::Frame
+#define PRISM_ROLE_queue DeviceArrayRole::Queue
+#define PRISM_ROLE_pixel DeviceArrayRole::Pixel
+#define RT_DATA_ARRAY(slot, type, name, access, role) PRISM_ROLE_##role,
+#include "kernels/data_arrays.h"
+#undef RT_DATA_ARRAY
+    };
+    return roles[static_cast<size_t>(array)];
+}
+
 const char* stage_name(Stage stage) {
-    static const char* names[] = {"generate", "intersect", "miss", "shade", "shadow", "resolve"};
+    static constexpr const char* names[] = {
+#define RT_STAGE(name, Name, pass, launch) #name,
+#include "kernels/stage_list.h"
+#undef RT_STAGE
+    };
     return names[static_cast<size_t>(stage)];
+}
+
+StagePass stage_pass(Stage stage) {
+    static constexpr StagePass passes[] = {
+#define RT_STAGE(name, Name, pass, launch) StagePass::pass,
+#include "kernels/stage_list.h"
+#undef RT_STAGE
+    };
+    return passes[static_cast<size_t>(stage)];
+}
+
+StageLaunch stage_launch(Stage stage) {
+    static constexpr StageLaunch launches[] = {
+#define RT_STAGE(name, Name, pass, launch) StageLaunch::launch,
+#include "kernels/stage_list.h"
+#undef RT_STAGE
+    };
+    return launches[static_cast<size_t>(stage)];
 }
 
 BackendSpec parse_backend_spec(const std::string& text) {

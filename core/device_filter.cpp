@@ -16,4 +16,13 @@ std::optional<size_t> device_index(const std::string& filter) {
     return index;
 }
 
+std::string lowercase(std::string text) {
+    std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return text;
+}
+
+bool name_matches(const std::string& name, const std::string& filter) {
+    return lowercase(name).find(lowercase(filter)) != std::string::npos;
+}
+
 }  // namespace prism

@@ -12,4 +12,9 @@ namespace prism {
 // list, so the backend reports "no device N" like any other index out of range.
 std::optional<size_t> device_index(const std::string& filter);
 
+// `text` in lower case (ASCII): device names are matched without regard to case.
+std::string lowercase(std::string text);
+// Whether `name` contains `filter`, ignoring case: how every API matches a device name to a filter.
+bool name_matches(const std::string& name, const std::string& filter);
+
 }  // namespace prism

@@ -207,12 +207,11 @@ std::vector<prism::TextureLayer> material_layers(const prism::Material& m) {
 }  // namespace
 
 size_t DeviceScene::byte_size() const {
-    return nodes.size() * sizeof(BvhNode) + wide_nodes.size() * sizeof(BvhWideNode) + instances.size() * sizeof(::Instance) +
-           triangles.size() * sizeof(TriangleGeometry) + triangle_blocks.size() * sizeof(TriangleBlock) +
-           triangle_shading.size() * sizeof(TriangleShading) +
-           vertices.size() * sizeof(Vertex) + materials.size() * sizeof(::Material) +
-           texture_layers.size() * sizeof(::TextureLayer) + texture_infos.size() * sizeof(TextureInfo) +
-           texels.size() * sizeof(uint32_t) + lights.size() * sizeof(::Light);
+    size_t bytes = 0;
+#define RT_DATA_ARRAY(slot, type, name, access, role) PRISM_IF_SCENE_ARRAY(role, bytes += name.size() * sizeof(::type);)
+#include "kernels/data_arrays.h"
+#undef RT_DATA_ARRAY
+    return bytes;
 }
 
 // Flattening stores a mesh once per instance: a scene that instances its meshes heavily (a forest of one tree)

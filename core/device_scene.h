@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/backend.h"
 #include "core/bvh.h"
 #include "core/scene.h"
 #include "kernels/types.h"
@@ -12,18 +13,10 @@
 namespace prism {
 
 struct DeviceScene {
-    std::vector<BvhNode> nodes;   // top level first (root 0), then each mesh's BVH; one unused node in the wide layout
-    std::vector<BvhWideNode> wide_nodes;   // the wide layout's nodes, arranged the same way; else one unused node
-    std::vector<::Instance> instances;
-    std::vector<TriangleGeometry> triangles;
-    std::vector<TriangleBlock> triangle_blocks;   // the wide layout's leaves (kernels/types.h); else one unused block
-    std::vector<TriangleShading> triangle_shading;
-    std::vector<Vertex> vertices;
-    std::vector<::Material> materials;
-    std::vector<::TextureLayer> texture_layers;
-    std::vector<TextureInfo> texture_infos;
-    std::vector<uint32_t> texels;
-    std::vector<::Light> lights;
+    // One vector per scene array of kernels/data_arrays.h, named as there (the comments there say what each holds).
+#define RT_DATA_ARRAY(slot, type, name, access, role) PRISM_IF_SCENE_ARRAY(role, std::vector<::type> name;)
+#include "kernels/data_arrays.h"
+#undef RT_DATA_ARRAY
 
     BvhBuildOptions bvh_options;
     EnvironmentKind environment_kind = EnvironmentKind::Constant;

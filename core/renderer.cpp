@@ -88,18 +88,10 @@ Renderer::Renderer(Backend& backend, const DeviceScene& scene) : backend_(backen
 }
 
 void Renderer::upload_scene() {
-    upload(backend_, DeviceArray::nodes, scene_.nodes);
-    upload(backend_, DeviceArray::wide_nodes, scene_.wide_nodes);
-    upload(backend_, DeviceArray::instances, scene_.instances);
-    upload(backend_, DeviceArray::triangles, scene_.triangles);
-    upload(backend_, DeviceArray::triangle_blocks, scene_.triangle_blocks);
-    upload(backend_, DeviceArray::triangle_shading, scene_.triangle_shading);
-    upload(backend_, DeviceArray::vertices, scene_.vertices);
-    upload(backend_, DeviceArray::materials, scene_.materials);
-    upload(backend_, DeviceArray::texture_layers, scene_.texture_layers);
-    upload(backend_, DeviceArray::texture_infos, scene_.texture_infos);
-    upload(backend_, DeviceArray::texels, scene_.texels);
-    upload(backend_, DeviceArray::lights, scene_.lights);
+#define RT_DATA_ARRAY(slot, type, name, access, role) \
+    PRISM_IF_SCENE_ARRAY(role, upload(backend_, DeviceArray::name, scene_.name);)
+#include "kernels/data_arrays.h"
+#undef RT_DATA_ARRAY
 }
 
 void Renderer::update_instances(const DeviceScene& scene) {
@@ -108,6 +100,11 @@ void Renderer::update_instances(const DeviceScene& scene) {
         backend_.write(DeviceArray::wide_nodes, scene.wide_nodes.data(), scene.top_level_nodes * sizeof(BvhWideNode));
     else
         backend_.write(DeviceArray::nodes, scene.nodes.data(), scene.top_level_nodes * sizeof(BvhNode));
+}
+
+void Renderer::enqueue_pass(StagePass pass, uint32_t depth) {
+    for (size_t s = 0; s < stage_count; ++s)
+        if (stage_pass(Stage(s)) == pass) backend_.enqueue(Stage(s), depth);
 }
 
 void Renderer::ensure_queues(uint32_t pixels, uint32_t ray_capacity, uint32_t shadow_capacity) {
@@ -160,15 +157,12 @@ FrameResult Renderer::render(const Camera& camera, const RenderSettings& setting
 
         // Every depth is enqueued up front: the queues' counts stay on the device, so the frame needs no host
         // round trip (the seed copied hits back at each depth).
-        backend_.enqueue(Stage::Generate, 0);
+        enqueue_pass(StagePass::Before, 0);
         for (uint32_t depth = 0; depth < params.size.z; ++depth) {
-            backend_.enqueue(Stage::Intersect, depth);
-            backend_.enqueue(Stage::Miss, depth);
-            backend_.enqueue(Stage::Shade, depth);
-            backend_.enqueue(Stage::Shadow, depth);
+            enqueue_pass(StagePass::Bounce, depth);
             if (progress) progress(depth + 1, params.size.z);
         }
-        backend_.enqueue(Stage::Resolve, 0);
+        enqueue_pass(StagePass::After, 0);
         if (settings.copy_to_gl) {
             GlInteropOffer offer = backend_.gl_interop();
             if (!offer.interop) throw Error("render: copy_to_gl without a GL interop (" + offer.reason + ")");

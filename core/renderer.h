@@ -99,6 +99,8 @@ public:
 private:
     void upload_scene();
     void ensure_queues(uint32_t pixels, uint32_t rays_capacity, uint32_t shadow_capacity);
+    // Every stage of kernels/stage_list.h in `pass`, in list order, at `depth`.
+    void enqueue_pass(StagePass pass, uint32_t depth);
 
     Backend& backend_;
     const DeviceScene& scene_;

@@ -17,10 +17,10 @@ layout(local_size_x = 128) in;
 // depth: the queue a stage works on; groups: the backend's fixed grid (the most groups a launch may have).
 layout(push_constant) uniform StagePush { uint depth; uint groups; } pc;
 
+#define RT_GLSL
 #include "vulkan_bindings.h"
 #ifdef RT_GLSL_ADDRESS
 layout(std430, set = 0, binding = RT_VK_BINDING_ADDRESSES) readonly buffer rt_address_block { uint64_t rt_addresses[]; };
 #endif
 
-#define RT_GLSL
 #include "stages.h"

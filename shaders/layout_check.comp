@@ -11,7 +11,7 @@
 
 layout(local_size_x = 1) in;
 
-#define RT_DATA_ARRAY(slot, type, name, access) \
+#define RT_DATA_ARRAY(slot, type, name, access, role) \
     layout(std430, set = 0, binding = slot) buffer name##_block { type name[]; };
 #include "data_arrays.h"
 #undef RT_DATA_ARRAY
@@ -32,7 +32,7 @@ void rt_mark_uint(inout uint v, uint base) { v = base; }
 void rt_mark_float4(inout vec4 v, uint base) { v = rt_marker_f4(base); }
 
 void main() {
-#define RT_DATA_ARRAY(slot, type, name, access) \
+#define RT_DATA_ARRAY(slot, type, name, access, role) \
     rt_mark_##type(name[0], uint(slot) * 1000u); \
     rt_mark_##type(name[1], uint(slot) * 1000u + 500u);
 #include "data_arrays.h"

@@ -21,7 +21,7 @@ TEST(Layout, EveryDeviceArrayStructIsInTheTable) {
 #undef RT_LAYOUT_STRUCT
 #undef RT_LAYOUT_MEMBER
     int structs = 0;
-#define RT_DATA_ARRAY(slot, type, name, access) structs += sizeof(type) % 16 == 0 && sizeof(type) >= 16;
+#define RT_DATA_ARRAY(slot, type, name, access, role) structs += sizeof(type) % 16 == 0 && sizeof(type) >= 16;
 #include "kernels/data_arrays.h"
 #undef RT_DATA_ARRAY
     EXPECT_GE(listed, structs - 1);   // radiance is a bare float4, not a struct

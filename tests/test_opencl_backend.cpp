@@ -1,6 +1,7 @@
-// The `opencl` backend on PoCL (the CPU OpenCL device of CI; the same code runs NVIDIA's OpenCL on the H100):
-// layout contract, build errors, device selection, program cache, memory, timings, and agreement of images and
-// ray queries with the cpu-ref oracle. Every test skips, with the reason, when no OpenCL device answers.
+// What is particular to the `opencl` backend, on PoCL (the CPU OpenCL device of CI; the same code runs NVIDIA's
+// OpenCL on the GPU machine): the layout contract in OpenCL C, the embedded source and build errors, the program
+// cache, device selection, CL_DEVICE_MAX_MEM_ALLOC_SIZE, and the shared kernels run alone. The contract every
+// backend keeps is in test_backend_contract.cpp. Every test skips, with the reason, when no OpenCL device answers.
 #ifdef PRISM_HAVE_OPENCL
 
 #include <cmath>
@@ -39,30 +40,6 @@ bool pocl_available(std::string* reason) {
 
 using prism::test::ScopedEnv;
 
-std::string error_of(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const prism::Error& e) {
-        return e.what();
-    }
-    return "";
-}
-
-// The BVH layout is the one the renderer would pick for this backend: stack, or $PRISM_BVH_LAYOUT (so the whole
-// suite can run on another layout); the tests that name a layout pass it.
-prism::DeviceScene load(const std::string& spec, prism::Scene* out,
-                        prism::BvhLayout layout = prism::resolve_bvh_layout("auto", "opencl")) {
-    prism::LoadOptions options;
-    options.data_dir = prism::test::scenes_dir();
-    std::string resolved = spec.rfind("builtin:", 0) == 0 ? spec : prism::test::scene(spec).string();
-    prism::Scene scene = prism::load_scene(resolved, options);
-    prism::BvhBuildOptions bvh;
-    bvh.layout = layout;
-    prism::DeviceScene device = prism::build_device_scene(scene, bvh);
-    if (out) *out = std::move(scene);
-    return device;
-}
-
 }  // namespace
 
 // ---- Layout and program building ------------------------------------------------------------------------------
@@ -93,7 +70,7 @@ TEST(OpenclProgram, EmbeddedSourceHasEveryIncludeResolved) {
 TEST(OpenclProgram, BuildFailureReportsTheCompilerLog) {
     REQUIRE_POCL();
     ScopedEnv no_cache("PRISM_CACHE_DIR", "");
-    std::string message = error_of([] {
+    std::string message = prism::test::error_message([] {
         prism::opencl_internal::build_source(
             kPocl, "#line 1 \"kernels/broken.h\"\n__kernel void broken(__global uint* out) { out[0] = undeclared_name; }\n");
     });
@@ -142,7 +119,7 @@ TEST(OpenclProgram, BinaryCacheIsWrittenReusedAndOptional) {
 
 TEST(OpenclDevices, UnknownFilterListsTheDevices) {
     REQUIRE_POCL();
-    std::string message = error_of([] { prism::create_backend("opencl:no-such-device-xyz"); });
+    std::string message = prism::test::error_message([] { prism::create_backend("opencl:no-such-device-xyz"); });
     EXPECT_NE(message.find("opencl: device 'no-such-device-xyz' not found"), std::string::npos) << message;
     EXPECT_NE(message.find("Portable Computing Language ["), std::string::npos) << message;
 }
@@ -190,58 +167,13 @@ TEST(OpenclDevices, NoDriverIsReportedNotCrashed) {
 
 // ---- Memory, launches, timers (no scene needed) -----------------------------------------------------------------
 
-TEST(OpenclBackend, MemoryRoundTripsAndZeroSizeArraysWork) {
-    REQUIRE_POCL();
-    auto backend = prism::create_backend(prism::test::test_device("opencl"));
-    std::vector<uint32_t> data(1000);
-    for (uint32_t i = 0; i < data.size(); ++i) data[i] = i * 2654435761u;
-    backend->allocate(prism::DeviceArray::texels, data.size() * 4);
-    backend->write(prism::DeviceArray::texels, data.data(), data.size() * 4);
-    std::vector<uint32_t> back(data.size());
-    backend->read(prism::DeviceArray::texels, back.data(), back.size() * 4);
-    EXPECT_EQ(back, data);
-    // Partial write at an offset.
-    uint32_t word = 0xdeadbeefu;
-    backend->write(prism::DeviceArray::texels, &word, 4, 40);
-    backend->read(prism::DeviceArray::texels, back.data(), back.size() * 4);
-    EXPECT_EQ(back[10], word);
-    EXPECT_EQ(back[11], data[11]);
-    backend->zero(prism::DeviceArray::texels);
-    backend->read(prism::DeviceArray::texels, back.data(), back.size() * 4);
-    EXPECT_EQ(back, std::vector<uint32_t>(data.size(), 0u));
-    // Zero-size arrays are legal (a scene without textures or lights).
-    backend->allocate(prism::DeviceArray::lights, 0);
-    backend->write(prism::DeviceArray::lights, nullptr, 0);
-    backend->zero(prism::DeviceArray::lights);
-    // Out of range is an error naming the array.
-    std::string message = error_of([&] { backend->read(prism::DeviceArray::texels, back.data(), 8, data.size() * 4 - 4); });
-    EXPECT_NE(message.find("'texels'"), std::string::npos) << message;
-}
-
 TEST(OpenclBackend, OversizedBuffersAreRefusedWithTheLimit) {
     REQUIRE_POCL();
     auto backend = prism::create_backend(prism::test::test_device("opencl"));
     prism::BackendInfo info = backend->info();
-    std::string message = error_of([&] { backend->allocate(prism::DeviceArray::rays, info.max_buffer + 1); });
+    std::string message = prism::test::error_message([&] { backend->allocate(prism::DeviceArray::rays, info.max_buffer + 1); });
     EXPECT_NE(message.find("buffer 'rays'"), std::string::npos) << message;
     EXPECT_NE(message.find("CL_DEVICE_MAX_MEM_ALLOC_SIZE"), std::string::npos) << message;
-    // The total over all arrays is checked against global memory (or PRISM_DEVICE_MEMORY_LIMIT, which the CUDA
-    // backend reads too) before anything is allocated.
-    ScopedEnv limit("PRISM_DEVICE_MEMORY_LIMIT", std::to_string(1 << 20));
-    backend = prism::create_backend(prism::test::test_device("opencl"));
-    backend->allocate(prism::DeviceArray::rays, 400 << 10);
-    backend->allocate(prism::DeviceArray::hits, 400 << 10);
-    message = error_of([&] { backend->allocate(prism::DeviceArray::accum, 400 << 10); });
-    EXPECT_NE(message.find("buffer 'accum'"), std::string::npos) << message;
-    EXPECT_NE(message.find("PRISM_DEVICE_MEMORY_LIMIT=1048576"), std::string::npos) << message;
-    // Reallocating an array releases its old size: shrinking two makes room for the third.
-    backend->allocate(prism::DeviceArray::rays, 64);
-    backend->allocate(prism::DeviceArray::hits, 64);
-    EXPECT_EQ(error_of([&] { backend->allocate(prism::DeviceArray::accum, 400 << 10); }), "");
-    // A bad limit is a user error.
-    ScopedEnv bad("PRISM_DEVICE_MEMORY_LIMIT", "lots");
-    message = error_of([] { prism::create_backend(prism::test::test_device("opencl")); });
-    EXPECT_NE(message.find("PRISM_DEVICE_MEMORY_LIMIT='lots'"), std::string::npos) << message;
 }
 
 // generate + resolve on an empty frame: primary rays equal the C++ compilation of the same function, the image is
@@ -297,140 +229,5 @@ TEST(OpenclBackend, GenerateAndResolveRunTheSharedKernels) {
 }
 
 // ---- Agreement with cpu-ref -------------------------------------------------------------------------------------
-
-namespace {
-
-struct Case {
-    std::string scene;
-    uint32_t width, height, depth;
-};
-void PrintTo(const Case& c, std::ostream* os) { *os << c.scene; }
-class OpenclAgreement : public ::testing::TestWithParam<Case> {};
-
-}  // namespace
-
-TEST_P(OpenclAgreement, PoclImageMatchesReference) {
-    REQUIRE_POCL();
-    const Case& c = GetParam();
-    prism::Scene scene;
-    prism::DeviceScene device = load(c.scene, &scene);
-    prism::RenderSettings settings;
-    settings.width = c.width;
-    settings.height = c.height;
-    settings.max_depth = c.depth;
-    prism::FrameResult expected = prism::RenderEngine("cpu-ref", device).render(scene.camera, settings);
-    prism::RenderEngine engine(prism::test::test_device("opencl"), device);
-    prism::FrameResult actual = engine.render(scene.camera, settings);
-    EXPECT_GE(prism::test::psnr_rgba8(expected.image, actual.image), 50.0);
-    prism::test::expect_ray_counts_near(expected.stats, actual.stats);
-    // Device timings for every launch: generate, 4 per depth, resolve.
-    EXPECT_EQ(actual.stats.stages.size(), 2u + 4u * std::min(c.depth, RT_MAX_DEPTH));
-    uint32_t distinct = 0;
-    for (size_t i = 1; i < actual.image.size(); ++i) distinct += actual.image[i] != actual.image[0];
-    EXPECT_GT(distinct, actual.image.size() / 10) << "the scene should be visible";
-}
-
-INSTANTIATE_TEST_SUITE_P(Scenes, OpenclAgreement,
-                         ::testing::Values(Case{"builtin:sphere", 160, 120, 6}, Case{"builtin:bunny", 160, 120, 5},
-                                           Case{"gltf/GlassVaseFlowers/GlassVaseFlowers.glb", 128, 128, 6},
-                                           Case{"gltf/TransmissionTest/TransmissionTest.glb", 128, 96, 6},
-                                           Case{"gltf/BoxTextured/BoxTextured.glb", 96, 96, 4}),
-                         [](const ::testing::TestParamInfo<Case>& info) {
-                             std::string name = info.param.scene.substr(info.param.scene.find_last_of(":/") + 1);
-                             for (char& ch : name)
-                                 if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-                             return name;
-                         });
-
-// The GPU kernels are built without the wide traversal (kernels/traverse.h): a wide scene is refused in one line,
-// before any device is opened.
-TEST(OpenclAgreementMisc, WideLayoutIsRefusedInOneLine) {
-    prism::Scene scene;
-    prism::DeviceScene device = load("builtin:sphere", &scene, prism::BvhLayout::Wide);
-    try {
-        prism::RenderEngine engine("opencl:pocl", device);
-        ADD_FAILURE() << "a wide scene was accepted";
-    } catch (const prism::Error& e) {
-        EXPECT_STREQ(e.what(), "opencl:pocl: the wide BVH layout is traced by the cpu backends only; use --bvh-layout stack, escape or auto");
-    }
-}
-
-TEST(OpenclAgreementMisc, RenderingIsDeterministic) {
-    REQUIRE_POCL();
-    prism::Scene scene;
-    prism::DeviceScene device = load("builtin:sphere", &scene);
-    prism::RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
-    settings.max_depth = 6;
-    prism::RenderEngine engine(prism::test::test_device("opencl"), device);
-    settings.read_radiance = true;
-    prism::FrameResult a = engine.render(scene.camera, settings);
-    prism::FrameResult b = prism::RenderEngine(prism::test::test_device("opencl"), device).render(scene.camera, settings);
-    EXPECT_EQ(a.image, b.image);
-    ASSERT_FALSE(a.radiance.empty());
-    EXPECT_EQ(a.radiance, b.radiance);
-    EXPECT_EQ(a.image, engine.render(scene.camera, settings).image);
-}
-
-// A tiny initial queue makes the renderer regrow it on this backend too: nothing may be lost.
-TEST(OpenclAgreementMisc, OverflowingQueuesAreGrownNotDropped) {
-    REQUIRE_POCL();
-    prism::Scene scene;
-    prism::DeviceScene device = load("builtin:sphere", &scene);
-    prism::RenderSettings settings;
-    settings.width = 64;
-    settings.height = 48;
-    settings.max_depth = 6;
-    prism::FrameResult expected = prism::RenderEngine("cpu-ref", device).render(scene.camera, settings);
-    settings.queue_factor = 1.0f;
-    prism::FrameResult actual = prism::RenderEngine(prism::test::test_device("opencl"), device).render(scene.camera, settings);
-    EXPECT_GE(prism::test::psnr_rgba8(expected.image, actual.image), 50.0);
-    prism::test::expect_ray_counts_near(expected.stats, actual.stats);
-}
-
-// Random rays through and around the scene: the same primitive (or both miss), t within 1e-4 relative, traced by
-// the OpenCL C build of the traversal.
-TEST(OpenclAgreementMisc, RayQueriesMatchReference) {
-    REQUIRE_POCL();
-    for (const char* spec : {"builtin:bunny", "gltf/GlassVaseFlowers/GlassVaseFlowers.glb"}) {
-        SCOPED_TRACE(spec);
-        prism::DeviceScene device = load(spec, nullptr);
-        prism::Aabb bounds = prism::node_bounds(device.top_level.nodes[0]);   // the world box, whatever the layout
-        glm::vec3 lower = bounds.lower, upper = bounds.upper;
-        glm::vec3 center = 0.5f * (lower + upper);
-        float radius = 0.75f * glm::length(upper - lower) + 1e-3f;
-        std::mt19937 rng(20261124);
-        std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-        auto in_box = [&] { return lower + (upper - lower) * glm::vec3(unit(rng), unit(rng), unit(rng)); };
-        auto on_sphere = [&] {
-            float z = 2.0f * unit(rng) - 1.0f, phi = 6.2831853f * unit(rng), r = std::sqrt(std::max(0.0f, 1 - z * z));
-            return glm::vec3(r * std::cos(phi), r * std::sin(phi), z);
-        };
-        const size_t count = 20000;
-        std::vector<prism::RayQuery> rays(count);
-        for (size_t i = 0; i < count; ++i) {
-            // Two thirds from outside towards a point of the scene box, one third from inside in any direction.
-            glm::vec3 origin = i % 3 ? center + radius * on_sphere() : in_box();
-            glm::vec3 direction = i % 3 ? glm::normalize(in_box() - origin) : on_sphere();
-            rays[i] = prism::RayQuery{{origin.x, origin.y, origin.z}, 0.0f, {direction.x, direction.y, direction.z},
-                                      INFINITY};
-        }
-        std::vector<prism::RayHit> expected = prism::RenderEngine("cpu-ref", device).trace(rays, false);
-        std::vector<prism::RayHit> actual = prism::RenderEngine(prism::test::test_device("opencl"), device).trace(rays, false);
-        ASSERT_EQ(actual.size(), count);
-        size_t same = 0, hits = 0;
-        for (size_t i = 0; i < count; ++i) {
-            const prism::RayHit &e = expected[i], &a = actual[i];
-            hits += e.t < INFINITY;
-            bool both_miss = !(e.t < INFINITY) && !(a.t < INFINITY);
-            bool same_hit = e.t < INFINITY && a.instance == e.instance && a.primitive == e.primitive &&
-                            std::fabs(a.t - e.t) <= 1e-4f * std::fabs(e.t);
-            same += both_miss || same_hit;
-        }
-        EXPECT_GE(double(same), 0.9999 * double(count)) << same << " of " << count << " agree";
-        EXPECT_GT(hits, count / 10) << "the rays should hit the scene";
-    }
-}
 
 #endif  // PRISM_HAVE_OPENCL

@@ -4,6 +4,10 @@
 #include "core/backend.h"
 #include "core/error.h"
 #include "core/image_compare.h"
+#include "core/scene_loader.h"
+#ifdef PRISM_HAVE_VULKAN
+#include "backends/vulkan/vulkan_backend.h"
+#endif
 
 #include <gtest/gtest.h>
 
@@ -14,6 +18,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 namespace prism::test {
@@ -84,6 +89,57 @@ bool device_present(const std::string& api, const std::string& filter, std::stri
     }
     if (reason) *reason = api + " runs here, but no device matches '" + filter + "'";
     return false;
+}
+
+prism::DeviceScene load_device_scene(const std::string& spec, prism::Scene* out, prism::BvhLayout layout) {
+    prism::LoadOptions options;
+    options.data_dir = scenes_dir();
+    prism::Scene loaded = prism::load_scene(spec.rfind("builtin:", 0) == 0 ? spec : prism::test::scene(spec).string(), options);
+    prism::BvhBuildOptions bvh;
+    bvh.layout = layout;
+    prism::DeviceScene device = prism::build_device_scene(loaded, bvh);
+    if (out) *out = std::move(loaded);
+    return device;
+}
+
+std::string test_name_of(const std::string& text) {
+    std::string name = text;
+    for (char& c : name)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    return name;
+}
+
+bool backend_spec_runs_here(const std::string& spec, std::string* reason) {
+    prism::BackendSpec parsed = prism::parse_backend_spec(spec);
+    if (parsed.api == "opencl" || parsed.api == "vulkan") return device_present(parsed.api, parsed.device_filter, reason);
+    if (parsed.api == "cuda") return backend_available("cuda", reason);
+    return true;   // the cpu backends are always built
+}
+
+void begin_backend_checks(const std::string& spec) {
+#ifdef PRISM_HAVE_VULKAN
+    if (prism::parse_backend_spec(spec).api != "vulkan") return;
+    static bool environment = [] {
+        std::string runtime = temp_dir("vulkan-xdg-runtime").string();
+        chmod(runtime.c_str(), 0700);
+        setenv("XDG_RUNTIME_DIR", runtime.c_str(), 1);
+        setenv("PRISM_VULKAN_VALIDATION", "1", 1);
+        return true;
+    }();
+    (void)environment;
+    prism::vulkan_clear_debug_messages();
+#else
+    (void)spec;
+#endif
+}
+
+std::vector<std::string> backend_check_messages(const std::string& spec) {
+#ifdef PRISM_HAVE_VULKAN
+    if (prism::parse_backend_spec(spec).api == "vulkan") return prism::vulkan_debug_messages();
+#else
+    (void)spec;
+#endif
+    return {};
 }
 
 void expect_ray_counts_near(const prism::FrameStats& expected, const prism::FrameStats& actual) {

@@ -9,7 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "core/device_scene.h"
 #include "core/renderer.h"
+#include "core/scene.h"
 
 namespace prism::test {
 
@@ -33,6 +35,23 @@ bool backend_available(const std::string& name, std::string* reason = nullptr);
 std::string test_device(const std::string& api);
 // Whether `api`'s probe lists a device whose name contains `filter` (case-insensitive); `reason` says why not.
 bool device_present(const std::string& api, const std::string& filter, std::string* reason = nullptr);
+
+// A scene ("builtin:x" or a path under scenes_dir()) loaded and built with `layout` (resolve_bvh_layout("auto",
+// backend) for the layout a backend renders with); the camera and the rest of the scene in `*scene` when given.
+prism::DeviceScene load_device_scene(const std::string& spec, prism::Scene* scene, prism::BvhLayout layout);
+
+// A gtest name from a backend spec or a scene's file name: every character but letters and digits made '_'.
+std::string test_name_of(const std::string& text);
+
+// Whether a backend spec ("cpu", "cuda", "opencl:pocl", ...) runs here: its API is built and, for OpenCL and
+// Vulkan, the probe lists a device matching its filter. `reason` says why not.
+bool backend_spec_runs_here(const std::string& spec, std::string* reason);
+
+// Checks a backend test runs under: for Vulkan, VK_LAYER_KHRONOS_validation on (PRISM_VULKAN_VALIDATION=1, with a
+// private XDG_RUNTIME_DIR so the loader stays quiet) and its messages collected from here on. Call before creating
+// the backend; `backend_check_messages` then returns what the layer or driver reported (empty: clean).
+void begin_backend_checks(const std::string& spec);
+std::vector<std::string> backend_check_messages(const std::string& spec);
 
 // Ray counts per depth of a GPU frame against the reference: equal up to rounding (FMA contraction and division
 // precision may tip a grazing ray or light the other way, and glass compounds it over depths: measured up to 0.2%

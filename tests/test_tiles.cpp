@@ -41,13 +41,8 @@ class TileAgreement : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(TileAgreement, AssembledTilesEqualTheWholeFrame) {
     std::string backend = GetParam();
-    std::string api = prism::parse_backend_spec(backend).api;
     std::string reason;
-    if (api == "cuda" && !prism::test::backend_available("cuda", &reason)) GTEST_SKIP() << reason;
-    if (api == "opencl" || api == "vulkan") {
-        std::string filter = prism::parse_backend_spec(backend).device_filter;
-        if (!prism::test::device_present(api, filter, &reason)) GTEST_SKIP() << reason;
-    }
+    if (!prism::test::backend_spec_runs_here(backend, &reason)) GTEST_SKIP() << reason;
     prism::LoadOptions load;
     load.data_dir = prism::test::scenes_dir().string();
     prism::Scene scene = prism::load_scene("builtin:sphere", load);
@@ -83,11 +78,6 @@ TEST_P(TileAgreement, AssembledTilesEqualTheWholeFrame) {
 INSTANTIATE_TEST_SUITE_P(Backends, TileAgreement,
                          ::testing::Values("cpu-ref", "cpu", "cuda", prism::test::test_device("opencl"),
                                            prism::test::test_device("vulkan")),
-                         [](const auto& info) {
-                             std::string name = info.param;
-                             for (char& c : name)
-                                 if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                             return name;
-                         });
+                         [](const auto& info) { return prism::test::test_name_of(info.param); });
 
 }  // namespace

@@ -1,8 +1,8 @@
-// The vulkan backend on Mesa lavapipe (vulkan:llvmpipe; $PRISM_TEST_VULKAN_DEVICE picks another, e.g.
-// vulkan:nvidia on the GPU machine), always with VK_LAYER_KHRONOS_validation: any warning or
-// error a layer or the driver reports fails the test. Checks the GLSL side of the layout contract, agreement with
-// the cpu-ref oracle (images and ray queries), determinism, timings and the errors a user can cause.
-// Skipped, with the reason, where no Vulkan device (or not the chosen one) is present.
+// What is particular to the vulkan backend, on Mesa lavapipe (vulkan:llvmpipe; $PRISM_TEST_VULKAN_DEVICE picks
+// another, e.g. vulkan:nvidia on the GPU machine), always with VK_LAYER_KHRONOS_validation: any warning or error a
+// layer or the driver reports fails the test. The GLSL side of the layout contract, validation messages, buffer
+// device addresses and indirect dispatch, and Vulkan's limits; the contract every backend keeps is in
+// test_backend_contract.cpp. Skipped, with the reason, where no Vulkan device (or not the chosen one) is present.
 #include <gtest/gtest.h>
 
 #ifdef PRISM_HAVE_VULKAN
@@ -30,31 +30,11 @@ std::string device_spec() { return prism::test::test_device("vulkan"); }
 const std::string kDevice = device_spec();
 bool on_lavapipe() { return kDevice.find("llvmpipe") != std::string::npos; }
 
-// Validation on, the loader quiet (a private 0700 XDG_RUNTIME_DIR), and whether the device is here.
+// Whether the device is here (and, once asked, validation on: prism::test::begin_backend_checks).
 bool device_ready(std::string* why) {
-    static bool ready = [] {
-        std::string runtime = prism::test::temp_dir("vulkan-xdg-runtime").string();
-        chmod(runtime.c_str(), 0700);
-        setenv("XDG_RUNTIME_DIR", runtime.c_str(), 1);
-        setenv("PRISM_VULKAN_VALIDATION", "1", 1);
-        return true;
-    }();
-    (void)ready;
-    std::string reason;
-    if (!prism::test::backend_available("vulkan", &reason)) {
-        *why = "no Vulkan device: " + reason;
-        return false;
-    }
-    std::string filter = prism::parse_backend_spec(kDevice).device_filter;
-    for (const prism::BackendFactory& f : prism::registered_backends())
-        if (f.name == "vulkan")
-            for (const std::string& d : f.probe().devices) {
-                std::string lower_d = d, lower_f = filter;
-                for (char& c : lower_d) c = char(std::tolower(static_cast<unsigned char>(c)));
-                for (char& c : lower_f) c = char(std::tolower(static_cast<unsigned char>(c)));
-                if (lower_d.find(lower_f) != std::string::npos) return true;
-            }
-    *why = "Vulkan is available but not " + kDevice +
+    prism::test::begin_backend_checks(kDevice);
+    if (prism::test::backend_spec_runs_here(kDevice, why)) return true;
+    *why = "no " + kDevice + ": " + *why +
            (on_lavapipe() ? " (apt-get install mesa-vulkan-drivers, or set PRISM_TEST_VULKAN_DEVICE)" : "");
     return false;
 }
@@ -74,22 +54,11 @@ protected:
     }
 };
 
-std::string resolve(const std::string& spec) {
-    return spec.rfind("builtin:", 0) == 0 ? spec : prism::test::scene(spec).string();
-}
-
 // The BVH layout is the one the renderer would pick for this backend: stack, or $PRISM_BVH_LAYOUT (so the whole
 // suite can run on another layout); the tests that name a layout pass it.
 prism::DeviceScene load(const std::string& spec, prism::Scene* out = nullptr,
                         prism::BvhLayout layout = prism::resolve_bvh_layout("auto", "vulkan")) {
-    prism::LoadOptions options;
-    options.data_dir = prism::test::scenes_dir();
-    prism::Scene scene = prism::load_scene(resolve(spec), options);
-    prism::BvhBuildOptions bvh;
-    bvh.layout = layout;
-    prism::DeviceScene device = prism::build_device_scene(scene, bvh);
-    if (out) *out = std::move(scene);
-    return device;
+    return prism::test::load_device_scene(spec, out, layout);
 }
 
 }  // namespace
@@ -125,7 +94,7 @@ TEST_F(Vulkan, Std430LayoutMatchesTheLayoutTable) {
 #undef RT_LAYOUT_MEMBER
 
     int structs_checked = 0, members_checked = 0;
-#define RT_DATA_ARRAY(slot, type, name, access) {                                                                 \
+#define RT_DATA_ARRAY(slot, type, name, access, role) {                                                                 \
         std::vector<uint8_t> bytes(2 * sizeof(type));                                                            \
         backend->read(prism::DeviceArray::name, bytes.data(), bytes.size());                                      \
         auto word = [&](uint32_t element, uint32_t byte_offset, bool as_float) {                                 \
@@ -175,160 +144,6 @@ TEST_F(Vulkan, ValidationMessagesAreRecorded) {
     ASSERT_FALSE(messages.empty()) << "the validation layer is not active";
     EXPECT_NE(messages.front().find("groupCountX"), std::string::npos) << messages.front();
     prism::vulkan_clear_debug_messages();   // expected ones
-}
-
-// ---- Agreement with the cpu-ref oracle -------------------------------------------------------------------------
-struct Case {
-    std::string scene;
-    uint32_t width, height, depth;
-};
-void PrintTo(const Case& c, std::ostream* os) { *os << c.scene; }
-
-class VulkanAgreement : public Vulkan, public ::testing::WithParamInterface<Case> {};
-
-TEST_P(VulkanAgreement, ImageMatchesReference) {
-    const Case& c = GetParam();
-    prism::Scene scene;
-    prism::DeviceScene device = load(c.scene, &scene);
-    prism::RenderSettings settings;
-    settings.width = c.width;
-    settings.height = c.height;
-    settings.max_depth = c.depth;
-    prism::FrameResult expected = prism::RenderEngine("cpu-ref", device).render(scene.camera, settings);
-    prism::FrameResult actual = prism::RenderEngine(kDevice, device).render(scene.camera, settings);
-    EXPECT_GE(prism::test::psnr_rgba8(expected.image, actual.image), 50.0);
-    // Every depth traced what the oracle traced, up to rounding: GPU float math (FMA contraction, sqrt/division
-    // precision) may tip a grazing ray or light the other way (dragon: 1 shadow ray in 9331), and a ray tipped at one
-    // depth splits into reflection and refraction at the next (TransmissionTest on NVIDIA: 2 shadow rays of 1276 at
-    // depth 3): a few rays of slack on small counts.
-    auto near = [](const std::vector<uint32_t>& e, const std::vector<uint32_t>& a, const char* what) {
-        ASSERT_EQ(e.size(), a.size()) << what;
-        for (size_t d = 0; d < e.size(); ++d)
-            EXPECT_LE(std::abs(double(e[d]) - double(a[d])), std::max(4.0, e[d] * 1e-3)) << what << " at depth " << d;
-    };
-    near(expected.stats.rays_per_depth, actual.stats.rays_per_depth, "rays");
-    near(expected.stats.shadow_rays_per_depth, actual.stats.shadow_rays_per_depth, "shadow rays");
-    uint32_t distinct = 0;
-    for (size_t i = 1; i < actual.image.size(); ++i) distinct += actual.image[i] != actual.image[0];
-    EXPECT_GT(distinct, actual.image.size() / 10) << "the scene should be visible";
-}
-
-INSTANTIATE_TEST_SUITE_P(
-    Scenes, VulkanAgreement,
-    ::testing::Values(Case{"builtin:sphere", 96, 72, 4}, Case{"builtin:bunny", 96, 72, 4},
-                      Case{"builtin:dragon", 96, 72, 4},
-                      Case{"gltf/GlassVaseFlowers/GlassVaseFlowers.glb", 96, 96, 4},
-                      Case{"gltf/TransmissionTest/TransmissionTest.glb", 96, 72, 4},
-                      Case{"gltf/BoxTextured/BoxTextured.glb", 64, 64, 4}),
-    [](const ::testing::TestParamInfo<Case>& info) {
-        std::string name = info.param.scene.substr(info.param.scene.find_last_of(":/") + 1);
-        for (char& ch : name)
-            if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-        return name;
-    });
-
-// Closest hits of random rays through the scene's bounds: same instance and primitive, same t.
-static void expect_ray_queries_match_reference(const prism::DeviceScene& device) {
-    prism::Aabb bounds = prism::node_bounds(device.top_level.nodes[0]);   // the world box, whatever the layout
-    float lower[3] = {bounds.lower.x, bounds.lower.y, bounds.lower.z};
-    float upper[3] = {bounds.upper.x, bounds.upper.y, bounds.upper.z};
-    std::mt19937 random(7);
-    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-    std::vector<prism::RayQuery> rays(4000);
-    for (prism::RayQuery& q : rays) {
-        float target[3], direction[3], length = 0.0f;
-        for (int k = 0; k < 3; ++k) {
-            float extent = upper[k] - lower[k];
-            q.origin[k] = lower[k] - 0.5f * extent + 2.0f * extent * unit(random);   // around and inside
-            target[k] = lower[k] + extent * unit(random);
-            direction[k] = target[k] - q.origin[k];
-            length += direction[k] * direction[k];
-        }
-        for (int k = 0; k < 3; ++k) q.direction[k] = direction[k] / std::sqrt(length);
-        q.tmin = 0.0f;
-        q.tmax = INFINITY;
-    }
-    std::vector<prism::RayHit> expected = prism::RenderEngine("cpu-ref", device).trace(rays, false);
-    std::vector<prism::RayHit> actual = prism::RenderEngine(kDevice, device).trace(rays, false);
-    ASSERT_EQ(expected.size(), actual.size());
-    size_t agree = 0, hits = 0;
-    for (size_t i = 0; i < rays.size(); ++i) {
-        const prism::RayHit &e = expected[i], &a = actual[i];
-        bool e_hit = std::isfinite(e.t), a_hit = std::isfinite(a.t);
-        hits += e_hit;
-        if (e_hit != a_hit) continue;
-        if (!e_hit || (e.instance == a.instance && e.primitive == a.primitive &&
-                       std::fabs(e.t - a.t) <= 1e-4f * std::fabs(e.t)))
-            ++agree;
-    }
-    EXPECT_GT(hits, rays.size() / 4) << "the rays should mostly hit the bunny";
-    EXPECT_GE(double(agree), 0.9999 * double(rays.size())) << agree << " of " << rays.size() << " agree";
-}
-
-TEST_F(Vulkan, RayQueriesMatchReferenceHits) { expect_ray_queries_match_reference(load("builtin:bunny")); }
-
-TEST_F(Vulkan, TwoRendersAreBitIdentical) {
-    prism::Scene scene;
-    prism::DeviceScene device = load("builtin:sphere", &scene);
-    prism::RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
-    settings.max_depth = 5;
-    prism::RenderEngine engine(kDevice, device);
-    settings.read_radiance = true;
-    prism::FrameResult a = engine.render(scene.camera, settings);
-    prism::FrameResult b = engine.render(scene.camera, settings);
-    EXPECT_EQ(a.image, b.image);
-    ASSERT_FALSE(a.radiance.empty());
-    EXPECT_EQ(a.radiance, b.radiance);
-}
-
-// Every enqueued stage comes back from finish() once, with its depth and a device time.
-TEST_F(Vulkan, StageTimingsComeFromTimestamps) {
-    prism::Scene scene;
-    prism::DeviceScene device = load("builtin:sphere", &scene);
-    prism::RenderSettings settings;
-    settings.width = 32;
-    settings.height = 24;
-    settings.max_depth = 3;
-    prism::FrameResult frame = prism::RenderEngine(kDevice, device).render(scene.camera, settings);
-    ASSERT_EQ(frame.stats.stages.size(), 2u + 4u * 3u);   // generate, 4 stages per depth, resolve
-    EXPECT_EQ(frame.stats.stages.front().stage, prism::Stage::Generate);
-    EXPECT_EQ(frame.stats.stages.back().stage, prism::Stage::Resolve);
-    EXPECT_EQ(frame.stats.stages[1 + 4 * 2].stage, prism::Stage::Intersect);
-    EXPECT_EQ(frame.stats.stages[1 + 4 * 2].depth, 2u);
-    double total = 0.0;
-    for (const prism::StageTiming& t : frame.stats.stages) {
-        EXPECT_GE(t.milliseconds, 0.0);
-        EXPECT_LT(t.milliseconds, 1e6) << "a timestamp difference this large is a wrapped counter";
-        total += t.milliseconds;
-    }
-    EXPECT_GT(total, 0.0);
-}
-
-// ---- Memory and errors ------------------------------------------------------------------------------------------
-TEST_F(Vulkan, WritesReadsAndZeroesRoundTrip) {
-    std::unique_ptr<prism::Backend> backend = prism::create_backend(kDevice);
-    // Larger than one staging/read-back piece (64 MiB), so the chunked paths run.
-    std::vector<uint32_t> data((80u << 20) / 4);
-    for (size_t i = 0; i < data.size(); ++i) data[i] = uint32_t(i * 2654435761u);
-    backend->allocate(prism::DeviceArray::texels, data.size() * 4);
-    backend->write(prism::DeviceArray::texels, data.data(), data.size() * 4);
-    std::vector<uint32_t> back(data.size());
-    backend->read(prism::DeviceArray::texels, back.data(), back.size() * 4);
-    EXPECT_TRUE(back == data);
-    uint32_t part[3] = {1, 2, 3};
-    backend->write(prism::DeviceArray::texels, part, sizeof part, 40);
-    uint32_t window[5];
-    backend->read(prism::DeviceArray::texels, window, sizeof window, 36);
-    EXPECT_EQ(window[0], data[9]);
-    EXPECT_EQ(window[1], 1u);
-    EXPECT_EQ(window[3], 3u);
-    EXPECT_EQ(window[4], data[13]);
-    backend->zero(prism::DeviceArray::texels);
-    backend->read(prism::DeviceArray::texels, window, sizeof window, 36);
-    for (uint32_t w : window) EXPECT_EQ(w, 0u);
-    EXPECT_THROW(backend->read(prism::DeviceArray::texels, window, sizeof window, data.size() * 4 - 8), prism::Error);
 }
 
 // ---- Addressing and indirect launches ----------------------------------------------------------------------------

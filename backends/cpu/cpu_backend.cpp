@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "backends/cpu/cpu_stages.h"
+#include "core/device_array_book.h"
 #include "core/error.h"
 #include "core/thread_pool.h"
 
@@ -89,22 +90,21 @@ public:
 
     void allocate(DeviceArray array, size_t bytes) override {
         auto& buffer = buffers_[size_t(array)];
-        if (buffer.size() != bytes) {
-            // Cache-line aligned: a 256-byte wide BVH node then spans exactly four lines.
-            buffer.assign((bytes + sizeof(float4) - 1) / sizeof(float4), float4{});
-            sizes_[size_t(array)] = bytes;
-        }
+        if (book_.allocated(array) && book_.size(array) == bytes) return;
+        // Cache-line aligned: a 256-byte wide BVH node then spans exactly four lines.
+        buffer.assign((bytes + sizeof(float4) - 1) / sizeof(float4), float4{});
+        book_.record(array, bytes, buffer.size() * sizeof(float4));
     }
     void write(DeviceArray array, const void* data, size_t bytes, size_t offset) override {
-        check_range(array, bytes, offset);
+        book_.check_range(array, bytes, offset);
         std::memcpy(reinterpret_cast<char*>(buffers_[size_t(array)].data()) + offset, data, bytes);
     }
     void read(DeviceArray array, void* data, size_t bytes, size_t offset) override {
-        check_range(array, bytes, offset);
+        book_.check_range(array, bytes, offset);
         std::memcpy(data, reinterpret_cast<const char*>(buffers_[size_t(array)].data()) + offset, bytes);
     }
     void zero(DeviceArray array) override {
-        std::memset(buffers_[size_t(array)].data(), 0, sizes_[size_t(array)]);
+        std::memset(buffers_[size_t(array)].data(), 0, book_.size(array));
     }
 
     void enqueue(Stage stage, uint32_t depth) override {
@@ -112,8 +112,9 @@ public:
         auto start = std::chrono::steady_clock::now();
         std::atomic<uint32_t> cursor{0};
         // The smallest range a worker takes (RT_GRID_LOOP guides the larger ones): small enough to balance glass
-        // against background at the end of a launch, large enough to amortise the atomic.
-        const uint32_t chunk = stage == Stage::Generate || stage == Stage::Resolve ? 1024 : 64;
+        // against background at the end of a launch, large enough to amortise the atomic; the once-a-frame stages
+        // do the same small work per pixel.
+        const uint32_t chunk = stage_pass(stage) == StagePass::Bounce ? 64 : 1024;
         const uint32_t workers = pool_.size();
         pool_.run([&](unsigned) {
             rt_cpu_grid = RtCpuGrid{&cursor, chunk, workers};
@@ -128,14 +129,9 @@ public:
     GlInteropOffer gl_interop() override { return {nullptr, "the frame is already in host memory"}; }
 
 private:
-    void check_range(DeviceArray array, size_t bytes, size_t offset) const {
-        if (offset + bytes > sizes_[size_t(array)])
-            throw Error(std::string("cpu: access past the end of array '") + device_array_name(array) + "'");
-    }
-
     KernelGlobals globals() {
         KernelGlobals kg{};
-#define RT_DATA_ARRAY(slot, type, name, access) \
+#define RT_DATA_ARRAY(slot, type, name, access, role) \
     kg.name = reinterpret_cast<type*>(buffers_[size_t(DeviceArray::name)].data());
 #include "kernels/data_arrays.h"
 #undef RT_DATA_ARRAY
@@ -145,7 +141,7 @@ private:
     ThreadPool pool_;
     StageSet stages_;
     std::array<std::vector<float4, DeviceArrayAllocator<float4>>, device_array_count> buffers_;
-    std::array<size_t, device_array_count> sizes_{};
+    DeviceArrayBook book_{"cpu", "", std::nullopt};   // sizes and range checks; host memory has its own guard
     std::vector<StageTiming> timings_;
 };
 

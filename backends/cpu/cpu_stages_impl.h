@@ -7,12 +7,10 @@ namespace prism::cpu {
 
 void PRISM_CPU_STAGE_RUNNER(Stage stage, KernelGlobals kg, uint32_t depth) {
     switch (stage) {
-        case Stage::Generate: rt_kernel_generate(kg, depth); break;
-        case Stage::Intersect: rt_kernel_intersect(kg, depth); break;
-        case Stage::Miss: rt_kernel_miss(kg, depth); break;
-        case Stage::Shade: rt_kernel_shade(kg, depth); break;
-        case Stage::Shadow: rt_kernel_shadow(kg, depth); break;
-        case Stage::Resolve: rt_kernel_resolve(kg, depth); break;
+#define RT_STAGE(name, Name, pass, launch) \
+    case Stage::Name: rt_kernel_##name(kg, depth); break;
+#include "kernels/stage_list.h"
+#undef RT_STAGE
         case Stage::Count: break;
     }
 }

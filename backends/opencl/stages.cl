@@ -3,16 +3,6 @@
 #define RT_OPENCL
 #include "stages.h"
 
-// prism_<stage>(one __global pointer per line of kernels/data_arrays.h, uint depth): see opencl_entry.h.
-#define RT_CL_STAGE generate
-#include "opencl_entry.h"
-#define RT_CL_STAGE intersect
-#include "opencl_entry.h"
-#define RT_CL_STAGE miss
-#include "opencl_entry.h"
-#define RT_CL_STAGE shade
-#include "opencl_entry.h"
-#define RT_CL_STAGE shadow
-#include "opencl_entry.h"
-#define RT_CL_STAGE resolve
-#include "opencl_entry.h"
+// prism_<stage>(one __global pointer per line of kernels/data_arrays.h, uint depth) for every line of
+// kernels/stage_list.h: see opencl_entry.h and backends/opencl/CMakeLists.txt.
+#include "opencl_stage_entries.h"

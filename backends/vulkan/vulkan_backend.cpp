@@ -29,10 +29,12 @@
 #include <cstring>
 #include <initializer_list>
 #include <map>
+#include <optional>
 #include <utility>
 
 #include "backends/vulkan/vulkan_context.h"
 #include "backends/vulkan/vulkan_gl_interop.h"
+#include "core/device_array_book.h"
 #include "core/error.h"
 #include "shaders/vulkan_bindings.h"
 #include "spirv/vulkan_shaders.h"
@@ -46,8 +48,7 @@ constexpr uint32_t kWorkGroupSize = 128;                 // local_size_x of shad
 constexpr VkDeviceSize kTransferChunk = 64ull << 20;     // staging and read-back buffers grow up to this
 constexpr uint32_t kQueryCapacity = 2 * 512;             // timestamps per submission (two per dispatch)
 static_assert(RT_LAUNCH_SLOTS <= kWorkGroupSize, "shaders/launch_args.comp fills one slot per invocation of one group");
-static_assert(RT_VK_BINDING_LAUNCH_ARGS == device_array_count, "shaders/vulkan_bindings.h: after the data arrays");
-static_assert(RT_VK_BINDING_ADDRESSES == device_array_count + 1, "shaders/vulkan_bindings.h: after launch args");
+static_assert(RT_VK_BINDING_LAUNCH_ARGS == device_array_count, "data_arrays.h: bindings 0 .. count - 1, in order");
 
 struct StagePush {   // shaders/common.glsl
     uint32_t depth;
@@ -140,11 +141,15 @@ public:
         if (bytes > device_heap_bytes_)
             throw Error(std::string("vulkan: buffer '") + name + "' needs " + mib(bytes) + " but the device heap of " +
                         device + " is " + mib(device_heap_bytes_));
+        const size_t device_bytes = round_up(std::max<size_t>(bytes, 16), 16);
+        book_->check_fits(array, bytes, device_bytes);
         flush();   // commands already recorded may use the old buffer
         release(buffer);
-        buffer = create_buffer(name, round_up(std::max<size_t>(bytes, 16), 16), array_usage_,
-                               VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT, false);
+        book_->forget(array);
+        buffer = create_buffer(name, device_bytes, array_usage_, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0,
+                               VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT, false);
         buffer.bytes = bytes;
+        book_->record(array, bytes, device_bytes);
         bind(array, buffer);
     }
 
@@ -158,8 +163,8 @@ public:
     }
 
     void write(DeviceArray array, const void* data, size_t bytes, size_t offset) override {
-        check_range(array, bytes, offset);
-        if (array == DeviceArray::counters || array == DeviceArray::frame) launch_args_fresh_ = false;
+        book_->check_range(array, bytes, offset);
+        if (device_array_role(array) == DeviceArrayRole::Frame) launch_args_fresh_ = false;   // counts may change
         const char* source = static_cast<const char*>(data);
         while (bytes > 0) {
             if (staging_.capacity < kTransferChunk && staging_used_ + bytes > staging_.capacity) {
@@ -187,7 +192,7 @@ public:
     }
 
     void read(DeviceArray array, void* data, size_t bytes, size_t offset) override {
-        check_range(array, bytes, offset);
+        book_->check_range(array, bytes, offset);
         char* target = static_cast<char*>(data);
         while (bytes > 0) {
             if (readback_.capacity < std::min<VkDeviceSize>(bytes, kTransferChunk)) {
@@ -225,7 +230,7 @@ public:
     void zero(DeviceArray array) override {
         Buffer& buffer = arrays_[size_t(array)];
         if (!buffer.buffer) return;
-        if (array == DeviceArray::counters || array == DeviceArray::frame) launch_args_fresh_ = false;
+        if (device_array_role(array) == DeviceArrayRole::Frame) launch_args_fresh_ = false;   // counts may change
         begin_command();
         vkCmdFillBuffer(command_, buffer.buffer, 0, VK_WHOLE_SIZE, 0u);
     }
@@ -233,10 +238,11 @@ public:
     void enqueue(Stage stage, uint32_t depth) override {
         if (timestamps_ && queries_used_ + 2 > kQueryCapacity) flush();
         bool address = addressing();
-        // Intersect, miss and shade launch indirectly, sized by the arguments that generate and shadow (on the
-        // fixed grid) write in passing; a launch_args dispatch fills them only where neither ran since the counts
+        // The queue-sized stages launch indirectly, sized by the arguments that the GridSizesQueue stages write in
+        // passing (kernels/stage_list.h); a launch_args dispatch fills them only where none ran since the counts
         // changed (ray queries).
-        bool indirect = indirect_ && (stage == Stage::Intersect || stage == Stage::Miss || stage == Stage::Shade);
+        const StageLaunch launch = stage_launch(stage);
+        bool indirect = indirect_ && (launch == StageLaunch::Queue || launch == StageLaunch::QueueGrows);
         if (indirect && !launch_args_fresh_) {
             begin_command();
             dispatch(pipeline(launch_args_pipelines_, launch_args_address_pipelines_, 0, "launch_args", address), 1, 0);
@@ -256,8 +262,8 @@ public:
             queries_used_ += 2;
         }
         pending_.push_back(PendingTiming{stage, depth, query});
-        if (stage == Stage::Generate || stage == Stage::Shadow) launch_args_fresh_ = true;   // they refreshed them
-        if (stage == Stage::Shade) launch_args_fresh_ = false;   // it appended rays and shadow rays
+        if (launch == StageLaunch::GridSizesQueue) launch_args_fresh_ = true;   // it refreshed them
+        if (launch == StageLaunch::QueueGrows) launch_args_fresh_ = false;      // it appended rays
     }
 
     std::vector<StageTiming> finish() override {
@@ -347,6 +353,7 @@ private:
         for (uint32_t h = 0; h < memory_.memoryHeapCount; ++h)
             if (memory_.memoryHeaps[h].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
                 device_heap_bytes_ = std::max<size_t>(device_heap_bytes_, memory_.memoryHeaps[h].size);
+        book_.emplace("vulkan", physical_.properties.deviceName, device_heap_bytes_);
 
         // Buffer device addresses (and the 64-bit integers that hold them) let arrays exceed maxStorageBufferRange.
         VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
@@ -419,7 +426,7 @@ private:
 
         // The descriptor set layout is kernels/data_arrays.h: binding = first column, all storage buffers.
         std::vector<VkDescriptorSetLayoutBinding> bindings;
-#define RT_DATA_ARRAY(slot, type, name, access) \
+#define RT_DATA_ARRAY(slot, type, name, access, role) \
     bindings.push_back({slot, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
 #include "kernels/data_arrays.h"
 #undef RT_DATA_ARRAY
@@ -590,12 +597,6 @@ private:
         vkUpdateDescriptorSets(device_, 1, &write, 0, nullptr);
     }
 
-    void check_range(DeviceArray array, size_t bytes, size_t offset) const {
-        const Buffer& b = arrays_[size_t(array)];
-        if (!b.buffer || offset + bytes > b.bytes)
-            throw Error(std::string("vulkan: access past the end of array '") + device_array_name(array) + "'");
-    }
-
     // Starts recording if needed, then orders the next command after every earlier one (compute, transfer and
     // the indirect-argument reads of vkCmdDispatchIndirect).
     void begin_command() {
@@ -706,6 +707,7 @@ private:
     size_t max_allocation_ = 0;
     size_t device_heap_bytes_ = 0;
     size_t max_buffer_ = 0;
+    std::optional<DeviceArrayBook> book_;   // made once the device heap is known
 
     VkDevice device_ = VK_NULL_HANDLE;
     VkQueue queue_ = VK_NULL_HANDLE;

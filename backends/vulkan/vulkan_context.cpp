@@ -26,11 +26,6 @@ std::vector<std::string>& message_log() {
     return log;
 }
 
-std::string lower(std::string text) {
-    std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return text;
-}
-
 VKAPI_ATTR VkBool32 VKAPI_CALL debug_callback(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                               VkDebugUtilsMessageTypeFlagsEXT, const VkDebugUtilsMessengerCallbackDataEXT* data,
                                               void*) {
@@ -252,10 +247,8 @@ DeviceCandidate Instance::select(const std::string& filter) const {
         if (!all[*index].unusable.empty()) throw Error("vulkan: device " + all[*index].describe());
         return all[*index];
     }
-    std::string needle = lower(filter);
     for (const DeviceCandidate& d : all) {
-        bool match = lower(d.properties.deviceName).find(needle) != std::string::npos ||
-                     lower(d.driver.driverName).find(needle) != std::string::npos;
+        bool match = name_matches(d.properties.deviceName, filter) || name_matches(d.driver.driverName, filter);
         if (!match) continue;
         if (!d.unusable.empty()) throw Error("vulkan: device " + d.describe());
         return d;

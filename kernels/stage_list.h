@@ -1,0 +1,23 @@
+// THE list of wavefront stages, in the order a frame launches them. Everything that names a stage comes from it:
+// the Stage enum, its names and the frame loop (core/backend.h, core/renderer.cpp), the CUDA and OpenCL entry points
+// and launches, the cpu backend's dispatch, and Vulkan's shader set and indirect launches (backends/*/CMakeLists.txt
+// read these lines). Adding a stage: its rt_kernel_<name> in kernels/stages.h and one line here.
+//
+// RT_STAGE(name, Name, pass, launch)
+//   name    the stage's function is rt_kernel_<name>(kg, depth) (kernels/stages.h)
+//   Name    its prism::Stage enumerator
+//   pass    Before: once before the bounces (depth 0); Bounce: once per depth; After: once after the bounces
+//   launch  how many items it runs over, which decides how Vulkan launches it:
+//           Grid            the fixed grid, sized by the host
+//           GridSizesQueue  the fixed grid; the ray queue's counts are final when it runs, so on Vulkan it also
+//                           writes the indirect-dispatch arguments of the Queue stages after it
+//           Queue           the rays queued at its depth (Vulkan launches it indirectly)
+//           QueueGrows      as Queue, and it appends rays: the dispatch arguments are stale after it
+//
+// No include guard: it is expanded several times with different definitions of RT_STAGE.
+RT_STAGE(generate, Generate, Before, GridSizesQueue)
+RT_STAGE(intersect, Intersect, Bounce, Queue)
+RT_STAGE(miss, Miss, Bounce, Queue)
+RT_STAGE(shade, Shade, Bounce, QueueGrows)
+RT_STAGE(shadow, Shadow, Bounce, GridSizesQueue)
+RT_STAGE(resolve, Resolve, After, Grid)

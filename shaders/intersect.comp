@@ -1,6 +1,0 @@
-// Vulkan entry point of the 'intersect' stage (kernels/stages.h).
-#version 460
-#extension GL_GOOGLE_include_directive : require
-#include "common.glsl"
-
-void main() { rt_kernel_intersect(0, pc.depth); }
