@@ -2,9 +2,9 @@
 
 #include <cstdio>
 
-#include "core/backend.h"
-#include "core/build_info.h"
-#include "core/standard_output.h"
+#include "core/render/backend.h"
+#include "core/util/build_info.h"
+#include "core/util/standard_output.h"
 
 namespace prism::app {
 namespace {

@@ -2,7 +2,7 @@
 // The measuring lives in bench/bandwidth/ (prism_bench_lib); this file is the command line.
 #include "apps/cli_conventions.h"
 #include "apps/commands.h"
-#include "core/error.h"
+#include "core/util/error.h"
 
 #ifdef PRISM_HAVE_BENCH_LIB
 #include "bench/bandwidth/bandwidth.h"

@@ -23,9 +23,9 @@
 #include "apps/progress.h"
 #include "apps/scene_options.h"
 #include "bench/bench_json.h"
-#include "core/error.h"
-#include "core/image_compare.h"
-#include "core/render_engine.h"
+#include "core/util/error.h"
+#include "core/image/image_compare.h"
+#include "core/render/render_engine.h"
 #ifdef PRISM_HAVE_EMBREE
 #include <embree3/rtcore_config.h>
 

@@ -9,8 +9,8 @@
 #include "apps/commands.h"
 #include "apps/scene_options.h"
 #include "bench/bench_json.h"
-#include "core/backend.h"
-#include "core/build_info.h"
+#include "core/render/backend.h"
+#include "core/util/build_info.h"
 
 namespace prism::app {
 namespace {

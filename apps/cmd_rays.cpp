@@ -13,9 +13,9 @@
 #include "apps/commands.h"
 #include "apps/option_checks.h"
 #include "apps/scene_options.h"
-#include "core/error.h"
-#include "core/output_file.h"
-#include "core/render_engine.h"
+#include "core/util/error.h"
+#include "core/util/output_file.h"
+#include "core/render/render_engine.h"
 
 namespace prism::app {
 namespace {

@@ -14,11 +14,11 @@
 #include "apps/progress.h"
 #include "apps/render_distributed.h"
 #include "apps/scene_options.h"
-#include "core/build_info.h"
-#include "core/error.h"
-#include "core/image_output.h"
-#include "core/output_file.h"
-#include "core/render_engine.h"
+#include "core/util/build_info.h"
+#include "core/util/error.h"
+#include "core/image/image_output.h"
+#include "core/util/output_file.h"
+#include "core/render/render_engine.h"
 
 namespace prism::app {
 namespace {

@@ -14,11 +14,11 @@
 #include "apps/frame_report.h"
 #include "apps/option_checks.h"
 #include "apps/scene_options.h"
-#include "core/build_info.h"
-#include "core/error.h"
-#include "core/image_io.h"
-#include "core/output_file.h"
-#include "core/render_engine.h"
+#include "core/util/build_info.h"
+#include "core/util/error.h"
+#include "core/image/image_io.h"
+#include "core/util/output_file.h"
+#include "core/render/render_engine.h"
 
 #ifdef PRISM_HAVE_VIEWER
 #include <algorithm>
@@ -28,7 +28,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "core/environment_maps.h"
+#include "core/loaders/environment_maps.h"
 #include "viewer/backend_check.h"
 #include "viewer/camera_controls.h"
 #include "viewer/frame_display.h"

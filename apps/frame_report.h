@@ -5,8 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/backend.h"
-#include "core/renderer.h"
+#include "core/render/backend.h"
+#include "core/render/renderer.h"
 
 namespace prism::app {
 

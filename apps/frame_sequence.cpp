@@ -6,7 +6,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "core/error.h"
+#include "core/util/error.h"
 
 namespace prism::app {
 namespace {

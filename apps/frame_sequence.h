@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <string>
 
-#include "core/scene.h"
+#include "core/scene/scene.h"
 
 namespace prism::app {
 

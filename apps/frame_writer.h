@@ -12,7 +12,7 @@
 #include <thread>
 #include <vector>
 
-#include "core/image_output.h"
+#include "core/image/image_output.h"
 
 namespace prism::app {
 

@@ -8,7 +8,7 @@
 #include "apps/cli_conventions.h"
 #include "apps/commands.h"
 #include "backends/backend_list.h"
-#include "core/error.h"
+#include "core/util/error.h"
 
 int main(int argc, char** argv) {
     prism::register_builtin_backends();

@@ -7,7 +7,7 @@
 
 #include <mpi.h>
 
-#include "core/error.h"
+#include "core/util/error.h"
 
 namespace prism::app {
 namespace {

@@ -2,7 +2,7 @@
 #include "apps/mpi_session.h"
 
 
-#include "core/error.h"
+#include "core/util/error.h"
 
 namespace prism::app {
 

@@ -9,9 +9,9 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include "core/error.h"
-#include "core/host_memory.h"
-#include "core/image_io.h"
+#include "core/util/error.h"
+#include "core/render/host_memory.h"
+#include "core/image/image_io.h"
 
 namespace prism::app {
 

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "core/renderer.h"
+#include "core/render/renderer.h"
 
 namespace prism::app {
 

@@ -12,12 +12,12 @@
 #include "apps/render_worker.h"
 #include "apps/work_coordinator.h"
 #include "apps/worker_plan.h"
-#include "core/build_info.h"
-#include "core/error.h"
-#include "core/image_io.h"
-#include "core/output_file.h"
-#include "core/render_engine.h"
-#include "core/tiles.h"
+#include "core/util/build_info.h"
+#include "core/util/error.h"
+#include "core/image/image_io.h"
+#include "core/util/output_file.h"
+#include "core/render/render_engine.h"
+#include "core/render/tiles.h"
 
 namespace prism::app {
 namespace {

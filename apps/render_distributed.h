@@ -10,8 +10,8 @@
 #include <CLI/CLI.hpp>
 
 #include "apps/scene_options.h"
-#include "core/image_output.h"
-#include "core/renderer.h"
+#include "core/image/image_output.h"
+#include "core/render/renderer.h"
 
 namespace prism::app {
 
@@ -33,7 +33,7 @@ struct DistributedRender {
     std::string backend;
     RenderSettings settings;   // read_radiance already set for the output format
     std::string out;
-    ImageFormat format;        // of --out, checked before any work (core/image_output.h)
+    ImageFormat format;        // of --out, checked before any work (core/image/image_output.h)
     std::string stats;
     DistributedOptions options;
 };

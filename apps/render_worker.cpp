@@ -7,9 +7,9 @@
 
 #include "apps/frame_writer.h"
 
-#include "core/image_output.h"
-#include "core/render_engine.h"
-#include "core/scene_motion.h"
+#include "core/image/image_output.h"
+#include "core/render/render_engine.h"
+#include "core/scene/scene_motion.h"
 
 namespace prism::app {
 namespace {

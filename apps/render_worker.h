@@ -19,7 +19,7 @@ struct WorkerJob {
     bool sequence = false;
     FrameRange frames;              // the items of a sequence: frames.first + item
     std::string out;                // the image, or the numbered pattern of a sequence
-    ImageFormat format = ImageFormat::Png8;   // of out (core/image_output.h)
+    ImageFormat format = ImageFormat::Png8;   // of out (core/image/image_output.h)
     DistributedOptions options;
 };
 

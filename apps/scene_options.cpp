@@ -7,9 +7,9 @@
 #include "apps/progress.h"
 
 #include "apps/option_checks.h"
-#include "core/error.h"
-#include "core/render_engine.h"
-#include "core/scene_loader.h"
+#include "core/util/error.h"
+#include "core/render/render_engine.h"
+#include "core/loaders/scene_loader.h"
 
 namespace prism::app {
 

@@ -6,8 +6,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "core/device_scene.h"
-#include "core/scene.h"
+#include "core/render/device_scene.h"
+#include "core/scene/scene.h"
 
 namespace prism::app {
 
@@ -15,7 +15,7 @@ struct SceneOptions {
     std::string scene = "builtin:sphere";
     std::string data_dir;   // empty: default_data_dir() (apps/data_dir.h)
     std::string bvh = "sah";
-    std::string layout = "auto";   // stack, escape, wide, or auto: per backend (core/render_engine.h)
+    std::string layout = "auto";   // stack, escape, wide, or auto: per backend (core/render/render_engine.h)
     // Instances may move after the build (the viewer's moving object): the wide layout then keeps its top level
     // over instances, which a move refits; otherwise it flattens them into one BVH (BvhBuildOptions).
     bool moving_instances = false;

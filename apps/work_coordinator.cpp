@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <span>
 
-#include "core/error.h"
-#include "core/tiles.h"
+#include "core/util/error.h"
+#include "core/render/tiles.h"
 
 namespace prism::app {
 

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "apps/work_message.h"
-#include "core/renderer.h"
+#include "core/render/renderer.h"
 
 namespace prism::app {
 

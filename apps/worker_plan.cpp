@@ -2,9 +2,9 @@
 
 #include <algorithm>
 
-#include "core/backend.h"
-#include "core/error.h"
-#include "core/render_engine.h"
+#include "core/render/backend.h"
+#include "core/util/error.h"
+#include "core/render/render_engine.h"
 
 namespace prism::app {
 namespace {

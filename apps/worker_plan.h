@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "core/bvh.h"
+#include "core/bvh/bvh.h"
 
 namespace prism::app {
 

@@ -6,9 +6,9 @@
 #include <fstream>
 #include <thread>
 
-#include "core/build_info.h"
-#include "core/error.h"
-#include "core/standard_output.h"
+#include "core/util/build_info.h"
+#include "core/util/error.h"
+#include "core/util/standard_output.h"
 
 namespace prism::bench {
 

@@ -11,7 +11,7 @@ namespace prism::bench {
 // {"commit", "date" (UTC, ISO 8601), "build_type", "host" (CPU model, cores)}; callers add device/driver/API.
 nlohmann::json result_header();
 // Writes pretty JSON to `path`, creating parent folders, and prints the path; "-" writes it to standard output
-// (core/standard_output.h).
+// (core/util/standard_output.h).
 void write_result(const std::filesystem::path& path, const nlohmann::json& result);
 
 }  // namespace prism::bench

@@ -19,11 +19,11 @@
 #include <CLI/CLI.hpp>
 
 #include "bench/bench_json.h"
-#include "core/bvh.h"
-#include "core/error.h"
-#include "core/load_obj.h"
-#include "core/load_ply.h"
-#include "core/scene.h"
+#include "core/bvh/bvh.h"
+#include "core/util/error.h"
+#include "core/loaders/load_obj.h"
+#include "core/loaders/load_ply.h"
+#include "core/scene/scene.h"
 
 namespace {
 

@@ -8,8 +8,8 @@
 #include <embree3/rtcore.h>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "core/error.h"
-#include "core/thread_pool.h"
+#include "core/util/error.h"
+#include "core/util/thread_pool.h"
 
 namespace prism::oracle {
 

@@ -7,8 +7,8 @@
 #include <memory>
 #include <vector>
 
-#include "core/renderer.h"
-#include "core/scene.h"
+#include "core/render/renderer.h"
+#include "core/scene/scene.h"
 
 namespace prism::oracle {
 

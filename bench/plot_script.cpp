@@ -9,7 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "core/error.h"
+#include "core/util/error.h"
 
 namespace prism::bench {
 namespace {

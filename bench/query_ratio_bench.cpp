@@ -18,10 +18,10 @@
 
 #include "backends/backend_list.h"
 #include "bench/embree_oracle.h"
-#include "core/backend.h"
-#include "core/render_engine.h"
-#include "core/renderer.h"
-#include "core/scene_loader.h"
+#include "core/render/backend.h"
+#include "core/render/render_engine.h"
+#include "core/render/renderer.h"
+#include "core/loaders/scene_loader.h"
 
 namespace {
 

@@ -4,9 +4,9 @@
 // sizes); the environment then goes through validation and the device arrays, as a render would take it.
 #include "fuzz/fuzz_support.h"
 
-#include "core/device_scene.h"
-#include "core/environment_maps.h"
-#include "core/scene_loader.h"
+#include "core/render/device_scene.h"
+#include "core/loaders/environment_maps.h"
+#include "core/loaders/scene_loader.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const auto& dir = prism::fuzz::scratch_dir();

@@ -16,8 +16,8 @@
 #include <stb_image_write.h>
 #include <zlib.h>
 
-#include "core/image_io.h"
-#include "core/load_ply.h"
+#include "core/image/image_io.h"
+#include "core/loaders/load_ply.h"
 #include "fuzz/fuzz_support.h"
 #include "tests/hostile_files.h"
 

@@ -9,9 +9,9 @@
 
 #include <unistd.h>
 
-#include "core/device_scene.h"
-#include "core/image_io.h"
-#include "core/scene_loader.h"
+#include "core/render/device_scene.h"
+#include "core/image/image_io.h"
+#include "core/loaders/scene_loader.h"
 
 namespace prism::fuzz {
 namespace {

@@ -48,7 +48,7 @@ void check_error_message(const char* message);
 
 }  // namespace prism::fuzz
 
-#include "core/error.h"
+#include "core/util/error.h"
 
 template <typename Load>
 void prism::fuzz::expect_clean_outcome(Load&& load) {

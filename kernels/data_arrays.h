@@ -1,7 +1,7 @@
 // THE list of device arrays. One line per array generates: the KernelGlobals pointer struct (C++/CUDA/OpenCL), the
 // OpenCL kernel parameters, the GLSL buffer blocks and their Vulkan bindings (the first column), the DeviceArray enum
-// and names (core/backend.h), and, for the scene arrays, DeviceScene's storage (core/device_scene.h), their upload
-// (core/renderer.cpp) and the reference renderer's pointers (core/host_globals.cpp). Adding an array: its element
+// and names (core/render/backend.h), and, for the scene arrays, DeviceScene's storage (core/render/device_scene.h), their upload
+// (core/render/renderer.cpp) and the reference renderer's pointers (core/render/host_globals.cpp). Adding an array: its element
 // struct in types.h (with its layout_table.h row) and one line here.
 //
 // RT_DATA_ARRAY(binding, element type, name, access, role)

@@ -53,7 +53,7 @@ RT_STRUCT_END(BvhWideNode)
 #define RT_WIDE_LEAF 0x80000000u          // child flag: a leaf, first << 3 | (count - 1) below it
 #define RT_WIDE_LEAF_MAX 8u               // primitives per leaf
 #define RT_WIDE_FIRST_LIMIT 0x10000000u   // first primitive (block) of a leaf: below 2^28
-#define RT_BVH_WIDE_STACK_SIZE 128        // checked against each built tree (core/device_scene.cpp)
+#define RT_BVH_WIDE_STACK_SIZE 128        // checked against each built tree (core/render/device_scene.cpp)
 #define RT_ESCAPE_INTERIOR 0xffffffffu
 #define RT_ESCAPE_COUNT_SHIFT 24u
 #define RT_ESCAPE_FIRST_MASK 0x00ffffffu
@@ -121,7 +121,7 @@ RT_STRUCT_END(Instance)
 #define RT_INSTANCE_IDENTITY 2u   // world_to_object is exactly the identity: object space is world space
 
 // ---- Materials and textures ----------------------------------------------------------------------------------
-// The seed's material (thesis 6.3, eq. 6.7). See core/scene.h Material for the meaning of each field.
+// The seed's material (thesis 6.3, eq. 6.7). See core/scene/scene.h Material for the meaning of each field.
 //  diffuse.w = 1 to use vertex colours, specular.w = reflectivity r, ambient.w = transmittance t
 //  fresnel = (bias, scale, power, thickness), ior.xyz = per-channel IOR
 //  textures.x = first layer in texture_layers, textures.y = layer count, textures.z = RT_MATERIAL_* flags,
@@ -214,7 +214,7 @@ RT_STRUCT_END(Light)
 #define RT_FLAG_ANY_HIT 1u        // intersect reports any hit (ray queries with --any-hit)
 #define RT_FLAG_NO_SHADING 2u     // ray queries: no frame, intersect only
 #define RT_FLAG_ONE_INSTANCE 4u   // the top level holds exactly instance 0 (the wide traversal starts inside it)
-// The wide layout with its instances flattened (static scenes, core/device_scene_flat.cpp): wide_nodes hold one
+// The wide layout with its instances flattened (static scenes, core/render/device_scene_flat.cpp): wide_nodes hold one
 // world-space BVH over every instance's triangles, and each block lane names its instance.
 #define RT_FLAG_FLAT_INSTANCES 8u
 // Some material is cut out or blended (glTF alphaMode MASK/BLEND): shadow rays look at what they hit

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "core/image_io.h"
-#include "core/load_gltf.h"
-#include "core/render_engine.h"
+#include "core/image/image_io.h"
+#include "core/loaders/load_gltf.h"
+#include "core/render/render_engine.h"
 #include "tests/test_support.h"
 
 namespace prism::test {

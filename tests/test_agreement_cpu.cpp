@@ -8,9 +8,9 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "core/error.h"
-#include "core/render_engine.h"
-#include "core/scene_loader.h"
+#include "core/util/error.h"
+#include "core/render/render_engine.h"
+#include "core/loaders/scene_loader.h"
 #include "tests/test_support.h"
 
 namespace {
@@ -51,10 +51,7 @@ TEST_P(CpuAgreement, WavefrontMatchesRecursiveReference) {
     const Case& c = GetParam();
     prism::Scene scene;
     prism::DeviceScene device = load(resolve(c.scene), c.layout, prism::BvhMethod::BinnedSah, &scene, c.flatten);
-    prism::RenderSettings settings;
-    settings.width = c.width;
-    settings.height = c.height;
-    settings.max_depth = c.depth;
+    prism::RenderSettings settings = prism::test::small_settings(c.width, c.height, c.depth);
     prism::RenderEngine reference("cpu-ref", device);
     prism::RenderEngine wavefront("cpu", device);
     prism::FrameResult expected = reference.render(scene.camera, settings);
@@ -105,9 +102,7 @@ TEST(CpuAgreement, LayoutsAndBuildersRenderTheSameImage) {
     prism::DeviceScene wide = load("builtin:sphere", prism::BvhLayout::Wide, prism::BvhMethod::BinnedSah);
     prism::DeviceScene wide_median = load("builtin:sphere", prism::BvhLayout::Wide, prism::BvhMethod::Median);
     prism::DeviceScene flat = load("builtin:sphere", prism::BvhLayout::Wide, prism::BvhMethod::BinnedSah, nullptr, true);
-    prism::RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    prism::RenderSettings settings = prism::test::small_settings(96, 72);
     prism::FrameResult a = prism::RenderEngine("cpu", stack).render(scene.camera, settings);
     for (const prism::DeviceScene* other : {&escape, &wide, &wide_median, &flat}) {
         prism::FrameResult b = prism::RenderEngine("cpu", *other).render(scene.camera, settings);
@@ -121,10 +116,7 @@ TEST(CpuAgreement, LayoutsAndBuildersRenderTheSameImage) {
 TEST(CpuAgreement, BaselineAndAvx2StagesAgreeBitForBit) {
     prism::Scene scene;
     prism::DeviceScene device = load("builtin:bunny", prism::BvhLayout::Wide, prism::BvhMethod::BinnedSah, &scene);
-    prism::RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
-    settings.max_depth = 6;
+    prism::RenderSettings settings = prism::test::small_settings(96, 72, 6);
     auto render_with = [&](const char* isa) {
         prism::test::ScopedEnv env("PRISM_CPU_ISA", isa);
         return prism::RenderEngine("cpu", device).render(scene.camera, settings);
@@ -154,9 +146,7 @@ TEST(CpuAgreement, WideTopLevelRefitAndRebuildMatchAFreshBuild) {
     prism::BvhBuildOptions wide;
     wide.layout = prism::BvhLayout::Wide;
     prism::DeviceScene fresh = prism::build_device_scene(moved, wide);
-    prism::RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    prism::RenderSettings settings = prism::test::small_settings(96, 72);
     prism::FrameResult expected = prism::RenderEngine("cpu-ref", fresh).render(moved.camera, settings);
     for (bool rebuild : {false, true}) {
         SCOPED_TRACE(rebuild ? "rebuild" : "refit");
@@ -202,9 +192,7 @@ TEST(CpuAgreement, InstancingHeavyScenesAreNotFlattened) {
     bvh.flatten_growth_limit = 4.0f;
     prism::DeviceScene forced = prism::build_device_scene(many, bvh);
     EXPECT_TRUE(forced.bvh_options.flatten_instances);
-    prism::RenderSettings settings;
-    settings.width = 96;
-    settings.height = 72;
+    prism::RenderSettings settings = prism::test::small_settings(96, 72);
     prism::FrameResult a = prism::RenderEngine("cpu", kept).render(many.camera, settings);
     prism::FrameResult b = prism::RenderEngine("cpu", forced).render(many.camera, settings);
     EXPECT_GE(prism::test::psnr_rgba8(a.image, b.image), 50.0);
@@ -247,9 +235,7 @@ TEST(CpuAgreement, FlattenedInstancesReportTheTwoLevelHits) {
 TEST(CpuAgreement, CopyToGlWithoutInteropIsAnError) {
     prism::Scene scene;
     prism::DeviceScene device = load("builtin:sphere", prism::BvhLayout::Stack, prism::BvhMethod::BinnedSah, &scene);
-    prism::RenderSettings settings;
-    settings.width = 32;
-    settings.height = 24;
+    prism::RenderSettings settings = prism::test::small_settings(32, 24);
     settings.copy_to_gl = true;
     prism::RenderEngine engine("cpu", device);
     std::string message = prism::test::error_message([&] { engine.render(scene.camera, settings); });

@@ -1,4 +1,4 @@
-// What every backend promises (core/backend.h), tested once over all the backends this machine runs (cpu, cuda,
+// What every backend promises (core/render/backend.h), tested once over all the backends this machine runs (cpu, cuda,
 // and the OpenCL and Vulkan test devices: PoCL and lavapipe here, $PRISM_TEST_*_DEVICE on a GPU machine): memory
 // round trips with range checks; the memory budget (PRISM_DEVICE_MEMORY_LIMIT on every GPU API); every stage of
 // kernels/stage_list.h run and timed in frame order; bit-identical repeat frames; queues that overflow grown, not
@@ -12,10 +12,10 @@
 #include <memory>
 #include <random>
 
-#include "core/device_array_book.h"
-#include "core/device_memory_limit.h"
-#include "core/error.h"
-#include "core/render_engine.h"
+#include "core/render/device_array_book.h"
+#include "core/render/device_memory_limit.h"
+#include "core/util/error.h"
+#include "core/render/render_engine.h"
 #include "tests/test_support.h"
 
 namespace {
@@ -103,14 +103,6 @@ const LoadedScene& loaded(const std::string& spec, const std::string& backend) {
     return *entry;
 }
 
-prism::RenderSettings small(uint32_t width, uint32_t height, uint32_t depth) {
-    prism::RenderSettings settings;
-    settings.width = width;
-    settings.height = height;
-    settings.max_depth = depth;
-    return settings;
-}
-
 // A test of one backend: skipped where it does not run; Vulkan under the validation layer, whose every message
 // fails the test.
 template <typename Param>
@@ -187,8 +179,9 @@ TEST_P(BackendContract, MemoryLimitCountsEveryArrayAndNamesTheLimit) {
     EXPECT_EQ(error_message([&] { backend->allocate(DeviceArray::accum, 400 << 10); }), "(no prism::Error thrown)");
     // A whole frame that needs more than the limit stops with the same error, not a crash or a partial image.
     const LoadedScene& s = scene("builtin:sphere");
-    std::string frame =
-        error_message([&] { prism::RenderEngine(GetParam(), s.device).render(s.scene.camera, small(640, 480, 4)); });
+    std::string frame = error_message([&] {
+        prism::RenderEngine(GetParam(), s.device).render(s.scene.camera, prism::test::small_settings(640, 480, 4));
+    });
     EXPECT_NE(frame.find("PRISM_DEVICE_MEMORY_LIMIT"), std::string::npos) << frame;
     // A limit that is not a byte count stops the backend's creation.
     ScopedEnv bad("PRISM_DEVICE_MEMORY_LIMIT", "lots");
@@ -200,7 +193,7 @@ TEST_P(BackendContract, MemoryLimitCountsEveryArrayAndNamesTheLimit) {
 // bounce stages, and every backend times each launch: a stage added to the list reaches every backend.
 TEST_P(BackendContract, EveryStageOfTheListRunsAndIsTimedInFrameOrder) {
     const LoadedScene& s = scene("builtin:sphere");
-    prism::RenderSettings settings = small(32, 24, 3);
+    prism::RenderSettings settings = prism::test::small_settings(32, 24, 3);
     prism::FrameResult frame = prism::RenderEngine(GetParam(), s.device).render(s.scene.camera, settings);
 
     std::vector<std::pair<prism::Stage, uint32_t>> expected;
@@ -228,7 +221,7 @@ TEST_P(BackendContract, EveryStageOfTheListRunsAndIsTimedInFrameOrder) {
 // backend, is the same to the bit (image and radiance).
 TEST_P(BackendContract, RendersAreBitIdentical) {
     const LoadedScene& s = scene("builtin:sphere");
-    prism::RenderSettings settings = small(96, 72, 6);
+    prism::RenderSettings settings = prism::test::small_settings(96, 72, 6);
     settings.read_radiance = true;
     prism::RenderEngine engine(GetParam(), s.device);
     prism::FrameResult a = engine.render(s.scene.camera, settings);
@@ -243,7 +236,7 @@ TEST_P(BackendContract, RendersAreBitIdentical) {
 // A tiny first queue makes the renderer grow it and render again: nothing is lost, and the grown size is kept.
 TEST_P(BackendContract, OverflowingQueuesAreGrownNotDropped) {
     const LoadedScene& s = scene("builtin:sphere");
-    prism::RenderSettings settings = small(64, 48, 6);
+    prism::RenderSettings settings = prism::test::small_settings(64, 48, 6);
     prism::FrameResult expected = prism::RenderEngine("cpu-ref", s.device).render(s.scene.camera, settings);
     settings.queue_factor = 1.0f;
     prism::RenderEngine engine(GetParam(), s.device);
@@ -338,7 +331,7 @@ protected:
 TEST_P(Agreement, ImageMatchesReference) {
     const AgreementCase& c = std::get<1>(GetParam());
     const LoadedScene& s = scene(c.scene);
-    prism::RenderSettings settings = small(c.width, c.height, c.depth);
+    prism::RenderSettings settings = prism::test::small_settings(c.width, c.height, c.depth);
     prism::FrameResult expected = prism::RenderEngine("cpu-ref", s.device).render(s.scene.camera, settings);
     prism::FrameResult actual = prism::RenderEngine(backend(), s.device).render(s.scene.camera, settings);
     EXPECT_GE(prism::test::psnr_rgba8(expected.image, actual.image), 50.0);

@@ -4,9 +4,9 @@
 
 #include <gtest/gtest.h>
 
-#include "core/builtin_scenes.h"
-#include "core/error.h"
-#include "core/scene_loader.h"
+#include "core/loaders/builtin_scenes.h"
+#include "core/util/error.h"
+#include "core/loaders/scene_loader.h"
 #include "tests/test_support.h"
 
 namespace prism {

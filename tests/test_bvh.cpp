@@ -1,6 +1,6 @@
 // BVH builders and flat layouts: structure invariants read straight from the node bits, closest hits of a small
 // traversal of each layout against brute force, refit, determinism across thread counts, SAH vs the seed's median.
-#include "core/bvh.h"
+#include "core/bvh/bvh.h"
 
 #include <algorithm>
 #include <bit>
@@ -12,8 +12,8 @@
 
 #include <gtest/gtest.h>
 
-#include "core/error.h"
-#include "core/load_ply.h"
+#include "core/util/error.h"
+#include "core/loaders/load_ply.h"
 #include "tests/test_support.h"
 
 namespace prism {

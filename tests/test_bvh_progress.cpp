@@ -7,9 +7,9 @@
 
 #include <gtest/gtest.h>
 
-#include "core/bvh.h"
-#include "core/device_scene.h"
-#include "core/scene_loader.h"
+#include "core/bvh/bvh.h"
+#include "core/render/device_scene.h"
+#include "core/loaders/scene_loader.h"
 
 namespace prism {
 namespace {

@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/image_io.h"
+#include "core/image/image_io.h"
 #include "tests/test_support.h"
 
 namespace {
@@ -56,7 +56,8 @@ const Render& reference(const std::string& backend) {
     auto found = done.find(backend);
     if (found != done.end()) return found->second;
     const std::string api = backend.substr(0, backend.find(':'));
-    const std::string name = api + "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    const std::string name =
+        api + "-" + prism::test::test_name_of(::testing::UnitTest::GetInstance()->current_test_info()->name());
     const fs::path root = prism::test::temp_dir("cache-dirs-writable-" + api);
     const std::string writable = "POCL_CACHE_DIR='" + (root / "pocl").string() + "' PRISM_CACHE_DIR='" +
                                  (root / "prism").string() + "' MESA_SHADER_CACHE_DIR='" + (root / "mesa").string() +
@@ -93,31 +94,33 @@ TEST(CacheDirs, PoclRendersWithPoclCacheDirUnwritable) {
         << again.command.output;
 }
 
-TEST(CacheDirs, PoclRendersWithPrismCacheDirUnwritable) {
-    REQUIRE_DEVICE("opencl", "pocl");
-    expect_same_image("opencl:pocl", "PRISM_CACHE_DIR='" + blocked("prism") + "'", "prism-cache-dir");
+// One cache location made unwritable at a time (the others unset): the render succeeds with the same image.
+// XDG_CACHE_HOME is where PoCL ($XDG_CACHE_HOME/pocl), Mesa and Prism ($XDG_CACHE_HOME/prism) look by default;
+// without any cache variable everything falls back to $HOME/.cache.
+struct BlockedCache {
+    std::string backend;                 // "opencl:pocl" or "vulkan:llvmpipe"
+    std::vector<std::string> variables;  // the variables pointed at blocked locations
+    std::string name;
+};
+void PrintTo(const BlockedCache& c, std::ostream* os) { *os << c.name; }
+
+class CacheDirsBlocked : public ::testing::TestWithParam<BlockedCache> {};
+
+TEST_P(CacheDirsBlocked, RenderTheSameImage) {
+    const BlockedCache& c = GetParam();
+    const prism::BackendSpec spec = prism::parse_backend_spec(c.backend);
+    REQUIRE_DEVICE(spec.api, spec.device_filter);
+    std::string assignments;
+    for (const std::string& variable : c.variables)
+        assignments += variable + "='" + blocked(c.name + "-" + variable) + "' ";
+    expect_same_image(c.backend, assignments, c.name);
 }
 
-// XDG_CACHE_HOME is where PoCL ($XDG_CACHE_HOME/pocl) and Prism ($XDG_CACHE_HOME/prism) both look by default.
-TEST(CacheDirs, PoclRendersWithXdgCacheHomeUnwritable) {
-    REQUIRE_DEVICE("opencl", "pocl");
-    expect_same_image("opencl:pocl", "XDG_CACHE_HOME='" + blocked("xdg-opencl") + "'", "xdg-opencl");
-}
-
-// Without any cache variable everything falls back to $HOME/.cache.
-TEST(CacheDirs, PoclRendersWithHomeUnwritable) {
-    REQUIRE_DEVICE("opencl", "pocl");
-    expect_same_image("opencl:pocl", "HOME='" + blocked("home-opencl") + "'", "home-opencl");
-}
-
-TEST(CacheDirs, LavapipeRendersWithMesaShaderCacheDirUnwritable) {
-    REQUIRE_DEVICE("vulkan", "llvmpipe");
-    expect_same_image("vulkan:llvmpipe", "MESA_SHADER_CACHE_DIR='" + blocked("mesa") + "'", "mesa-cache-dir");
-}
-
-TEST(CacheDirs, LavapipeRendersWithXdgCacheHomeAndHomeUnwritable) {
-    REQUIRE_DEVICE("vulkan", "llvmpipe");
-    expect_same_image("vulkan:llvmpipe",
-                      "XDG_CACHE_HOME='" + blocked("xdg-vulkan") + "' HOME='" + blocked("home-vulkan") + "'",
-                      "xdg-home-vulkan");
-}
+INSTANTIATE_TEST_SUITE_P(
+    CacheDirs, CacheDirsBlocked,
+    ::testing::Values(BlockedCache{"opencl:pocl", {"PRISM_CACHE_DIR"}, "PoclPrismCacheDir"},
+                      BlockedCache{"opencl:pocl", {"XDG_CACHE_HOME"}, "PoclXdgCacheHome"},
+                      BlockedCache{"opencl:pocl", {"HOME"}, "PoclHome"},
+                      BlockedCache{"vulkan:llvmpipe", {"MESA_SHADER_CACHE_DIR"}, "LavapipeMesaShaderCacheDir"},
+                      BlockedCache{"vulkan:llvmpipe", {"XDG_CACHE_HOME", "HOME"}, "LavapipeXdgCacheHomeAndHome"}),
+    [](const auto& info) { return info.param.name; });

@@ -13,9 +13,9 @@
 
 #include "backends/backend_list.h"
 #include "backends/cuda/cuda_backend.h"
-#include "core/error.h"
-#include "core/render_engine.h"
-#include "core/scene_loader.h"
+#include "core/util/error.h"
+#include "core/render/render_engine.h"
+#include "core/loaders/scene_loader.h"
 #include "tests/test_support.h"
 
 namespace {

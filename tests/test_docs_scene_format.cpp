@@ -1,6 +1,6 @@
 // docs/scene-format.md shows complete scene files; each of its ```json blocks must load with Prism's scene loader
 // as the page says: saved in the repository root, where ../shared/scenes holds the assets. The page must also
-// show every key the loader accepts, so a key added to core/load_scene_json.cpp without documentation fails here.
+// show every key the loader accepts, so a key added to core/loaders/load_scene_json.cpp without documentation fails here.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
-#include "core/scene_loader.h"
+#include "core/util/error.h"
+#include "core/loaders/scene_loader.h"
 #include "tests/test_support.h"
 
 namespace {
@@ -80,7 +80,7 @@ TEST(DocsSceneFormat, EveryJsonExampleLoads) {
     }
 }
 
-// Every key core/load_scene_json.cpp reads, and every texture mode: each appears in an example and in the page's
+// Every key core/loaders/load_scene_json.cpp reads, and every texture mode: each appears in an example and in the page's
 // tables (as `key`).
 TEST(DocsSceneFormat, EveryKeyIsDocumentedAndShown) {
     const std::string page = page_text();

@@ -11,8 +11,8 @@
 #include <gtest/gtest.h>
 
 #include "bench/embree_oracle.h"
-#include "core/render_engine.h"
-#include "core/scene_loader.h"
+#include "core/render/render_engine.h"
+#include "core/loaders/scene_loader.h"
 #include "tests/test_support.h"
 
 namespace {

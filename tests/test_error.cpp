@@ -1,3 +1,3 @@
-#include "core/error.h"
+#include "core/util/error.h"
 #include <gtest/gtest.h>
 TEST(Skeleton, ErrorCarriesMessage) { EXPECT_STREQ(prism::file_error("a.ply", 3, "bad").what(), "a.ply:3: bad"); }

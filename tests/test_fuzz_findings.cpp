@@ -8,10 +8,10 @@
 
 #include <gtest/gtest.h>
 
-#include "core/error.h"
-#include "core/image_guard.h"
-#include "core/image_io.h"
-#include "core/scene_loader.h"
+#include "core/util/error.h"
+#include "core/image/image_guard.h"
+#include "core/image/image_io.h"
+#include "core/loaders/scene_loader.h"
 #include "tests/hostile_files.h"
 #include "tests/test_support.h"
 

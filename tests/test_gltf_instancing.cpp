@@ -4,7 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/load_gltf.h"
+#include "core/loaders/load_gltf.h"
 #include "tests/gltf_builder.h"
 #include "tests/test_support.h"
 

@@ -13,9 +13,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "core/bvh.h"
-#include "core/error.h"
-#include "core/scene_loader.h"
+#include "core/bvh/bvh.h"
+#include "core/util/error.h"
+#include "core/loaders/scene_loader.h"
 #include "tests/gltf_builder.h"
 #include "tests/hostile_files.h"
 #include "tests/test_support.h"

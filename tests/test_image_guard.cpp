@@ -1,6 +1,6 @@
-// core/image_guard.h beyond the fuzz findings (tests/test_fuzz_findings.cpp): the formats Prism does not offer and
+// core/image/image_guard.h beyond the fuzz findings (tests/test_fuzz_findings.cpp): the formats Prism does not offer and
 // the size limit, judged from headers alone so that nothing big is ever decoded.
-#include "core/image_guard.h"
+#include "core/image/image_guard.h"
 
 #include <cstring>
 #include <filesystem>
@@ -12,8 +12,8 @@
 #include <gtest/gtest.h>
 #include <stb_image_write.h>
 
-#include "core/error.h"
-#include "core/image_io.h"
+#include "core/util/error.h"
+#include "core/image/image_io.h"
 #include "tests/test_support.h"
 
 namespace {

@@ -1,5 +1,5 @@
 // Texture loading and render output: round trips, the real environment maps, and failures that leave no file.
-#include "core/image_io.h"
+#include "core/image/image_io.h"
 
 #include <cmath>
 #include <fstream>
@@ -8,8 +8,8 @@
 
 #include <gtest/gtest.h>
 
-#include "core/error.h"
-#include "core/rgbe.h"
+#include "core/util/error.h"
+#include "core/image/rgbe.h"
 #include "tests/test_support.h"
 
 namespace prism {

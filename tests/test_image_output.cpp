@@ -1,6 +1,6 @@
 // Render outputs read back with independent decoders: OpenEXR through tinyexr's LoadEXR (values above 1 kept),
 // 16-bit PNG through stb_image's 16-bit loader, and the choice of format by extension and --png-depth.
-#include "core/image_output.h"
+#include "core/image/image_output.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +12,7 @@
 #include <stb_image.h>
 #include <tinyexr.h>
 
-#include "core/error.h"
+#include "core/util/error.h"
 #include "tests/test_support.h"
 
 namespace prism {

@@ -3,8 +3,8 @@
 
 #include <gtest/gtest.h>
 
-#include "core/device_scene.h"
-#include "core/host_globals.h"
+#include "core/render/device_scene.h"
+#include "core/render/host_globals.h"
 #include "kernels/stages.h"
 
 namespace {

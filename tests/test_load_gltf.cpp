@@ -9,9 +9,9 @@
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 
-#include "core/error.h"
-#include "core/gltf_material.h"
-#include "core/load_gltf.h"
+#include "core/util/error.h"
+#include "core/loaders/gltf_material.h"
+#include "core/loaders/load_gltf.h"
 #include "tests/gltf_builder.h"
 #include "tests/test_support.h"
 

@@ -1,13 +1,13 @@
 // OBJ/MTL loading: the McGuire archive scenes, the MTL-to-seed material mapping, and malformed input.
-#include "core/load_obj.h"
+#include "core/loaders/load_obj.h"
 
 #include <fstream>
 #include <functional>
 
 #include <gtest/gtest.h>
 
-#include "core/error.h"
-#include "core/image_io.h"
+#include "core/util/error.h"
+#include "core/image/image_io.h"
 #include "tests/test_support.h"
 
 namespace prism {

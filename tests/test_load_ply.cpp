@@ -1,5 +1,5 @@
 // PLY reader: the real Stanford scans, generated files in all three encodings, and malformed input.
-#include "core/load_ply.h"
+#include "core/loaders/load_ply.h"
 
 #include <bit>
 #include <cmath>
@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 #include <zlib.h>
 
-#include "core/error.h"
+#include "core/util/error.h"
 #include "tests/test_support.h"
 
 namespace prism {

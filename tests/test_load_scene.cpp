@@ -3,8 +3,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "core/error.h"
-#include "core/scene_loader.h"
+#include "core/util/error.h"
+#include "core/loaders/scene_loader.h"
 #include "tests/test_support.h"
 
 namespace prism {

@@ -13,7 +13,7 @@
 #include <stb_image.h>
 
 #include "bench/plot_script.h"
-#include "core/error.h"
+#include "core/util/error.h"
 #include "tests/test_support.h"
 
 namespace {

@@ -5,9 +5,9 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "core/device_scene.h"
-#include "core/host_globals.h"
-#include "core/seed_material.h"
+#include "core/render/device_scene.h"
+#include "core/render/host_globals.h"
+#include "core/scene/seed_material.h"
 #include "kernels/stages.h"
 
 namespace {

@@ -71,15 +71,26 @@ uint32_t items_done(const nlohmann::json& stats, const char* what) {
     return total;
 }
 
+// `prism render --backend <backends>` of kFrame (under `launcher`: mpirun), writing <name>.png and <name>.json in
+// `dir`; a successful run's image must equal `expected` byte for byte. Returns the --stats JSON (null on failure).
+nlohmann::json split_render(const fs::path& dir, const std::string& backends, const std::string& name,
+                            const fs::path& expected, const std::string& launcher = "",
+                            CommandResult* command = nullptr) {
+    fs::path out = dir / (name + ".png"), stats = dir / (name + ".json");
+    CommandResult r = run_prism("render --backend " + backends + kFrame + " --out " + quoted(out) + " --stats " +
+                                    quoted(stats),
+                                launcher);
+    if (command) *command = r;
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    if (r.exit_code != 0) return nullptr;
+    EXPECT_EQ(read_bytes(out), read_bytes(expected)) << backends << " " << launcher;
+    return read_json(stats);
+}
+
 TEST(SplitRender, DevicesInOneProcessMatchOneDeviceBitForBit) {
     fs::path dir = prism::test::temp_dir("split-devices");
-    fs::path expected = single_render(dir, "cpu");
-    fs::path out = dir / "split.png", stats = dir / "split.json";
-    CommandResult r = run_prism("render --backend cpu,cpu" + kFrame + " --out " + quoted(out) + " --stats " +
-                                quoted(stats));
-    ASSERT_EQ(r.exit_code, 0) << r.output;
-    EXPECT_EQ(read_bytes(out), read_bytes(expected));
-    nlohmann::json json = read_json(stats);
+    nlohmann::json json = split_render(dir, "cpu,cpu", "split", single_render(dir, "cpu"));
+    ASSERT_FALSE(json.is_null());
     EXPECT_EQ(json.at("ranks"), 1);
     EXPECT_EQ(json.at("workers").size(), 2u);
     EXPECT_EQ(items_done(json, "tiles"), 12u);   // 96x64 in tiles of 24: 4 x 3
@@ -90,13 +101,9 @@ TEST(SplitRender, EveryDeviceOfAnApiMatchesOneDeviceBitForBit) {
     std::string reason;
     if (!prism::test::device_present("opencl", "pocl", &reason)) GTEST_SKIP() << reason;
     fs::path dir = prism::test::temp_dir("split-all");
-    fs::path expected = single_render(dir, "opencl:pocl");
-    fs::path out = dir / "all.png", stats = dir / "all.json";
-    CommandResult r = run_prism("render --backend opencl:all" + kFrame + " --out " + quoted(out) + " --stats " +
-                                quoted(stats));
-    ASSERT_EQ(r.exit_code, 0) << r.output;
-    EXPECT_EQ(read_bytes(out), read_bytes(expected));
-    nlohmann::json json = read_json(stats);
+    CommandResult r;
+    nlohmann::json json = split_render(dir, "opencl:all", "all", single_render(dir, "opencl:pocl"), "", &r);
+    ASSERT_FALSE(json.is_null());
     // The devices a prism process sees, asked of one: this test process has probed the devices itself, and on the
     // H200 machine its count (two) differed from the render's (one); a GPU in exclusive-process compute mode would
     // hide from a second process like that (suspected, not confirmed).
@@ -117,14 +124,8 @@ TEST(SplitRender, MpiRanksMatchOneProcessBitForBit) {
     fs::path dir = prism::test::temp_dir("split-mpi");
     fs::path expected = single_render(dir, "cpu");
     for (int ranks : {2, 3}) {
-        fs::path out = dir / ("ranks" + std::to_string(ranks) + ".png");
-        fs::path stats = dir / ("ranks" + std::to_string(ranks) + ".json");
-        CommandResult r = run_prism("render --backend cpu" + kFrame + " --out " + quoted(out) + " --stats " +
-                                        quoted(stats),
-                                    mpirun(ranks));
-        ASSERT_EQ(r.exit_code, 0) << r.output;
-        EXPECT_EQ(read_bytes(out), read_bytes(expected)) << ranks << " ranks";
-        nlohmann::json json = read_json(stats);
+        nlohmann::json json = split_render(dir, "cpu", "ranks" + std::to_string(ranks), expected, mpirun(ranks));
+        ASSERT_FALSE(json.is_null());
         EXPECT_EQ(json.at("ranks"), ranks);
         ASSERT_EQ(json.at("workers").size(), size_t(ranks));
         EXPECT_EQ(items_done(json, "tiles"), 12u);
@@ -142,14 +143,9 @@ TEST(SplitRender, MixedBackendRanksRenderTheFrame) {
     if (!prism::test::device_present("opencl", "pocl", &reason)) GTEST_SKIP() << reason;
     if (!prism::test::device_present("vulkan", "llvmpipe", &reason)) GTEST_SKIP() << reason;
     fs::path dir = prism::test::temp_dir("split-mixed");
-    fs::path expected = single_render(dir, "cpu", " --bvh-layout stack");
-    fs::path out = dir / "mixed.png", stats = dir / "mixed.json";
-    CommandResult r = run_prism("render --backend cpu,opencl:pocl,vulkan:llvmpipe" + kFrame + " --out " +
-                                    quoted(out) + " --stats " + quoted(stats),
-                                mpirun(3));
-    ASSERT_EQ(r.exit_code, 0) << r.output;
-    EXPECT_EQ(read_bytes(out), read_bytes(expected));
-    nlohmann::json json = read_json(stats);
+    nlohmann::json json = split_render(dir, "cpu,opencl:pocl,vulkan:llvmpipe", "mixed",
+                                       single_render(dir, "cpu", " --bvh-layout stack"), mpirun(3));
+    ASSERT_FALSE(json.is_null());
     std::set<std::string> backends;
     for (const auto& worker : json.at("workers")) backends.insert(worker.at("backend").get<std::string>());
     EXPECT_EQ(backends, (std::set<std::string>{"cpu", "opencl:pocl", "vulkan:llvmpipe"}));

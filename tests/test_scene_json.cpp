@@ -8,11 +8,11 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
-#include "core/error.h"
-#include "core/device_scene.h"
-#include "core/load_scene_json.h"
-#include "core/scene_read_rules.h"
-#include "core/scene_loader.h"
+#include "core/util/error.h"
+#include "core/render/device_scene.h"
+#include "core/loaders/load_scene_json.h"
+#include "core/util/scene_read_rules.h"
+#include "core/loaders/scene_loader.h"
 #include "tests/test_support.h"
 
 namespace prism {

@@ -4,10 +4,10 @@
 
 #include <gtest/gtest.h>
 
-#include "core/error.h"
-#include "core/load_obj.h"
-#include "core/load_ply.h"
-#include "core/scene_loader.h"
+#include "core/util/error.h"
+#include "core/loaders/load_obj.h"
+#include "core/loaders/load_ply.h"
+#include "core/loaders/scene_loader.h"
 #include "tests/test_support.h"
 
 namespace prism {

@@ -1,10 +1,10 @@
 #include "tests/test_support.h"
 
 #include "backends/backend_list.h"
-#include "core/backend.h"
-#include "core/error.h"
-#include "core/image_compare.h"
-#include "core/scene_loader.h"
+#include "core/render/backend.h"
+#include "core/util/error.h"
+#include "core/image/image_compare.h"
+#include "core/loaders/scene_loader.h"
 #ifdef PRISM_HAVE_VULKAN
 #include "backends/vulkan/vulkan_backend.h"
 #endif

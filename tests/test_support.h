@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "core/device_scene.h"
-#include "core/renderer.h"
-#include "core/scene.h"
+#include "core/render/device_scene.h"
+#include "core/render/renderer.h"
+#include "core/scene/scene.h"
 
 namespace prism::test {
 
@@ -42,6 +42,16 @@ prism::DeviceScene load_device_scene(const std::string& spec, prism::Scene* scen
 
 // A gtest name from a backend spec or a scene's file name: every character but letters and digits made '_'.
 std::string test_name_of(const std::string& text);
+
+// Settings for a small test frame: width x height, `max_depth` generations (RenderSettings' default when omitted).
+inline prism::RenderSettings small_settings(uint32_t width, uint32_t height,
+                                            uint32_t max_depth = prism::RenderSettings{}.max_depth) {
+    prism::RenderSettings settings;
+    settings.width = width;
+    settings.height = height;
+    settings.max_depth = max_depth;
+    return settings;
+}
 
 // Whether a backend spec ("cpu", "cuda", "opencl:pocl", ...) runs here: its API is built and, for OpenCL and
 // Vulkan, the probe lists a device matching its filter. `reason` says why not.

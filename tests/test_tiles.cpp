@@ -2,10 +2,10 @@
 // once, and the assembled tiles equal the whole frame bit for bit on every backend this machine runs.
 #include <gtest/gtest.h>
 
-#include "core/error.h"
-#include "core/render_engine.h"
-#include "core/scene_loader.h"
-#include "core/tiles.h"
+#include "core/util/error.h"
+#include "core/render/render_engine.h"
+#include "core/loaders/scene_loader.h"
+#include "core/render/tiles.h"
 #include "tests/test_support.h"
 
 namespace {
@@ -27,9 +27,7 @@ TEST(Tiles, CoverTheImageExactlyOnce) {
 }
 
 TEST(Tiles, RegionOutsideTheImageIsRejected) {
-    prism::RenderSettings settings;
-    settings.width = 32;
-    settings.height = 16;
+    prism::RenderSettings settings = prism::test::small_settings(32, 16);
     settings.region = prism::PixelRect{24, 0, 16, 8};
     EXPECT_NE(prism::test::error_message([&] { prism::check_render_settings(settings); }).find("not inside"),
               std::string::npos);
@@ -50,10 +48,7 @@ TEST_P(TileAgreement, AssembledTilesEqualTheWholeFrame) {
     bvh.layout = prism::resolve_bvh_layout("auto", backend);
     prism::DeviceScene device = prism::build_device_scene(scene, bvh);
     prism::RenderEngine engine(backend, device);
-    prism::RenderSettings settings;
-    settings.width = 53;
-    settings.height = 37;
-    settings.max_depth = 4;
+    prism::RenderSettings settings = prism::test::small_settings(53, 37, 4);
     settings.read_radiance = true;
     prism::FrameResult whole = engine.render(scene.camera, settings);
 

@@ -4,8 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/load_scene_json.h"
-#include "core/render_engine.h"
+#include "core/loaders/load_scene_json.h"
+#include "core/render/render_engine.h"
 #include "tests/gltf_builder.h"
 #include "tests/gltf_render_probe.h"
 

@@ -13,8 +13,8 @@
 #include <gtest/gtest.h>
 
 #include "backends/backend_list.h"
-#include "core/backend.h"
-#include "core/error.h"
+#include "core/render/backend.h"
+#include "core/util/error.h"
 #include "tests/test_support.h"
 #include "tests/viewer_test_support.h"
 #include "viewer/camera_controls.h"

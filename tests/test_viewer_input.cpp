@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/error.h"
+#include "core/util/error.h"
 #include "tests/test_support.h"
 #include "viewer/backend_check.h"
 #include "viewer/camera_controls.h"

@@ -12,8 +12,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "core/error.h"
-#include "core/gl_interop.h"
+#include "core/util/error.h"
+#include "core/render/gl_interop.h"
 #include "tests/test_support.h"
 #include "tests/viewer_test_support.h"
 #include "viewer/frame_display.h"

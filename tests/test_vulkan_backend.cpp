@@ -18,9 +18,9 @@
 
 #include "backends/backend_list.h"
 #include "backends/vulkan/vulkan_backend.h"
-#include "core/error.h"
-#include "core/render_engine.h"
-#include "core/scene_loader.h"
+#include "core/util/error.h"
+#include "core/render/render_engine.h"
+#include "core/loaders/scene_loader.h"
 #include "tests/test_support.h"
 
 namespace {
@@ -163,10 +163,7 @@ prism::FrameResult render_with(const std::string& spec, const prism::DeviceScene
 TEST_F(Vulkan, QueueAboveMaxStorageBufferRangeRendersThroughAddresses) {
     prism::Scene scene;
     prism::DeviceScene device = load("builtin:sphere", &scene);
-    prism::RenderSettings settings;
-    settings.width = 128;
-    settings.height = 96;
-    settings.max_depth = 3;
+    prism::RenderSettings settings = prism::test::small_settings(128, 96, 3);
     settings.queue_factor = 96.0f;   // 1.2 M rays: 151 MiB of ray queue, the largest array
     prism::VulkanLaunchMode mode;
     prism::FrameResult actual = render_with(kDevice, device, scene.camera, settings, &mode);
@@ -190,10 +187,7 @@ TEST_F(Vulkan, AddressModeTracesEveryLayout) {
             SCOPED_TRACE(std::string(spec) + ", " + prism::bvh_layout_name(layout));
             prism::Scene scene;
             prism::DeviceScene device = load(spec, &scene, layout);
-            prism::RenderSettings settings;
-            settings.width = 64;
-            settings.height = 48;
-            settings.max_depth = 3;
+            prism::RenderSettings settings = prism::test::small_settings(64, 48, 3);
             prism::VulkanLaunchMode mode;
             prism::FrameResult actual = render_with(kDevice, device, scene.camera, settings, &mode);
             EXPECT_TRUE(mode.addresses);
@@ -207,10 +201,7 @@ TEST_F(Vulkan, AddressModeTracesEveryLayout) {
 TEST_F(Vulkan, AddressesAndFixedDispatchGiveIdenticalImages) {
     prism::Scene scene;
     prism::DeviceScene device = load("builtin:bunny", &scene);
-    prism::RenderSettings settings;
-    settings.width = 80;
-    settings.height = 60;
-    settings.max_depth = 5;
+    prism::RenderSettings settings = prism::test::small_settings(80, 60, 5);
     prism::VulkanLaunchMode mode;
     prism::FrameResult base = render_with(kDevice, device, scene.camera, settings, &mode);
     EXPECT_FALSE(mode.addresses);

@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <stb_image.h>
 
-#include "core/backend.h"
+#include "core/render/backend.h"
 #include "tests/test_support.h"
 
 namespace prism::test {

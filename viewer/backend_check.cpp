@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cctype>
 
-#include "core/backend.h"
+#include "core/render/backend.h"
 
 namespace prism::viewer {
 namespace {

@@ -3,8 +3,8 @@
 
 #include <glm/glm.hpp>
 
-#include "core/bvh.h"
-#include "core/scene.h"
+#include "core/bvh/bvh.h"
+#include "core/scene/scene.h"
 
 namespace prism::viewer {
 

@@ -1,6 +1,6 @@
 #include "viewer/frame_display.h"
 
-#include "core/error.h"
+#include "core/util/error.h"
 #include "viewer/interop_display.h"
 #include "viewer/texture_quad.h"
 

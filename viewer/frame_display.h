@@ -1,7 +1,7 @@
 // How a rendered frame reaches the window. One implementation per display path:
 //   host copy - glTexSubImage2D from FrameResult.image (every backend; the fallback);
 //   interop   - the backend's image array copied on the device, at the end of the frame's own submission, into a
-//               GL buffer it shares with GL (CUDA-GL, OpenCL-GL, Vulkan-GL: core/gl_interop.h,
+//               GL buffer it shares with GL (CUDA-GL, OpenCL-GL, Vulkan-GL: core/render/gl_interop.h,
 //               viewer/interop_display.h), which the draw reads directly (a buffer texture);
 //   none      - nothing is shown: `--display none` measures the render alone.
 // choose_display_path() decides from what the user asked and what the backend offers, and says why;
@@ -11,9 +11,9 @@
 #include <memory>
 #include <string>
 
-#include "core/backend.h"
-#include "core/gl_interop.h"
-#include "core/renderer.h"
+#include "core/render/backend.h"
+#include "core/render/gl_interop.h"
+#include "core/render/renderer.h"
 
 namespace prism::viewer {
 

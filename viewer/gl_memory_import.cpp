@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <string>
 
-#include "core/error.h"
+#include "core/util/error.h"
 
 namespace prism::viewer {
 namespace {

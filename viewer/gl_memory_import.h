@@ -6,7 +6,7 @@
 
 #include <cstddef>
 
-#include "core/gl_interop.h"
+#include "core/render/gl_interop.h"
 #include "viewer/gl_external.h"
 
 namespace prism::viewer {

@@ -8,7 +8,7 @@
 #include <imgui.h>
 #include <backends/imgui_impl_glfw.h>
 
-#include "core/error.h"
+#include "core/util/error.h"
 #include "viewer/gl_external.h"
 #include "viewer/native_handles.h"
 #include "viewer/panel.h"

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "core/error.h"
+#include "core/util/error.h"
 
 namespace prism::viewer {
 namespace {

@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "core/error.h"
+#include "core/util/error.h"
 #include "viewer/gl_memory_import.h"
 #include "viewer/texture_quad.h"
 

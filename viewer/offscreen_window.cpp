@@ -10,7 +10,7 @@
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 
-#include "core/error.h"
+#include "core/util/error.h"
 #include "viewer/gl.h"
 #include "viewer/gl_external.h"
 

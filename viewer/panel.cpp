@@ -4,7 +4,7 @@
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
 
-#include "core/error.h"
+#include "core/util/error.h"
 #include "viewer/controls_help.h"
 
 namespace prism::viewer {

@@ -2,8 +2,8 @@
 // speed scales with.
 #pragma once
 
-#include "core/bvh.h"
-#include "core/scene.h"
+#include "core/bvh/bvh.h"
+#include "core/scene/scene.h"
 
 namespace prism::viewer {
 

@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-#include "core/error.h"
+#include "core/util/error.h"
 
 namespace prism::viewer {
 

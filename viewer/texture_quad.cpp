@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/error.h"
+#include "core/util/error.h"
 
 namespace prism::viewer {
 namespace {

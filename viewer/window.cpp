@@ -3,7 +3,7 @@
 #include <chrono>
 #include <cstring>
 
-#include "core/error.h"
+#include "core/util/error.h"
 #include "viewer/gl.h"
 #include "viewer/gl_external.h"
 #include "viewer/glfw_window.h"

@@ -11,7 +11,7 @@
 
 #include <glm/glm.hpp>
 
-#include "core/gl_interop.h"
+#include "core/render/gl_interop.h"
 #include "viewer/held_keys.h"
 #include "viewer/key_script.h"
 
@@ -65,7 +65,7 @@ public:
     // The frame just drawn, as packed RGBA8 (r in the low byte), row 0 at the top, alpha forced opaque.
     std::vector<uint32_t> read_pixels() const;
     // What a backend needs to share buffers with this GL context: the GLX or EGL handles, GL_RENDERER, the
-    // external-memory extensions and GL's device/driver UUIDs (core/gl_interop.h).
+    // external-memory extensions and GL's device/driver UUIDs (core/render/gl_interop.h).
     GlContextHandles gl_context_handles() const;
 
     // The GLFWwindow for Dear ImGui's GLFW backend (viewer/panel.h); null offscreen.

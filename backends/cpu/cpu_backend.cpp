@@ -13,9 +13,9 @@
 #include <utility>
 
 #include "backends/cpu/cpu_stages.h"
-#include "core/device_array_book.h"
-#include "core/error.h"
-#include "core/thread_pool.h"
+#include "core/render/device_array_book.h"
+#include "core/util/error.h"
+#include "core/util/thread_pool.h"
 
 
 namespace prism {

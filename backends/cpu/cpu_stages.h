@@ -6,7 +6,7 @@
 
 #include <cstdint>
 
-#include "core/backend.h"
+#include "core/render/backend.h"
 #include "kernels/globals.h"
 
 namespace prism::cpu {

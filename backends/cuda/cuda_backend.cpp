@@ -11,9 +11,9 @@
 #ifdef PRISM_CUDA_GL_INTEROP
 #include "backends/cuda/cuda_gl_interop.h"
 #endif
-#include "core/device_array_book.h"
-#include "core/device_filter.h"
-#include "core/error.h"
+#include "core/render/device_array_book.h"
+#include "core/render/device_filter.h"
+#include "core/util/error.h"
 
 namespace prism {
 namespace {

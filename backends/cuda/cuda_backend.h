@@ -5,8 +5,8 @@
 #include <cstddef>
 #include <string>
 
-#include "core/backend.h"
-#include "core/launch_config.h"
+#include "core/render/backend.h"
+#include "core/render/launch_config.h"
 
 namespace prism {
 

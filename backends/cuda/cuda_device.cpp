@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "backends/cuda/cuda_launch.h"
-#include "core/error.h"
+#include "core/util/error.h"
 
 namespace prism::cuda {
 namespace {

@@ -12,7 +12,7 @@
 #include <type_traits>
 #include <utility>
 
-#include "core/error.h"
+#include "core/util/error.h"
 
 namespace prism::cuda {
 namespace {

@@ -11,7 +11,7 @@
 #include <string>
 
 #include "backends/cuda/cuda_device.h"
-#include "core/gl_interop.h"
+#include "core/render/gl_interop.h"
 
 namespace prism::cuda {
 

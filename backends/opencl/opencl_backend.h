@@ -4,7 +4,7 @@
 // whose platform name/vendor/version + device name/vendor contain <filter> (case-insensitive), GPUs first.
 #pragma once
 
-#include "core/backend.h"
+#include "core/render/backend.h"
 
 namespace prism {
 

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <utility>
 
-#include "core/error.h"
+#include "core/util/error.h"
 
 namespace prism::opencl_gl {
 namespace {

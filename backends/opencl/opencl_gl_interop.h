@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "core/gl_interop.h"
+#include "core/render/gl_interop.h"
 
 namespace prism::opencl_gl {
 

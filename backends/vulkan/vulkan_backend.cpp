@@ -34,8 +34,8 @@
 
 #include "backends/vulkan/vulkan_context.h"
 #include "backends/vulkan/vulkan_gl_interop.h"
-#include "core/device_array_book.h"
-#include "core/error.h"
+#include "core/render/device_array_book.h"
+#include "core/util/error.h"
 #include "shaders/vulkan_bindings.h"
 #include "spirv/vulkan_shaders.h"
 #include "spirv/vulkan_shaders_address.h"

@@ -12,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-#include "core/backend.h"
+#include "core/render/backend.h"
 
 namespace prism {
 

@@ -9,10 +9,10 @@
 #include <thread>
 
 #include "backends/vulkan/vulkan_backend.h"
-#include "core/backend.h"
-#include "core/device_filter.h"
-#include "core/error.h"
-#include "core/launch_config.h"
+#include "core/render/backend.h"
+#include "core/render/device_filter.h"
+#include "core/util/error.h"
+#include "core/render/launch_config.h"
 
 namespace prism {
 namespace {
@@ -297,7 +297,7 @@ GridChoice choose_grid(const DeviceCandidate& device) {
         grid.compute_units = device.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU ? 64 : 16;
         grid.source = "default for the device type";
     }
-    uint64_t groups = uint64_t(grid.compute_units) * kWorkGroupsPerComputeUnit;   // core/launch_config.h
+    uint64_t groups = uint64_t(grid.compute_units) * kWorkGroupsPerComputeUnit;   // core/render/launch_config.h
     grid.groups = uint32_t(std::min<uint64_t>(groups, device.properties.limits.maxComputeWorkGroupCount[0]));
     return grid;
 }

@@ -56,7 +56,7 @@ uint32_t find_memory_type(const VkPhysicalDeviceMemoryProperties& memory, uint32
                           VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred,
                           VkMemoryPropertyFlags avoided);
 
-// Work-groups per dispatch: kWorkGroupsPerComputeUnit (core/launch_config.h) x the device's compute units (SMs on
+// Work-groups per dispatch: kWorkGroupsPerComputeUnit (core/render/launch_config.h) x the device's compute units (SMs on
 // NVIDIA through VK_NV_shader_sm_builtins, CUs on
 // AMD through VK_AMD_shader_core_properties, host threads for a CPU device, else a per-type default), bounded by
 // maxComputeWorkGroupCount[0]. The same rule as the CUDA and OpenCL backends.

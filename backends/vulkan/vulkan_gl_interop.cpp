@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <utility>
 
-#include "core/error.h"
+#include "core/util/error.h"
 
 namespace prism::vk {
 namespace {

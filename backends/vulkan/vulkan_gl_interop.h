@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "backends/vulkan/vulkan_context.h"
-#include "core/gl_interop.h"
+#include "core/render/gl_interop.h"
 
 namespace prism::vk {
 

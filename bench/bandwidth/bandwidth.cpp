@@ -11,7 +11,7 @@
 #include "bench/bandwidth/sizes.h"
 #include "bench/bench_json.h"
 #include "bench/plot_script.h"
-#include "core/error.h"
+#include "core/util/error.h"
 
 namespace prism::bandwidth {
 namespace {

@@ -16,7 +16,7 @@
 #include "bench/bandwidth/pci_link.h"
 #include "bench/bandwidth/sizes.h"
 #include "bench/bandwidth/sweep.h"
-#include "core/error.h"
+#include "core/util/error.h"
 
 // The CUDA wrapper of the shared copy kernel: its two buffers and the element count.
 __global__ void bandwidth_copy_kernel(uint4* source, uint4* destination, unsigned count) {

@@ -14,8 +14,8 @@
 #include "bench/bandwidth/pci_link.h"
 #include "bench/bandwidth/sizes.h"
 #include "bench/bandwidth/sweep.h"
-#include "core/error.h"
-#include "core/pocl_cache.h"
+#include "core/util/error.h"
+#include "core/util/pocl_cache.h"
 #include "kernels/bandwidth_copy.h"
 
 // bandwidth_copy.cl with its includes inlined at build time (cmake/PrismEmbedText.cmake).

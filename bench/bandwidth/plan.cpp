@@ -1,6 +1,6 @@
 #include "bench/bandwidth/plan.h"
 
-#include "core/device_filter.h"
+#include "core/render/device_filter.h"
 
 namespace prism::bandwidth {
 

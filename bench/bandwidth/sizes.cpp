@@ -5,7 +5,7 @@
 #include <charconv>
 #include <cstdio>
 
-#include "core/error.h"
+#include "core/util/error.h"
 
 namespace prism::bandwidth {
 

@@ -9,7 +9,7 @@
 
 #include "bench/bandwidth/pci_link.h"
 #include "bench/bandwidth/sizes.h"
-#include "core/error.h"
+#include "core/util/error.h"
 
 namespace prism::bandwidth {
 namespace {

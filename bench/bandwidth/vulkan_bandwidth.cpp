@@ -18,7 +18,7 @@
 #include "bench/bandwidth/pci_link.h"
 #include "bench/bandwidth/sizes.h"
 #include "bench/bandwidth/sweep.h"
-#include "core/error.h"
+#include "core/util/error.h"
 #include "kernels/bandwidth_copy.h"
 #include "spirv/bandwidth_copy.h"
 

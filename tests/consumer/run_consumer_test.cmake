@@ -62,7 +62,7 @@ file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR} ${project} ${elsewhere})
 
 run_checked("installing the build tree" COMMAND ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
-foreach(installed bin/prism include/prism/core/render_engine.h include/prism/kernels/types.h
+foreach(installed bin/prism include/prism/core/render/render_engine.h include/prism/kernels/types.h
                   include/prism/backends/backend_list.h lib/cmake/Prism/PrismConfig.cmake
                   lib/cmake/Prism/PrismConfigVersion.cmake lib/cmake/Prism/PrismTargets.cmake)
   if(NOT EXISTS ${prefix}/${installed})

@@ -1,0 +1,490 @@
+#include "core/loaders/load_gltf.h"
+
+#include <algorithm>
+#include <cstring>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <tuple>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <tiny_gltf.h>
+
+#include "core/util/error.h"
+#include "core/loaders/gltf_accessor.h"
+#include "core/loaders/gltf_instancing.h"
+#include "core/loaders/gltf_material.h"
+#include "core/util/input_file.h"
+#include "core/util/json_depth.h"
+#include "core/util/load_progress.h"
+#include "core/scene/mesh_tangents.h"
+#include "core/util/scene_read_rules.h"
+
+namespace prism {
+namespace {
+
+// Prism decodes images itself (load_texture_from_memory) so that image errors carry Prism's messages and only
+// the images a material uses are decoded; tinygltf just hands over the encoded bytes. For an image stored in a
+// bufferView, tinygltf 2.7 passes &buffer[byteOffset] and byteLength without checking that the view lies inside
+// its buffer (fuzz_glb: this copy read past the buffer, ASan heap-buffer-overflow), so the view is checked here
+// against the model being loaded (`model`: its buffers and bufferViews are parsed before its images).
+bool keep_encoded_image(tinygltf::Image* image, const int index, std::string* error, std::string*, int, int,
+                        const unsigned char* bytes, int size, void* model) {
+    const auto& loading = *static_cast<const tinygltf::Model*>(model);
+    auto refuse = [&](const std::string& cause) {
+        if (error) *error += "image " + std::to_string(index) + ": " + cause + "\n";
+        return false;
+    };
+    if (size < 0) return refuse("byteLength out of range");
+    if (image->bufferView >= 0) {   // tinygltf has checked that the view and its buffer exist
+        const tinygltf::BufferView& view = loading.bufferViews.at(static_cast<size_t>(image->bufferView));
+        const size_t available = loading.buffers.at(static_cast<size_t>(view.buffer)).data.size();
+        if (view.byteOffset > available || view.byteLength > available - view.byteOffset)
+            return refuse("bufferView " + std::to_string(image->bufferView) + " (offset " +
+                          std::to_string(view.byteOffset) + ", " + std::to_string(view.byteLength) +
+                          " bytes) lies outside its buffer (" + std::to_string(available) + " bytes)");
+    }
+    image->image.assign(bytes, bytes + size);
+    return true;
+}
+
+// Buffers and images a glTF names by URI, read through tinygltf's file callbacks: only regular files in or below
+// the scene's folder (core/util/scene_read_rules.h), read without blocking. The first refusal is kept and becomes the
+// error, in Prism's words, instead of tinygltf's "File not found".
+struct ExternalFiles {
+    std::string file;   // the glTF, for messages
+    std::string base;   // its folder, absolute; tinygltf joins every URI onto it
+    std::optional<Error> refusal;
+
+    // The URI as the file wrote it (percent-decoded by tinygltf), or nullopt for tinygltf's second guess, the
+    // URI relative to the working directory, which Prism never reads.
+    std::optional<std::string> uri_of(const std::string& joined) const {
+        if (joined.size() <= base.size() || joined.compare(0, base.size(), base) != 0 || joined[base.size()] != '/')
+            return std::nullopt;
+        return joined.substr(base.size() + 1);
+    }
+
+    bool allowed(const std::string& joined) {
+        if (refusal) return false;
+        const std::optional<std::string> uri = uri_of(joined);
+        if (!uri) return false;
+        try {
+            // An absolute URI means itself, not the folder + it that tinygltf joins.
+            const bool absolute = !uri->empty() && uri->front() == '/';
+            check_scene_reference(file, *uri, absolute ? std::filesystem::path(*uri) : std::filesystem::path(joined));
+            std::error_code error;
+            if (!std::filesystem::exists(joined, error)) return false;   // tinygltf: "File not found : <uri>"
+            require_regular_file(joined);
+        } catch (const Error& error) {
+            refusal = error;
+            return false;
+        }
+        return true;
+    }
+};
+
+bool external_file_exists(const std::string& path, void* context) {
+    return static_cast<ExternalFiles*>(context)->allowed(path);
+}
+
+std::string external_file_path(const std::string& path, void*) { return path; }   // no ~ or $VAR expansion
+
+bool read_external_file(std::vector<unsigned char>* out, std::string* error, const std::string& path, void* context) {
+    auto& files = *static_cast<ExternalFiles*>(context);
+    if (!files.allowed(path)) {
+        if (error) *error = "refused";
+        return false;
+    }
+    try {
+        const std::string bytes = read_input_file(path);
+        out->assign(bytes.begin(), bytes.end());
+    } catch (const Error& refused) {
+        files.refusal = refused;
+        if (error) *error = "refused";
+        return false;
+    }
+    return true;
+}
+
+bool write_nothing(std::string* error, const std::string&, const std::vector<unsigned char>&, void*) {
+    if (error) *error = "Prism never writes glTF files";
+    return false;
+}
+
+// The JSON text of a .gltf, or of a .glb's first chunk (the GLB container: a 12-byte header, then chunks of
+// length, type, bytes).
+std::string_view json_text(std::string_view bytes, bool binary) {
+    if (!binary) return bytes;
+    if (bytes.size() < 20) return {};
+    uint32_t length = 0;
+    std::memcpy(&length, bytes.data() + 12, 4);
+    return bytes.substr(20, std::min<size_t>(length, bytes.size() - 20));
+}
+
+// Deeper JSON than this is refused before tinygltf, which recurses once per level; real files nest about 8 deep.
+constexpr size_t kMaxJsonDepth = 64;
+constexpr size_t kBytesWorthReporting = size_t(8) << 20;   // glTF files that report their load's progress
+
+glm::mat4 local_transform(const tinygltf::Node& node) {
+    if (node.matrix.size() == 16) {
+        glm::mat4 matrix;
+        for (int i = 0; i < 16; ++i) glm::value_ptr(matrix)[i] = static_cast<float>(node.matrix[i]);   // column-major
+        return matrix;
+    }
+    glm::mat4 matrix(1.0f);
+    if (node.translation.size() == 3)
+        matrix = glm::translate(matrix, glm::vec3(node.translation[0], node.translation[1], node.translation[2]));
+    if (node.rotation.size() == 4) {
+        glm::quat rotation(static_cast<float>(node.rotation[3]), static_cast<float>(node.rotation[0]),
+                           static_cast<float>(node.rotation[1]), static_cast<float>(node.rotation[2]));   // w, x, y, z
+        matrix *= glm::mat4_cast(glm::normalize(rotation));
+    }
+    if (node.scale.size() == 3) matrix = glm::scale(matrix, glm::vec3(node.scale[0], node.scale[1], node.scale[2]));
+    return matrix;
+}
+
+class GltfImporter {
+public:
+    GltfImporter(const tinygltf::Model& model, std::string file, Scene& scene, bool report_progress)
+        : model_(model), file_(std::move(file)), scene_(scene), materials_(model, file_, scene),
+          report_progress_(report_progress) {}
+
+    void import() {
+        std::vector<int> roots;
+        int scene_index = model_.defaultScene >= 0 ? model_.defaultScene : (model_.scenes.empty() ? -1 : 0);
+        if (scene_index >= static_cast<int>(model_.scenes.size()))
+            throw file_error(file_, "scene " + std::to_string(scene_index) + " does not exist");
+        if (scene_index >= 0) {
+            roots = model_.scenes[scene_index].nodes;
+        } else {
+            // No scenes: every node that is nobody's child is a root.
+            std::vector<bool> is_child(model_.nodes.size(), false);
+            for (const tinygltf::Node& node : model_.nodes)
+                for (int child : node.children)
+                    if (child >= 0 && child < static_cast<int>(is_child.size())) is_child[child] = true;
+            for (size_t i = 0; i < model_.nodes.size(); ++i)
+                if (!is_child[i]) roots.push_back(static_cast<int>(i));
+        }
+        node_state_.assign(model_.nodes.size(), NodeState::Unseen);
+        for (size_t i = 0; i < roots.size(); ++i) {
+            visit_tree(roots[i]);
+            if (report_progress_) report_load_progress(double(i + 1) / double(roots.size()));
+        }
+    }
+
+private:
+    enum class NodeState : uint8_t { Unseen, OnPath, Done };
+    struct PendingNode {
+        int node;
+        glm::mat4 world;
+        size_t next_child;
+    };
+
+    // Depth-first over the node tree with an explicit stack: a file's chain of 20,000 nodes must not become
+    // 20,000 native stack frames. Nodes are handled in the same order as a recursive walk would.
+    void visit_tree(int root) {
+        std::vector<PendingNode> stack;
+        enter(root, glm::mat4(1.0f), stack);
+        while (!stack.empty()) {
+            PendingNode& top = stack.back();
+            const std::vector<int>& children = model_.nodes[top.node].children;
+            if (top.next_child < children.size()) {
+                const int child = children[top.next_child++];
+                const glm::mat4 parent = top.world;   // `top` dangles once enter() grows the stack
+                enter(child, parent, stack);
+                continue;
+            }
+            node_state_[top.node] = NodeState::Done;
+            stack.pop_back();
+        }
+    }
+
+    void enter(int node_index, const glm::mat4& parent, std::vector<PendingNode>& stack) {
+        if (node_index < 0 || node_index >= static_cast<int>(model_.nodes.size()))
+            throw file_error(file_, "node " + std::to_string(node_index) + " does not exist");
+        // glTF nodes form disjoint trees; a node reached twice would be instanced once per path, and a few
+        // nodes sharing children multiply into billions of paths.
+        if (node_state_[node_index] == NodeState::OnPath)
+            throw file_error(file_, "node " + std::to_string(node_index) + " is its own ancestor");
+        if (node_state_[node_index] == NodeState::Done)
+            throw file_error(file_, "node " + std::to_string(node_index) + " has more than one parent");
+        node_state_[node_index] = NodeState::OnPath;
+        const tinygltf::Node& node = model_.nodes[node_index];
+        glm::mat4 world = parent * local_transform(node);
+
+        if (node.mesh >= 0) add_mesh_instances(node, node.mesh, world);
+        if (node.camera >= 0) add_camera(node.camera, world);
+        auto light = node.extensions.find("KHR_lights_punctual");
+        if (light != node.extensions.end() && light->second.Has("light"))
+            add_light(light->second.Get("light").GetNumberAsInt(), world);
+        stack.push_back({node_index, world, 0});
+    }
+
+    // One Instance per primitive, times EXT_mesh_gpu_instancing's instances when the node has them.
+    void add_mesh_instances(const tinygltf::Node& node, int mesh_index, const glm::mat4& node_world) {
+        if (mesh_index >= static_cast<int>(model_.meshes.size()))
+            throw file_error(file_, "mesh " + std::to_string(mesh_index) + " does not exist");
+        warn_if_animated(node, model_.meshes[mesh_index]);
+        for (const glm::mat4& local : gltf::gpu_instance_transforms(model_, node, file_))
+            add_primitive_instances(node, mesh_index, node_world * local);
+    }
+
+    // Prism draws no animation: skinned and morphing meshes appear in their rest pose, said once per file.
+    void warn_if_animated(const tinygltf::Node& node, const tinygltf::Mesh& mesh) {
+        bool morphs = false;
+        for (const tinygltf::Primitive& primitive : mesh.primitives) morphs = morphs || !primitive.targets.empty();
+        if ((node.skin < 0 && !morphs) || warned_animated_) return;
+        scene_.warnings.push_back(file_ + ": skins and morph targets are not applied; meshes are drawn in their rest pose");
+        warned_animated_ = true;
+    }
+
+    void add_primitive_instances(const tinygltf::Node& node, int mesh_index, const glm::mat4& world) {
+        // A mirroring transform reverses the winding after transformation; a mirrored copy with reversed winding
+        // keeps geometric normals facing the way the file meant.
+        bool mirrored = glm::determinant(glm::mat3(world)) < 0.0f;
+        const tinygltf::Mesh& mesh = model_.meshes[mesh_index];
+        for (size_t p = 0; p < mesh.primitives.size(); ++p) {
+            auto key = std::make_tuple(mesh_index, static_cast<int>(p), mirrored);
+            auto found = meshes_.find(key);
+            uint32_t scene_mesh;
+            if (found != meshes_.end()) {
+                scene_mesh = found->second;
+            } else {
+                Mesh converted;
+                if (!convert_primitive(mesh, mesh_index, static_cast<int>(p), mirrored, converted)) {
+                    meshes_[key] = kSkipped;
+                    continue;
+                }
+                scene_.meshes.push_back(std::move(converted));
+                scene_mesh = static_cast<uint32_t>(scene_.meshes.size() - 1);
+                meshes_[key] = scene_mesh;
+            }
+            if (scene_mesh == kSkipped) continue;
+            Instance instance;
+            instance.mesh = scene_mesh;
+            instance.transform = world;
+            instance.name = node.name.empty() ? mesh.name : node.name;
+            scene_.instances.push_back(std::move(instance));
+        }
+    }
+
+    bool convert_primitive(const tinygltf::Mesh& mesh, int mesh_index, int primitive_index, bool mirrored, Mesh& out) {
+        const tinygltf::Primitive& primitive = mesh.primitives[primitive_index];
+        std::string what = "mesh " + std::to_string(mesh_index) + " primitive " + std::to_string(primitive_index);
+        if (primitive.mode != TINYGLTF_MODE_TRIANGLES && primitive.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+            primitive.mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+            if (!warned_non_triangles_)
+                scene_.warnings.push_back(file_ + ": points and lines primitives are not traced; skipped");
+            warned_non_triangles_ = true;
+            return false;
+        }
+        auto attribute = [&](const char* name) {
+            auto it = primitive.attributes.find(name);
+            return it == primitive.attributes.end() ? -1 : it->second;
+        };
+        int position_accessor = attribute("POSITION");
+        if (position_accessor < 0) {
+            scene_.warnings.push_back(file_ + ": " + what + " has no POSITION; skipped");
+            return false;
+        }
+        gltf::FloatArray positions = gltf::read_floats(model_, position_accessor, file_);
+        if (positions.components != 3) throw file_error(file_, what + ": POSITION must be VEC3");
+        size_t vertex_count = positions.count;
+        out.name = mesh.name.empty() ? what : mesh.name;
+        out.positions.resize(vertex_count);
+        for (size_t i = 0; i < vertex_count; ++i)
+            out.positions[i] = {positions.at(i, 0), positions.at(i, 1), positions.at(i, 2)};
+
+        auto read_attribute = [&](const char* name, int min_components, int max_components) {
+            gltf::FloatArray array;
+            int accessor = attribute(name);
+            if (accessor < 0) return array;
+            array = gltf::read_floats(model_, accessor, file_);
+            if (array.components < min_components || array.components > max_components)
+                throw file_error(file_, what + ": " + name + " has the wrong number of components");
+            if (array.count != vertex_count)
+                throw file_error(file_, what + ": " + name + " count differs from POSITION count");
+            return array;
+        };
+        if (gltf::FloatArray normals = read_attribute("NORMAL", 3, 3); normals.count) {
+            out.normals.resize(vertex_count);
+            for (size_t i = 0; i < vertex_count; ++i) out.normals[i] = {normals.at(i, 0), normals.at(i, 1), normals.at(i, 2)};
+        }
+        if (gltf::FloatArray uv = read_attribute("TEXCOORD_0", 2, 2); uv.count) {
+            out.uv0.resize(vertex_count);
+            for (size_t i = 0; i < vertex_count; ++i) out.uv0[i] = {uv.at(i, 0), uv.at(i, 1)};
+        }
+        if (gltf::FloatArray uv = read_attribute("TEXCOORD_1", 2, 2); uv.count) {
+            out.uv1.resize(vertex_count);
+            for (size_t i = 0; i < vertex_count; ++i) out.uv1[i] = {uv.at(i, 0), uv.at(i, 1)};
+        }
+        if (gltf::FloatArray colors = read_attribute("COLOR_0", 3, 4); colors.count) {
+            out.colors.resize(vertex_count);
+            for (size_t i = 0; i < vertex_count; ++i)
+                out.colors[i] = {colors.at(i, 0), colors.at(i, 1), colors.at(i, 2),
+                                 colors.components == 4 ? colors.at(i, 3) : 1.0f};
+        }
+
+        if (gltf::FloatArray tangents = read_attribute("TANGENT", 4, 4); tangents.count) {
+            out.tangents.resize(vertex_count);
+            for (size_t i = 0; i < vertex_count; ++i)
+                out.tangents[i] = {tangents.at(i, 0), tangents.at(i, 1), tangents.at(i, 2), tangents.at(i, 3)};
+        }
+
+        std::vector<uint32_t> indices;
+        if (primitive.indices >= 0) {
+            indices = gltf::read_indices(model_, primitive.indices, file_);
+            for (uint32_t index : indices)
+                if (index >= vertex_count)
+                    throw file_error(file_, what + ": index " + std::to_string(index) + " out of range (" +
+                                               std::to_string(vertex_count) + " vertices)");
+        } else {
+            indices.resize(vertex_count);
+            for (size_t i = 0; i < vertex_count; ++i) indices[i] = static_cast<uint32_t>(i);
+        }
+        triangulate(primitive.mode, indices, out.triangles);
+        if (mirrored)
+            for (glm::uvec3& triangle : out.triangles) std::swap(triangle.y, triangle.z);
+        uint32_t material = materials_.material(primitive.material);
+        out.triangle_materials.assign(out.triangles.size(), material);
+        const auto& normal_map = scene_.materials[material].normal_map;
+        if (normal_map && out.tangents.empty()) generate_tangents(out, normal_map->uv_set);
+        // The kernel's bitangent is cross(world normal, world tangent) * sign, and a mirroring transform turns
+        // that cross product around: the mirrored copy carries the opposite sign.
+        if (mirrored)
+            for (glm::vec4& tangent : out.tangents) tangent.w = -tangent.w;
+        return true;
+    }
+
+    // The glTF spec's vertex order for each mode, so front faces stay counter-clockwise.
+    static void triangulate(int mode, const std::vector<uint32_t>& indices, std::vector<glm::uvec3>& triangles) {
+        size_t n = indices.size();
+        if (mode == TINYGLTF_MODE_TRIANGLES) {
+            triangles.reserve(n / 3);
+            for (size_t i = 0; i + 2 < n; i += 3) triangles.push_back({indices[i], indices[i + 1], indices[i + 2]});
+            return;
+        }
+        for (size_t i = 0; i + 2 < n; ++i) {
+            glm::uvec3 triangle;
+            if (mode == TINYGLTF_MODE_TRIANGLE_STRIP)
+                triangle = (i % 2 == 0) ? glm::uvec3(indices[i], indices[i + 1], indices[i + 2])
+                                        : glm::uvec3(indices[i + 1], indices[i], indices[i + 2]);
+            else
+                triangle = {indices[i + 1], indices[i + 2], indices[0]};
+            // Strips stitch separate runs together with repeated indices; those zero-area joints are not geometry.
+            if (triangle.x == triangle.y || triangle.y == triangle.z || triangle.x == triangle.z) continue;
+            triangles.push_back(triangle);
+        }
+    }
+
+    void add_camera(int camera_index, const glm::mat4& world) {
+        if (camera_index >= static_cast<int>(model_.cameras.size()))
+            throw file_error(file_, "camera " + std::to_string(camera_index) + " does not exist");
+        if (scene_.has_camera) return;   // the first camera instance wins
+        const tinygltf::Camera& camera = model_.cameras[camera_index];
+        if (camera.type != "perspective") {
+            scene_.warnings.push_back(file_ + ": camera " + std::to_string(camera_index) +
+                                      " is orthographic; Prism traces perspective cameras only, ignored");
+            return;
+        }
+        glm::vec3 position = world * glm::vec4(0, 0, 0, 1);
+        glm::vec3 forward = glm::normalize(glm::vec3(world * glm::vec4(0, 0, -1, 0)));
+        glm::vec3 up = glm::normalize(glm::vec3(world * glm::vec4(0, 1, 0, 0)));
+        scene_.camera.position = position;
+        scene_.camera.target = position + forward;
+        scene_.camera.up = up;
+        scene_.camera.vertical_fov_degrees = glm::degrees(static_cast<float>(camera.perspective.yfov));
+        scene_.has_camera = true;
+    }
+
+    void add_light(int light_index, const glm::mat4& world) {
+        if (light_index < 0 || light_index >= static_cast<int>(model_.lights.size()))
+            throw file_error(file_, "light " + std::to_string(light_index) + " does not exist");
+        const tinygltf::Light& source = model_.lights[light_index];
+        Light light;
+        if (source.color.size() >= 3)
+            light.color = {static_cast<float>(source.color[0]), static_cast<float>(source.color[1]),
+                           static_cast<float>(source.color[2])};
+        light.intensity = static_cast<float>(source.intensity);
+        if (source.type == "directional") {
+            light.type = LightType::Directional;
+            light.direction = glm::normalize(glm::vec3(world * glm::vec4(0, 0, -1, 0)));
+        } else {
+            if (source.type == "spot" && !warned_spot_) {
+                scene_.warnings.push_back(file_ + ": spot lights are traced as point lights");
+                warned_spot_ = true;
+            }
+            light.type = LightType::Point;
+            light.position = glm::vec3(world * glm::vec4(0, 0, 0, 1));
+        }
+        scene_.lights.push_back(light);
+    }
+
+    static constexpr uint32_t kSkipped = ~0u;
+    const tinygltf::Model& model_;
+    std::string file_;
+    Scene& scene_;
+    gltf::MaterialConverter materials_;
+    bool report_progress_;
+    std::map<std::tuple<int, int, bool>, uint32_t> meshes_;   // (mesh, primitive, mirrored) -> scene mesh
+    std::vector<NodeState> node_state_;                       // per node: unseen, on the current path, done
+    bool warned_non_triangles_ = false;
+    bool warned_animated_ = false;
+    bool warned_spot_ = false;
+};
+
+bool has_extension(const std::filesystem::path& path, const char* extension) {
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    return ext == extension;
+}
+
+}  // namespace
+
+void load_gltf(const std::filesystem::path& path, Scene& scene) {
+    std::string file = path.string();
+    const bool binary = has_extension(path, ".glb");
+    const std::string bytes = read_input_file(path);
+    if (bytes.empty()) throw file_error(file, "empty file");
+    if (bytes.size() > UINT32_MAX) throw file_error(file, "larger than 4 GiB, more than glTF allows");
+    if (json_nesting_depth(json_text(bytes, binary)) > kMaxJsonDepth)
+        throw file_error(file, "JSON nests deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+
+    tinygltf::TinyGLTF loader;
+    tinygltf::Model model;
+    loader.SetImageLoader(keep_encoded_image, &model);
+    std::error_code ignored;
+    ExternalFiles files{file, std::filesystem::absolute(path, ignored).parent_path().string(), std::nullopt};
+    loader.SetFsCallbacks({external_file_exists, external_file_path, read_external_file, write_nothing, &files});
+    std::string error, warning;
+    bool ok = false;
+    try {
+        const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+        ok = binary ? loader.LoadBinaryFromMemory(&model, &error, &warning, data, unsigned(bytes.size()), files.base)
+                    : loader.LoadASCIIFromString(&model, &error, &warning, bytes.data(), unsigned(bytes.size()),
+                                                 files.base);
+    } catch (const std::exception& exception) {   // tinygltf reports by return value, but its JSON layer may throw
+        throw file_error(file, library_message(exception.what(), "malformed glTF"));
+    }
+    if (files.refusal) throw *files.refusal;
+    if (!ok || !error.empty()) throw file_error(file, library_message(error, "malformed glTF"));
+    std::istringstream lines(warning);
+    for (std::string line; std::getline(lines, line);)
+        if (!line.empty()) scene.warnings.push_back(file + ": " + library_message(line, line));
+
+    for (const std::string& required : model.extensionsRequired)
+        if (required != "KHR_texture_transform" && required != "KHR_materials_emissive_strength" &&
+            required != "KHR_lights_punctual" && required != "KHR_mesh_quantization" &&
+            required != "EXT_mesh_gpu_instancing")
+            scene.warnings.push_back(file + ": required extension " + required + " is not supported");
+
+    // Progress for large files only: a small one loads at once, and one that fails leaves only its error line.
+    const bool report_progress = bytes.size() >= kBytesWorthReporting;
+    if (report_progress) report_load_progress(0.3);   // parsed; the meshes and textures follow
+    LoadProgressShare importing(0.3, 1.0);
+    GltfImporter(model, file, scene, report_progress).import();
+}
+
+}  // namespace prism

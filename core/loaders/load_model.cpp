@@ -1,0 +1,50 @@
+#include "core/loaders/load_model.h"
+
+#include <algorithm>
+
+#include "core/util/error.h"
+#include "core/loaders/load_gltf.h"
+#include "core/loaders/load_obj.h"
+#include "core/loaders/load_ply.h"
+#include "core/scene/seed_material.h"
+
+namespace prism {
+namespace {
+
+bool ends_with(const std::string& text, const std::string& suffix) {
+    return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
+ModelFormat model_format(const std::filesystem::path& path) {
+    std::string name = path.filename().string();
+    std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (ends_with(name, ".gltf") || ends_with(name, ".glb")) return ModelFormat::Gltf;
+    if (ends_with(name, ".obj")) return ModelFormat::Obj;
+    if (ends_with(name, ".ply") || ends_with(name, ".ply.gz")) return ModelFormat::Ply;
+    if (ends_with(name, ".json")) return ModelFormat::SceneJson;
+    return ModelFormat::Unknown;
+}
+
+void load_model(const std::filesystem::path& path, Scene& scene) {
+    switch (model_format(path)) {
+        case ModelFormat::Gltf: load_gltf(path, scene); return;
+        case ModelFormat::Obj: load_obj(path, scene); return;
+        case ModelFormat::Ply: {
+            Mesh mesh = load_ply(path);
+            scene.materials.push_back(default_material());
+            mesh.triangle_materials.assign(mesh.triangles.size(), static_cast<uint32_t>(scene.materials.size() - 1));
+            if (mesh.name.empty()) mesh.name = path.filename().string();
+            scene.meshes.push_back(std::move(mesh));
+            Instance instance;
+            instance.mesh = static_cast<uint32_t>(scene.meshes.size() - 1);
+            instance.name = path.filename().string();
+            scene.instances.push_back(std::move(instance));
+            return;
+        }
+        default: throw file_error(path.string(), "unsupported scene format");
+    }
+}
+
+}  // namespace prism

@@ -1,0 +1,105 @@
+#include <algorithm>
+#include <cctype>
+
+#include "core/render/backend.h"
+#include "core/util/error.h"
+
+namespace prism {
+
+const char* device_array_name(DeviceArray array) {
+    switch (array) {
+#define RT_DATA_ARRAY(slot, type, name, access, role) \
+    case DeviceArray::name:                     \
+        return #name;
+#include "kernels/data_arrays.h"
+#undef RT_DATA_ARRAY
+        default:
+            return "?";
+    }
+}
+
+size_t device_array_element_size(DeviceArray array) {
+    switch (array) {
+#define RT_DATA_ARRAY(slot, type, name, access, role) \
+    case DeviceArray::name:                     \
+        return sizeof(type);
+#include "kernels/data_arrays.h"
+#undef RT_DATA_ARRAY
+        default:
+            return 0;
+    }
+}
+
+DeviceArrayRole device_array_role(DeviceArray array) {
+    static constexpr DeviceArrayRole roles[] = {
+#define PRISM_ROLE_scene DeviceArrayRole::Scene
+#define PRISM_ROLE_frame DeviceArrayRole::Frame
+#define PRISM_ROLE_queue DeviceArrayRole::Queue
+#define PRISM_ROLE_pixel DeviceArrayRole::Pixel
+#define RT_DATA_ARRAY(slot, type, name, access, role) PRISM_ROLE_##role,
+#include "kernels/data_arrays.h"
+#undef RT_DATA_ARRAY
+    };
+    return roles[static_cast<size_t>(array)];
+}
+
+const char* stage_name(Stage stage) {
+    static constexpr const char* names[] = {
+#define RT_STAGE(name, Name, pass, launch) #name,
+#include "kernels/stage_list.h"
+#undef RT_STAGE
+    };
+    return names[static_cast<size_t>(stage)];
+}
+
+StagePass stage_pass(Stage stage) {
+    static constexpr StagePass passes[] = {
+#define RT_STAGE(name, Name, pass, launch) StagePass::pass,
+#include "kernels/stage_list.h"
+#undef RT_STAGE
+    };
+    return passes[static_cast<size_t>(stage)];
+}
+
+StageLaunch stage_launch(Stage stage) {
+    static constexpr StageLaunch launches[] = {
+#define RT_STAGE(name, Name, pass, launch) StageLaunch::launch,
+#include "kernels/stage_list.h"
+#undef RT_STAGE
+    };
+    return launches[static_cast<size_t>(stage)];
+}
+
+BackendSpec parse_backend_spec(const std::string& text) {
+    BackendSpec spec;
+    auto colon = text.find(':');
+    spec.api = text.substr(0, colon);
+    if (colon != std::string::npos) spec.device_filter = text.substr(colon + 1);
+    std::transform(spec.api.begin(), spec.api.end(), spec.api.begin(), [](unsigned char c) { return std::tolower(c); });
+    return spec;
+}
+
+static std::vector<BackendFactory>& registry() {
+    static std::vector<BackendFactory> factories;
+    return factories;
+}
+
+void register_backend(BackendFactory factory) {
+    for (const BackendFactory& existing : registry())
+        if (existing.name == factory.name) return;
+    registry().push_back(std::move(factory));
+}
+
+const std::vector<BackendFactory>& registered_backends() { return registry(); }
+
+std::unique_ptr<Backend> create_backend(const std::string& text, const GlContextHandles* gl) {
+    BackendSpec spec = parse_backend_spec(text);
+    std::string known = "cpu-ref";
+    for (const BackendFactory& factory : registry()) {
+        known += ", " + factory.name;
+        if (factory.name == spec.api) return factory.create(spec.device_filter, gl);
+    }
+    throw Error("unknown backend '" + text + "' (this build has: " + known + "; `prism info` says which run here)");
+}
+
+}  // namespace prism

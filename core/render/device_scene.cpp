@@ -1,0 +1,469 @@
+#include "core/render/device_scene.h"
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cmath>
+#include <map>
+
+#include "core/bvh/bvh_tree.h"
+#include "core/render/device_scene_flat.h"
+#include "core/util/error.h"
+#include "kernels/math.h"
+
+namespace prism {
+namespace {
+
+float4 to_float4(glm::vec3 v, float w) { return float4{v.x, v.y, v.z, w}; }
+float4 to_float4(glm::vec4 v) { return float4{v.x, v.y, v.z, v.w}; }
+float as_float(uint32_t u) { return std::bit_cast<float>(u); }
+uint32_t as_uint(float f) { return std::bit_cast<uint32_t>(f); }
+
+// A triangle that no ray can hit reliably (zero area or non-finite) is left out of its BVH; it keeps its index.
+bool degenerate(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+    glm::vec3 n = glm::cross(b - a, c - a);
+    float area2 = glm::dot(n, n);
+    return !(area2 > 0.0f) || !std::isfinite(area2);
+}
+
+// Node indices of a separately built BVH moved to where it lands in the shared arrays.
+void rebase_nodes(std::vector<BvhNode>& nodes, BvhLayout layout, uint32_t node_offset, uint32_t primitive_offset) {
+    for (BvhNode& node : nodes) {
+        uint32_t lower_w = as_uint(node.lower.w);
+        uint32_t upper_w = as_uint(node.upper.w);
+        if (layout != BvhLayout::Escape) {
+            bool leaf = upper_w != 0;
+            node.lower.w = as_float(lower_w + (leaf ? primitive_offset : node_offset));
+        } else {
+            node.lower.w = as_float(lower_w + node_offset);
+            if (upper_w != RT_ESCAPE_INTERIOR) {
+                uint32_t first = (upper_w & RT_ESCAPE_FIRST_MASK) + primitive_offset;
+                if (first > RT_ESCAPE_FIRST_MASK)
+                    throw Error("scene: more than 16,777,215 triangles do not fit the escape BVH layout "
+                                "(use the stack layout)");
+                node.upper.w = as_float((upper_w & ~RT_ESCAPE_FIRST_MASK) | first);
+            }
+        }
+    }
+}
+
+// Top-level leaves index `primitive_order`; the kernels want the instance index itself. The builder's tree is
+// kept unchanged for refits; this returns the nodes the device sees.
+std::vector<BvhNode> top_level_device_nodes(const Bvh& bvh) {
+    std::vector<BvhNode> nodes = bvh.nodes;
+    for (BvhNode& node : nodes) {
+        uint32_t upper_w = as_uint(node.upper.w);
+        if (bvh.layout != BvhLayout::Escape) {
+            if (upper_w == 0) continue;
+            if (upper_w != 1) throw Error("internal: top-level BVH leaf with more than one instance");
+            node.lower.w = as_float(bvh.primitive_order[as_uint(node.lower.w)]);
+        } else {
+            if (upper_w == RT_ESCAPE_INTERIOR) continue;
+            if ((upper_w >> RT_ESCAPE_COUNT_SHIFT) != 1)
+                throw Error("internal: top-level BVH leaf with more than one instance");
+            uint32_t instance = bvh.primitive_order[upper_w & RT_ESCAPE_FIRST_MASK];
+            node.upper.w = as_float((1u << RT_ESCAPE_COUNT_SHIFT) | instance);
+        }
+    }
+    return nodes;
+}
+
+// Wide nodes of a separately built mesh BVH moved to where they land in `wide_nodes`.
+void rebase_wide_nodes(std::vector<BvhWideNode>& nodes, uint32_t node_offset, uint32_t primitive_offset) {
+    for (BvhWideNode& node : nodes)
+        for (uint32_t k = 0; k < RT_BVH_WIDTH; ++k) {
+            if (!wide_lane_used(node, k)) continue;
+            if (wide_lane_leaf(node, k))
+                set_wide_lane_leaf(node, k, wide_lane_first(node, k) + primitive_offset, wide_lane_count(node, k));
+            else
+                set_wide_lane_node(node, k, wide_lane_ref(node, k) + node_offset);
+        }
+}
+
+// A mesh's wide leaves moved from triangle ranges (slots in `triangles`) to blocks of four appended to `blocks`.
+void block_wide_leaves(std::vector<BvhWideNode>& nodes, const std::vector<TriangleGeometry>& triangles,
+                       std::vector<TriangleBlock>& blocks) {
+    auto lane = [](auto& v, uint32_t k) -> auto& { return k == 0 ? v.x : k == 1 ? v.y : k == 2 ? v.z : v.w; };
+    for (BvhWideNode& node : nodes)
+        for (uint32_t k = 0; k < RT_BVH_WIDTH; ++k) {
+            if (!wide_lane_leaf(node, k)) continue;
+            uint32_t first = wide_lane_first(node, k), count = wide_lane_count(node, k);
+            uint32_t first_block = uint32_t(blocks.size());
+            for (uint32_t i = 0; i < count; i += 4) {
+                TriangleBlock block{};   // unused lanes: zero edges, never hit
+                block.slot = block.primitive = block.instance = uint4{~0u, ~0u, ~0u, ~0u};
+                for (uint32_t l = 0; l < 4 && i + l < count; ++l) {
+                    const TriangleGeometry& t = triangles[first + i + l];
+                    lane(block.v0x, l) = t.v0.x, lane(block.v0y, l) = t.v0.y, lane(block.v0z, l) = t.v0.z;
+                    lane(block.e1x, l) = t.e1.x, lane(block.e1y, l) = t.e1.y, lane(block.e1z, l) = t.e1.z;
+                    lane(block.e2x, l) = t.e2.x, lane(block.e2y, l) = t.e2.y, lane(block.e2z, l) = t.e2.z;
+                    lane(block.slot, l) = first + i + l;
+                    lane(block.primitive, l) = std::bit_cast<uint32_t>(t.v0.w);
+                }
+                blocks.push_back(block);
+            }
+            set_wide_lane_leaf(node, k, first_block, count);
+        }
+}
+
+// The top level in the wide layout: leaves name the instance itself, and the nodes are padded to `capacity` (the
+// most any top level over these instances can need), so a rebuild never moves the mesh BVHs behind it.
+std::vector<BvhWideNode> top_level_wide_device_nodes(const Bvh& bvh, size_t capacity) {
+    std::vector<BvhWideNode> nodes = bvh.wide_nodes;
+    if (nodes.size() > capacity) throw Error("internal: wide top level larger than its capacity");
+    for (BvhWideNode& node : nodes)
+        for (uint32_t k = 0; k < RT_BVH_WIDTH; ++k) {
+            if (!wide_lane_leaf(node, k)) continue;
+            if (wide_lane_count(node, k) != 1) throw Error("internal: top-level BVH leaf with more than one instance");
+            set_wide_lane_leaf(node, k, bvh.primitive_order[wide_lane_first(node, k)], 1);
+        }
+    nodes.resize(capacity, empty_wide_node());
+    return nodes;
+}
+
+// A 4-ary tree over n leaves, each node with at least two children (or one node for n = 1), has at most n - 1.
+size_t wide_top_level_capacity(size_t instances) { return instances > 1 ? instances - 1 : 1; }
+
+Aabb transformed_bounds(const Aabb& box, const glm::mat4& m) {
+    Aabb out;
+    for (int corner = 0; corner < 8; ++corner) {
+        glm::vec3 p{(corner & 1) ? box.upper.x : box.lower.x, (corner & 2) ? box.upper.y : box.lower.y,
+                    (corner & 4) ? box.upper.z : box.lower.z};
+        out.grow(glm::vec3(m * glm::vec4(p, 1.0f)));
+    }
+    return out;
+}
+
+::Instance device_instance(const glm::mat4& transform, uint32_t root, uint32_t first_triangle,
+                           uint32_t first_shading) {
+    glm::mat4 inverse = glm::inverse(transform);
+    ::Instance out{};
+    // glm is column-major: row r of the 3x4 matrix is (m[0][r], m[1][r], m[2][r], m[3][r]).
+    auto row = [](const glm::mat4& m, int r) { return float4{m[0][r], m[1][r], m[2][r], m[3][r]}; };
+    out.world_to_object0 = row(inverse, 0);
+    out.world_to_object1 = row(inverse, 1);
+    out.world_to_object2 = row(inverse, 2);
+    out.object_to_world0 = row(transform, 0);
+    out.object_to_world1 = row(transform, 1);
+    out.object_to_world2 = row(transform, 2);
+    bool identity = inverse == glm::mat4(1.0f);
+    out.info = uint4{root, first_triangle, first_shading,
+                     (glm::determinant(glm::mat3(transform)) < 0.0f ? RT_INSTANCE_MIRRORED : 0u) |
+                         (identity ? RT_INSTANCE_IDENTITY : 0u)};
+    return out;
+}
+
+void build_top_level(DeviceScene& device, const std::vector<glm::mat4>& transforms, bool rebuild) {
+    std::vector<Aabb> bounds(transforms.size());
+    for (size_t i = 0; i < transforms.size(); ++i)
+        bounds[i] = transformed_bounds(device.mesh_bounds[device.instance_meshes[i]], transforms[i]);
+    if (rebuild) {
+        BvhBuildOptions options = device.bvh_options;
+        options.max_leaf_size = 1;
+        options.wide_leaf_size = 1;   // a top-level leaf is one instance
+        device.top_level = build_bvh(bounds, options);
+    } else {
+        // refit_bvh maps leaves through primitive_order, which still holds the instance order.
+        refit_bvh(device.top_level, bounds);
+    }
+}
+
+::Material device_material(const prism::Material& m, uint32_t first_layer) {
+    ::Material out{};
+    out.diffuse = to_float4(m.diffuse, m.use_vertex_colors ? 1.0f : 0.0f);
+    out.specular = to_float4(m.specular, m.reflectivity);
+    out.ambient = to_float4(m.ambient, m.transmittance);
+    out.fresnel = float4{m.fresnel_bias, m.fresnel_scale, m.fresnel_power, m.thickness};
+    out.ior = to_float4(m.ior, 0.0f);
+    out.emissive = to_float4(m.emissive, 0.0f);
+    uint32_t flags = (m.metal_rough ? RT_MATERIAL_METAL_ROUGH : 0u) |
+                     (m.alpha_mode == AlphaMode::Mask ? RT_MATERIAL_ALPHA_MASK : 0u) |
+                     (m.alpha_mode == AlphaMode::Blend ? RT_MATERIAL_ALPHA_BLEND : 0u) |
+                     (m.vertex_colors_replace ? RT_MATERIAL_VERTEX_REPLACE : 0u);
+    out.textures = uint4{first_layer, static_cast<uint32_t>(m.textures.size()), flags, std::bit_cast<uint32_t>(m.alpha)};
+    out.emissive.w = m.alpha_cutoff;
+    out.absorption = to_float4(m.absorption, 0.0f);
+    out.metal_rough = float4{m.metallic, m.roughness, m.occlusion_strength, m.normal_scale};
+    // The maps' layers follow the stack's, in this order (see material_maps).
+    uint32_t next = first_layer + static_cast<uint32_t>(m.textures.size());
+    auto map_index = [&next](const std::optional<prism::TextureLayer>& map) { return map ? next++ : RT_NONE; };
+    out.maps.x = map_index(m.metal_rough_map);
+    out.maps.y = map_index(m.emissive_map);
+    out.maps.z = map_index(m.occlusion_map);
+    out.maps.w = map_index(m.normal_map);
+    out.specular_maps = uint4{map_index(m.specular_map), map_index(m.specular_color_map), RT_NONE, RT_NONE};
+    return out;
+}
+
+// A material's texture stack, then its single-purpose maps in device_material's order.
+std::vector<prism::TextureLayer> material_layers(const prism::Material& m) {
+    std::vector<prism::TextureLayer> layers = m.textures;
+    for (const auto* map : {&m.metal_rough_map, &m.emissive_map, &m.occlusion_map, &m.normal_map, &m.specular_map,
+                            &m.specular_color_map})
+        if (*map) layers.push_back(**map);
+    return layers;
+}
+
+}  // namespace
+
+size_t DeviceScene::byte_size() const {
+    size_t bytes = 0;
+#define RT_DATA_ARRAY(slot, type, name, access, role) PRISM_IF_SCENE_ARRAY(role, bytes += name.size() * sizeof(::type);)
+#include "kernels/data_arrays.h"
+#undef RT_DATA_ARRAY
+    return bytes;
+}
+
+// Flattening stores a mesh once per instance: a scene that instances its meshes heavily (a forest of one tree)
+// would multiply its memory, so it keeps the two-level layout when the flattened triangles would exceed
+// `growth_limit` times the meshes' own.
+static bool flattening_fits(const Scene& scene, float growth_limit) {
+    double own = 0.0, flattened = 0.0;
+    for (const Mesh& mesh : scene.meshes) own += double(mesh.triangles.size());
+    for (const Instance& instance : scene.instances) flattened += double(scene.meshes[instance.mesh].triangles.size());
+    return flattened <= double(growth_limit) * std::max(own, 1.0);
+}
+
+DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& options, const BvhProgress& progress) {
+    auto start = std::chrono::steady_clock::now();
+    DeviceScene device;
+    device.bvh_options = options;
+
+    // Mesh BVHs, built separately then placed after the top level.
+    struct MeshPlacement {
+        uint32_t first_vertex, first_shading, first_triangle;
+        Bvh bvh;
+    };
+    std::vector<MeshPlacement> placements;
+    placements.reserve(scene.meshes.size());
+    double triangle_weighted_sah = 0.0;
+    size_t bvh_triangles = 0;
+    // Flattened instances trace one world BVH (core/render/device_scene_flat.cpp): no mesh needs a BVH of its own, its
+    // triangles keep their file order (degenerate ones left out).
+    bool flatten = options.layout == BvhLayout::Wide && options.flatten_instances &&
+                   flattening_fits(scene, options.flatten_growth_limit);
+    device.bvh_options.flatten_instances = flatten;   // what was built: the renderer's frame flag reads it
+    device.mesh_bounds.resize(scene.meshes.size());
+    // The meshes' builds report their share of every triangle the scene's BVHs will hold.
+    double triangles_to_place = 0.0, triangles_placed = 0.0;
+    for (const Mesh& mesh : scene.meshes) triangles_to_place += double(mesh.triangles.size());
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        const Mesh& mesh = scene.meshes[m];
+        MeshPlacement placement{static_cast<uint32_t>(device.vertices.size()),
+                                static_cast<uint32_t>(device.triangle_shading.size()),
+                                static_cast<uint32_t>(device.triangles.size()), {}};
+        for (size_t v = 0; v < mesh.positions.size(); ++v) {
+            Vertex vertex{};
+            float vertex_flags = static_cast<float>((mesh.normals.empty() ? 0u : RT_VERTEX_HAS_NORMAL) |
+                                                    (mesh.colors.empty() ? 0u : RT_VERTEX_HAS_COLOR));
+            vertex.normal = mesh.normals.empty() ? float4{0, 0, 0, vertex_flags} : to_float4(mesh.normals[v], vertex_flags);
+            vertex.color = mesh.colors.empty() ? float4{1, 1, 1, 1} : to_float4(mesh.colors[v]);
+            glm::vec2 uv0 = mesh.uv0.empty() ? glm::vec2(0.0f) : mesh.uv0[v];
+            glm::vec2 uv1 = mesh.uv1.empty() ? uv0 : mesh.uv1[v];
+            vertex.uv = float4{uv0.x, uv0.y, uv1.x, uv1.y};
+            vertex.tangent = mesh.tangents.empty() ? float4{0, 0, 0, 0} : to_float4(mesh.tangents[v]);
+            device.vertices.push_back(vertex);
+        }
+        std::vector<Aabb> bounds(mesh.triangles.size());
+        for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+            glm::uvec3 tri = mesh.triangles[t];
+            uint32_t material = mesh.triangle_materials.empty() ? 0u : mesh.triangle_materials[t];
+            device.triangle_shading.push_back(TriangleShading{uint4{placement.first_vertex + tri.x,
+                                                                    placement.first_vertex + tri.y,
+                                                                    placement.first_vertex + tri.z, material}});
+            glm::vec3 a = mesh.positions[tri.x], b = mesh.positions[tri.y], c = mesh.positions[tri.z];
+            if (degenerate(a, b, c)) {
+                ++device.degenerate_triangles;
+                continue;   // empty bounds: the builder leaves it out
+            }
+            bounds[t].grow(a);
+            bounds[t].grow(b);
+            bounds[t].grow(c);
+            device.mesh_bounds[m].grow(bounds[t]);
+        }
+        if (flatten) {
+            for (uint32_t t = 0; t < bounds.size(); ++t)
+                if (!bounds[t].empty()) placement.bvh.primitive_order.push_back(t);
+        } else {
+            const double share = double(mesh.triangles.size());
+            BvhProgress mesh_progress;
+            if (progress)
+                mesh_progress = [&progress, triangles_placed, share, triangles_to_place](double fraction) {
+                    progress((triangles_placed + fraction * share) / triangles_to_place);
+                };
+            placement.bvh = build_bvh(bounds, options, mesh_progress);
+            triangles_placed += share;
+        }
+        for (uint32_t t : placement.bvh.primitive_order) {
+            glm::uvec3 tri = mesh.triangles[t];
+            glm::vec3 a = mesh.positions[tri.x], b = mesh.positions[tri.y], c = mesh.positions[tri.z];
+            device.triangles.push_back(TriangleGeometry{to_float4(a, as_float(t)), to_float4(b - a, 0.0f),
+                                                        to_float4(c - a, 0.0f)});
+        }
+        triangle_weighted_sah += double(placement.bvh.sah_cost) * placement.bvh.primitive_order.size();
+        bvh_triangles += placement.bvh.primitive_order.size();
+        placements.push_back(std::move(placement));
+    }
+
+    // Instances whose mesh has nothing to hit are left out of the top level (they can never be hit).
+    std::vector<glm::mat4> transforms;
+    std::vector<uint32_t> kept;
+    for (size_t i = 0; i < scene.instances.size(); ++i) {
+        const prism::Instance& instance = scene.instances[i];
+        if (device.mesh_bounds[instance.mesh].empty()) continue;
+        kept.push_back(static_cast<uint32_t>(i));
+        transforms.push_back(instance.transform);
+        device.instance_meshes.push_back(instance.mesh);
+        device.traced_triangles += placements[instance.mesh].bvh.primitive_order.size();
+    }
+    if (kept.empty())
+        throw Error(scene.source + ": scene has no triangles that can be hit (all " +
+                    std::to_string(device.degenerate_triangles) + " are degenerate or none exist)");
+    if (kept.size() != scene.instances.size())
+        throw Error(scene.source + ": an instance's mesh has only degenerate triangles");   // keeps instance ids = scene ids
+    build_top_level(device, transforms, true);
+    // The layout's node array holds the top level first, then each mesh's BVH; the other array gets one unused
+    // node (GPU APIs dislike empty buffers).
+    if (flatten) {
+        std::vector<uint32_t> first_triangle, triangle_count;
+        for (MeshPlacement& placement : placements) {
+            first_triangle.push_back(placement.first_triangle);
+            triangle_count.push_back(uint32_t(placement.bvh.primitive_order.size()));
+            placement.first_vertex = 0;   // reused below as the mesh's root: no mesh has its own
+        }
+        build_flat_instances(device, scene, first_triangle, triangle_count, progress);
+        BvhNode unused{};
+        set_node_box(unused, Aabb{});
+        device.nodes.assign(1, unused);
+    } else if (options.layout == BvhLayout::Wide) {
+        device.top_level_nodes = wide_top_level_capacity(scene.instances.size());
+        device.wide_nodes = top_level_wide_device_nodes(device.top_level, device.top_level_nodes);
+        for (size_t m = 0; m < placements.size(); ++m) {
+            MeshPlacement& placement = placements[m];
+            uint32_t node_offset = static_cast<uint32_t>(device.wide_nodes.size());
+            rebase_wide_nodes(placement.bvh.wide_nodes, node_offset, placement.first_triangle);
+            block_wide_leaves(placement.bvh.wide_nodes, device.triangles, device.triangle_blocks);
+            device.wide_nodes.insert(device.wide_nodes.end(), placement.bvh.wide_nodes.begin(),
+                                     placement.bvh.wide_nodes.end());
+            placement.first_vertex = node_offset;   // reused below as the mesh's root node index
+        }
+        // The traversal's fixed stack must hold the deepest path: the top level's, the leave marker, a mesh's.
+        uint32_t mesh_bound = 0;
+        for (const prism::Instance& instance : scene.instances)
+            mesh_bound = std::max(mesh_bound, wide_stack_bound(device.wide_nodes, placements[instance.mesh].first_vertex));
+        uint32_t bound = wide_stack_bound(device.wide_nodes, 0) + 1 + mesh_bound;
+        if (bound > RT_BVH_WIDE_STACK_SIZE)
+            throw Error(scene.source + ": the wide BVH needs " + std::to_string(bound) + " traversal stack entries, more than " +
+                        std::to_string(RT_BVH_WIDE_STACK_SIZE) + " (use the stack layout)");
+        BvhNode unused{};
+        set_node_box(unused, Aabb{});
+        device.nodes.assign(1, unused);
+    } else {
+        device.top_level_nodes = device.top_level.nodes.size();
+        device.nodes = top_level_device_nodes(device.top_level);
+        for (size_t m = 0; m < placements.size(); ++m) {
+            MeshPlacement& placement = placements[m];
+            uint32_t node_offset = static_cast<uint32_t>(device.nodes.size());
+            rebase_nodes(placement.bvh.nodes, options.layout, node_offset, placement.first_triangle);
+            device.nodes.insert(device.nodes.end(), placement.bvh.nodes.begin(), placement.bvh.nodes.end());
+            placement.first_vertex = node_offset;   // reused below as the mesh's root node index
+        }
+        device.wide_nodes.assign(1, empty_wide_node());
+        device.triangle_blocks.assign(1, TriangleBlock{});
+    }
+    // An instance with a material override reads its own copy of the mesh's per-triangle shading entries (vertex
+    // indices and material), one copy per (mesh, material); geometry, vertices and BVH stay shared.
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> override_shading;
+    for (size_t i = 0; i < scene.instances.size(); ++i) {
+        const prism::Instance& instance = scene.instances[i];
+        const MeshPlacement& placement = placements[instance.mesh];
+        uint32_t first_shading = placement.first_shading;
+        if (instance.material_override != kNoMaterialOverride) {
+            auto [entry, added] = override_shading.try_emplace({instance.mesh, instance.material_override},
+                                                               static_cast<uint32_t>(device.triangle_shading.size()));
+            if (added) {
+                size_t count = scene.meshes[instance.mesh].triangles.size();
+                for (size_t t = 0; t < count; ++t) {
+                    TriangleShading shading = device.triangle_shading[placement.first_shading + t];
+                    shading.vertices.w = instance.material_override;
+                    device.triangle_shading.push_back(shading);
+                }
+            }
+            first_shading = entry->second;
+        }
+        device.instances.push_back(device_instance(instance.transform, placement.first_vertex,
+                                                   placement.first_triangle, first_shading));
+    }
+
+    // Materials and their texture stacks.
+    for (const prism::Material& material : scene.materials) {
+        device.materials.push_back(device_material(material, static_cast<uint32_t>(device.texture_layers.size())));
+        for (const prism::TextureLayer& layer : material_layers(material)) {
+            ::TextureLayer out{};
+            uint32_t sampler = static_cast<uint32_t>(layer.wrap_u) | static_cast<uint32_t>(layer.wrap_v) << 2 |
+                               (layer.nearest ? RT_SAMPLER_NEAREST : 0u);
+            out.info = uint4{layer.texture, static_cast<uint32_t>(layer.mode), layer.uv_set, sampler};
+            out.environment_color = to_float4(layer.environment_color);
+            out.uv_row0 = to_float4(layer.uv_row0, 0.0f);
+            out.uv_row1 = to_float4(layer.uv_row1, 0.0f);
+            device.texture_layers.push_back(out);
+        }
+    }
+    if (device.materials.empty()) device.materials.push_back(device_material(prism::Material{}, 0));
+
+    std::vector<uint32_t> texel_offsets;
+    for (const Texture& texture : scene.textures) {
+        texel_offsets.push_back(static_cast<uint32_t>(device.texels.size()));
+        device.texture_infos.push_back(TextureInfo{uint4{texel_offsets.back(), uint32_t(texture.width),
+                                                         uint32_t(texture.height), uint32_t(texture.encoding)}});
+        device.texels.insert(device.texels.end(), texture.texels.begin(), texture.texels.end());
+    }
+    // The environment's textures get their own consecutive entries (a cube map is addressed as first + face).
+    device.environment_kind = scene.environment.kind;
+    device.environment_tint = scene.environment.color * scene.environment.intensity;
+    device.environment_texture = static_cast<uint32_t>(device.texture_infos.size());
+    for (uint32_t texture : scene.environment.textures) device.texture_infos.push_back(device.texture_infos.at(texture));
+    if (device.texture_infos.empty()) {   // GPU APIs dislike empty buffers
+        device.texture_infos.push_back(TextureInfo{uint4{0, 1, 1, RT_TEXENC_LINEAR8}});
+    }
+    if (device.texels.empty()) device.texels.push_back(0xffffffffu);
+    if (device.texture_layers.empty()) device.texture_layers.push_back(::TextureLayer{});
+
+    for (const prism::Light& light : scene.lights) {
+        bool directional = light.type == LightType::Directional;
+        glm::vec3 where = directional ? glm::normalize(light.direction) : light.position;
+        device.lights.push_back(::Light{to_float4(where, directional ? RT_LIGHT_DIRECTIONAL_CODE : RT_LIGHT_POINT_CODE),
+                                        to_float4(light.color * light.intensity, 0.0f)});
+    }
+    device.light_count = static_cast<uint32_t>(device.lights.size());
+    if (device.lights.empty()) device.lights.push_back(::Light{});   // placeholder; the frame says 0 lights
+    device.ambient_light = scene.ambient_light;
+
+    if (!flatten) device.sah_cost = bvh_triangles ? float(triangle_weighted_sah / double(bvh_triangles)) : 0.0f;
+    device.bvh_build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return device;
+}
+
+void update_instance_transforms(DeviceScene& device, const std::vector<glm::mat4>& transforms, bool rebuild) {
+    if (transforms.size() != device.instances.size())
+        throw Error("update_instance_transforms: expected " + std::to_string(device.instances.size()) + " transforms");
+    if (device.bvh_options.flatten_instances)
+        throw Error("update_instance_transforms: the instances of this scene are flattened into one BVH and cannot "
+                    "move (build it with BvhBuildOptions::flatten_instances off)");
+    for (size_t i = 0; i < transforms.size(); ++i) {
+        const uint4 info = device.instances[i].info;
+        device.instances[i] = device_instance(transforms[i], info.x, info.y, info.z);
+    }
+    build_top_level(device, transforms, rebuild);
+    if (device.bvh_options.layout == BvhLayout::Wide) {
+        std::vector<BvhWideNode> top = top_level_wide_device_nodes(device.top_level, device.top_level_nodes);
+        std::copy(top.begin(), top.end(), device.wide_nodes.begin());
+        return;
+    }
+    if (device.top_level.nodes.size() != device.top_level_nodes)
+        throw Error("internal: top-level BVH changed size on update");
+    std::vector<BvhNode> top = top_level_device_nodes(device.top_level);
+    std::copy(top.begin(), top.end(), device.nodes.begin());
+}
+
+}  // namespace prism

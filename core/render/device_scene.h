@@ -1,0 +1,54 @@
+// A Scene flattened into the arrays of kernels/data_arrays.h: what every backend uploads and the reference
+// renderer reads in place. Built once per scene; moving instances only refits or rebuilds the top level.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/render/backend.h"
+#include "core/bvh/bvh.h"
+#include "core/scene/scene.h"
+#include "kernels/types.h"
+
+namespace prism {
+
+struct DeviceScene {
+    // One vector per scene array of kernels/data_arrays.h, named as there (the comments there say what each holds).
+#define RT_DATA_ARRAY(slot, type, name, access, role) PRISM_IF_SCENE_ARRAY(role, std::vector<::type> name;)
+#include "kernels/data_arrays.h"
+#undef RT_DATA_ARRAY
+
+    BvhBuildOptions bvh_options;
+    EnvironmentKind environment_kind = EnvironmentKind::Constant;
+    uint32_t environment_texture = 0;   // first of six (cube map) or the one (equirect), in texture_infos
+    glm::vec3 environment_tint{0.0f};
+    glm::vec3 ambient_light{0.0f};
+    uint32_t light_count = 0;           // `lights` holds a placeholder when the scene has none
+
+    // For `prism info` and the benchmarks.
+    size_t traced_triangles = 0;        // over instances, degenerate ones excluded
+    size_t degenerate_triangles = 0;    // over meshes
+    size_t top_level_nodes = 0;         // entries of the top level at the start of nodes (wide_nodes in the wide layout;
+                                        // 0 with flattened instances, whose wide_nodes are one world-space BVH)
+    float sah_cost = 0.0f;              // triangle-weighted mean SAH cost of the mesh BVHs
+    double bvh_build_ms = 0.0;
+
+    // Top level, kept for refits: mesh object-space bounds and the built tree.
+    std::vector<Aabb> mesh_bounds;
+    std::vector<uint32_t> instance_meshes;
+    Bvh top_level;
+
+    size_t byte_size() const;
+};
+
+// Throws prism::Error (naming scene.source) when nothing traceable remains or an index exceeds a GPU format limit.
+// `progress` hears the fraction of the scene's triangles placed in BVH leaves so far (build_bvh's, over all meshes).
+DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& options = {},
+                               const BvhProgress& progress = {});
+
+// New instance transforms (same instances, same meshes): refits the top level, or rebuilds it when `rebuild`.
+// Throws prism::Error for a scene built with flattened instances (BvhBuildOptions::flatten_instances).
+// Only `instances` and the first `top_level_nodes` entries of `nodes` (`wide_nodes` in the wide layout) change.
+void update_instance_transforms(DeviceScene& device, const std::vector<glm::mat4>& transforms, bool rebuild);
+
+}  // namespace prism

@@ -1,0 +1,101 @@
+#include "core/render/render_engine.h"
+
+#include <cstdlib>
+#include <thread>
+
+#include "core/util/error.h"
+
+namespace prism {
+
+std::string resolve_backend_name(const std::string& requested) {
+    if (requested != "auto") return requested;
+    for (const BackendFactory& factory : registered_backends())
+        if (factory.name == "cuda" && factory.probe().available) return "cuda";
+    return "cpu";
+}
+
+namespace {
+
+BvhLayout parse_bvh_layout(const std::string& name, const std::string& where) {
+    if (name == "stack") return BvhLayout::Stack;
+    if (name == "escape") return BvhLayout::Escape;
+    if (name == "wide") return BvhLayout::Wide;
+    throw Error(where + "'" + name + "' is not a BVH layout (stack, escape, wide or auto)");
+}
+
+}  // namespace
+
+BvhLayout resolve_bvh_layout(const std::string& requested, const std::string& backend) {
+    if (requested != "auto") return parse_bvh_layout(requested, "");
+    const char* variable = std::getenv("PRISM_BVH_LAYOUT");
+    if (variable && *variable && std::string(variable) != "auto") return parse_bvh_layout(variable, "PRISM_BVH_LAYOUT: ");
+    std::string api = parse_backend_spec(resolve_backend_name(backend)).api;
+    return api == "cpu" || api == "cpu-ref" ? BvhLayout::Wide : BvhLayout::Stack;
+}
+
+std::string bvh_layout_name(BvhLayout layout) {
+    switch (layout) {
+        case BvhLayout::Stack: return "stack";
+        case BvhLayout::Escape: return "escape";
+        case BvhLayout::Wide: return "wide";
+    }
+    return "?";
+}
+
+RenderEngine::RenderEngine(const std::string& backend_name, const DeviceScene& scene, const GlContextHandles* gl)
+    : name_(resolve_backend_name(backend_name)), scene_(scene) {
+    BackendSpec spec = parse_backend_spec(name_);
+    // The GPU kernels are built without the wide traversal (kernels/traverse.h says why).
+    if (scene.bvh_options.layout == BvhLayout::Wide && spec.api != "cpu" && spec.api != "cpu-ref")
+        throw Error(name_ + ": the wide BVH layout is traced by the cpu backends only; use --bvh-layout stack, "
+                            "escape or auto");
+    if (spec.api == "cpu-ref") {
+        unsigned threads = 0;
+        if (!spec.device_filter.empty()) threads = static_cast<unsigned>(std::stoul(spec.device_filter));
+        reference_ = std::make_unique<ReferenceRenderer>(scene, threads);
+    } else {
+        backend_ = create_backend(name_, gl);
+        renderer_ = std::make_unique<Renderer>(*backend_, scene);
+    }
+}
+
+RenderEngine::~RenderEngine() = default;
+
+BackendInfo RenderEngine::info() const {
+    if (backend_) return backend_->info();
+    BackendInfo info;
+    info.name = "cpu-ref";
+    info.device = "host CPU (" + std::to_string(std::thread::hardware_concurrency()) + " threads)";
+    info.driver = "host";
+    info.api_version = "C++20 (recursive reference)";
+    return info;
+}
+
+GlInteropOffer RenderEngine::gl_interop() {
+    if (backend_) return backend_->gl_interop();
+    return {nullptr, "the frame is already in host memory"};
+}
+
+FrameResult RenderEngine::render(const Camera& camera, const RenderSettings& settings,
+                                 const std::function<void(double)>& progress) {
+    if (reference_) return reference_->render(camera, settings, progress);
+    return renderer_->render(camera, settings, [&](uint32_t depth, uint32_t max_depth) {
+        if (progress) progress(double(depth) / max_depth);
+    });
+}
+
+std::vector<RayHit> RenderEngine::trace(std::span<const RayQuery> rays, bool any_hit) {
+    if (reference_) return reference_->trace(rays, any_hit);
+    return renderer_->trace(rays, any_hit);
+}
+
+double RenderEngine::last_trace_ms() const {
+    return reference_ ? reference_->last_trace_ms() : renderer_->last_trace_ms();
+}
+
+void RenderEngine::update_instances(DeviceScene& scene, const std::vector<glm::mat4>& transforms, bool rebuild) {
+    update_instance_transforms(scene, transforms, rebuild);
+    if (renderer_) renderer_->update_instances(scene);
+}
+
+}  // namespace prism

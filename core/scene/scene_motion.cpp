@@ -1,0 +1,26 @@
+#include "core/scene/scene_motion.h"
+
+#include <cmath>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace prism {
+
+std::vector<glm::mat4> instance_transforms_at(const Scene& scene, double seconds) {
+    std::vector<glm::mat4> transforms;
+    transforms.reserve(scene.instances.size());
+    for (const Instance& instance : scene.instances) transforms.push_back(instance.transform);
+    for (const InstanceSpin& spin : scene.spins) {
+        // The turn is reduced to [0, 1) in double first, so a whole turn gives the loaded placement exactly.
+        double turns = std::fmod(seconds / double(spin.seconds), 1.0);
+        if (turns == 0.0) continue;
+        float angle = static_cast<float>(turns * 2.0 * 3.14159265358979323846);
+        glm::mat4 about_pivot = glm::translate(glm::mat4(1.0f), spin.pivot) *
+                                glm::rotate(glm::mat4(1.0f), angle, spin.axis) *
+                                glm::translate(glm::mat4(1.0f), -spin.pivot);
+        transforms[spin.instance] = about_pivot * transforms[spin.instance];
+    }
+    return transforms;
+}
+
+}  // namespace prism
