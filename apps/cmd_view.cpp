@@ -15,6 +15,7 @@
 #include "apps/option_checks.h"
 #include "apps/scene_options.h"
 #include "core/util/build_info.h"
+#include "core/util/environment.h"
 #include "core/util/error.h"
 #include "core/image/image_io.h"
 #include "core/util/output_file.h"
@@ -372,11 +373,8 @@ private:
     // nothing into it (the image stays the first one). Not with shared semaphores, which pair every copy with a GL
     // wait. Empty when unset.
     static std::string ablation(const viewer::DisplayPath& path) {
-        const char* value = std::getenv("PRISM_VIEW_ABLATE");
-        std::string ablate = value ? value : "";
+        std::string ablate = setting_choice(Setting::ViewAblate, {"copy", "gl"}, "view");
         if (ablate.empty()) return ablate;
-        if (ablate != "copy" && ablate != "gl")
-            throw Error("view: PRISM_VIEW_ABLATE='" + ablate + "' is not one of copy, gl");
         if (path.kind != viewer::DisplayPath::Kind::Interop || path.detail.rfind("shared semaphores", 0) == 0)
             throw Error("view: PRISM_VIEW_ABLATE needs an interop display without shared semaphores (this one: " +
                         path.describe() + ")");
@@ -817,7 +815,7 @@ void add_view_command(CLI::App& app) {
                       "platform) instead of a window: no X server needed; input only from --keys");
     command->callback([options] {
         route_output();
-        if (const char* panel = std::getenv("PRISM_VIEW_PANEL"); panel && std::string(panel) == "0")
+        if (setting(Setting::ViewPanel) == "0")
             options->no_panel = true;
         if (options->headless && options->frames == 0 && options->seconds <= 0.0)
             throw Error("view: --headless needs --frames or --seconds (there is no window to close)");

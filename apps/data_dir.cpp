@@ -4,6 +4,8 @@
 #include <cstdlib>
 #include <system_error>
 
+#include "core/util/environment.h"
+
 namespace prism::app {
 namespace {
 
@@ -37,7 +39,7 @@ std::filesystem::path scenes_beside_executable() {
 }  // namespace
 
 std::filesystem::path default_data_dir() {
-    if (const char* variable = std::getenv("PRISM_DATA_DIR"); variable && *variable) return variable;
+    if (std::string variable = setting(Setting::DataDir).value_or(""); !variable.empty()) return variable;
     std::filesystem::path found = scenes_beside_executable();
     return found.empty() ? std::filesystem::path("../shared/scenes") : found;
 }

@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "core/util/environment.h"
 #include "core/util/error.h"
 
 namespace prism::bench {
@@ -36,8 +37,8 @@ bool imports_matplotlib(const std::filesystem::path& python) {
 }
 
 std::filesystem::path find_plot_python() {
-    if (const char* chosen = std::getenv("PRISM_PYTHON")) {
-        if (executable(chosen) && imports_matplotlib(chosen)) return chosen;
+    if (std::optional<std::string> chosen = setting(Setting::Python)) {
+        if (executable(*chosen) && imports_matplotlib(*chosen)) return *chosen;
         return {};
     }
     std::vector<std::filesystem::path> candidates;
@@ -68,9 +69,9 @@ std::filesystem::path plot_script_path() {
 std::filesystem::path plot_python() {
     // Each probe starts a Python; remember the answer for the environment it was found in.
     static std::map<std::string, std::filesystem::path> found;
-    const char* chosen = std::getenv("PRISM_PYTHON");
+    std::optional<std::string> chosen = setting(Setting::Python);
     const char* path = std::getenv("PATH");
-    std::string key = std::string(chosen ? chosen : "\n") + '\0' + (path ? path : "");
+    std::string key = chosen.value_or("\n") + '\0' + (path ? path : "");
     auto cached = found.find(key);
     if (cached == found.end()) cached = found.emplace(key, find_plot_python()).first;
     return cached->second;
@@ -81,8 +82,8 @@ void require_plotting(const std::string& option) {
         throw Error(option + ": " + kScriptName + " is neither installed beside this prism (../share/prism/) nor in " +
                     "its source tree (" + PRISM_SOURCE_DIR + "/bench/)");
     if (plot_python().empty()) {
-        const char* chosen = std::getenv("PRISM_PYTHON");
-        std::string tried = chosen ? std::string("PRISM_PYTHON=") + chosen : "python3 on PATH and /usr/bin/python3";
+        std::optional<std::string> chosen = setting(Setting::Python);
+        std::string tried = chosen ? "PRISM_PYTHON=" + *chosen : "python3 on PATH and /usr/bin/python3";
         throw Error(option + ": no Python 3 with matplotlib (tried " + tried + "): " + kInstallAdvice);
     }
 }

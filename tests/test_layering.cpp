@@ -5,10 +5,13 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <regex>
 #include <set>
 #include <string>
+
+#include "core/util/environment.h"
 
 namespace {
 
@@ -70,6 +73,23 @@ TEST(Layering, CoreIncludesNoGpuApiAndKernelsNothingOutside) {
         for (const std::string& included : includes_of(file))
             for (const char* outside : {"core/", "backends/", "viewer/", "apps/", "shaders/"})
                 EXPECT_NE(included.rfind(outside, 0), 0u) << file << " includes " << included;
+}
+
+// PRISM_* variables are read in one place (core/util/environment.cpp), from its table, so each has a name users
+// can look up (docs/environment.md) and a typo in the code cannot invent a new one.
+TEST(Layering, PrismVariablesAreReadOnlyThroughTheSettingsTable) {
+    static const std::regex direct(R"(getenv\(\s*"PRISM_)");
+    for (const char* folder : {"core", "apps", "backends", "viewer", "bench"})
+        for (const fs::path& file : sources_under(kSource / folder)) {
+            std::ifstream in(file);
+            std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+            EXPECT_FALSE(std::regex_search(text, direct)) << file << " reads a PRISM_ variable with getenv";
+        }
+    std::ifstream doc(kSource / "docs" / "environment.md");
+    std::string listed((std::istreambuf_iterator<char>(doc)), std::istreambuf_iterator<char>());
+    ASSERT_FALSE(listed.empty()) << "docs/environment.md is missing";
+    for (const prism::SettingInfo& info : prism::settings())
+        EXPECT_NE(listed.find(std::string("`") + info.name + "`"), std::string::npos) << info.name << " is not documented";
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 
 #include "backends/cpu/cpu_stages.h"
 #include "core/render/device_array_book.h"
+#include "core/util/environment.h"
 #include "core/util/error.h"
 #include "core/util/thread_pool.h"
 
@@ -38,10 +39,7 @@ struct StageSet {
 };
 
 StageSet pick_stages() {
-    const char* requested = std::getenv("PRISM_CPU_ISA");
-    std::string isa = requested ? requested : "";
-    if (!isa.empty() && isa != "baseline" && isa != "avx2")
-        throw Error("cpu: PRISM_CPU_ISA='" + isa + "' is not baseline or avx2");
+    const std::string isa = setting_choice(Setting::CpuIsa, {"baseline", "avx2"}, "cpu");
 #if defined(PRISM_CPU_AVX2)
     bool avx2 = __builtin_cpu_supports("avx2");
     if (isa == "avx2" && !avx2) throw Error("cpu: PRISM_CPU_ISA=avx2, but this CPU has no AVX2");

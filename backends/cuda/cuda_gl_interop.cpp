@@ -12,6 +12,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "core/util/environment.h"
 #include "core/util/error.h"
 
 namespace prism::cuda {
@@ -249,8 +250,7 @@ std::unique_ptr<GlInterop> create_gl_interop(DeviceContext& context, std::functi
                                              const GlContextHandles& gl) {
     // External memory where GL can import it and the driver exports POSIX fds; the registered GL buffer (map/unmap
     // per frame) otherwise, or when PRISM_CUDA_GL=register asks for it (to measure one against the other).
-    const char* forced = std::getenv("PRISM_CUDA_GL");
-    bool registered = forced && std::string(forced) == "register";
+    bool registered = setting(Setting::CudaGl) == "register";
     if (!registered && gl.memory_object_fd) {
         context.bind();
         auto api = std::make_shared<const VirtualMemoryApi>();

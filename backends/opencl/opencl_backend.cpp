@@ -19,6 +19,7 @@
 
 #include "backends/opencl/opencl_gl_interop.h"
 #include "backends/opencl/opencl_internal.h"
+#include "core/util/environment.h"
 #include "core/util/pocl_cache.h"
 #include "core/util/error.h"
 #include "core/render/device_filter.h"
@@ -287,7 +288,7 @@ std::string hex64(uint64_t v) {
 }
 
 std::string cache_dir() {
-    if (const char* dir = std::getenv("PRISM_CACHE_DIR")) return dir;
+    if (std::optional<std::string> dir = setting(Setting::CacheDir)) return *dir;   // "": no cache
     if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::string(xdg) + "/prism";
     if (const char* home = std::getenv("HOME"); home && *home) return std::string(home) + "/.cache/prism";
     return "";

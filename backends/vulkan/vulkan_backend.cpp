@@ -35,6 +35,7 @@
 #include "backends/vulkan/vulkan_context.h"
 #include "backends/vulkan/vulkan_gl_interop.h"
 #include "core/render/device_array_book.h"
+#include "core/util/environment.h"
 #include "core/util/error.h"
 #include "shaders/vulkan_bindings.h"
 #include "spirv/vulkan_shaders.h"
@@ -54,18 +55,6 @@ struct StagePush {   // shaders/common.glsl
     uint32_t depth;
     uint32_t groups;
 };
-
-// "" when unset; otherwise one of `allowed`, else a one-line error naming the variable.
-std::string env_choice(const char* name, std::initializer_list<const char*> allowed) {
-    const char* value = std::getenv(name);
-    if (!value || !*value) return "";
-    std::string text = value, list;
-    for (const char* a : allowed) {
-        if (text == a) return text;
-        list += list.empty() ? a : std::string(", ") + a;
-    }
-    throw Error(std::string("vulkan: ") + name + "=" + text + " is not one of " + list);
-}
 
 std::string mib(uint64_t bytes) {
     char text[32];
@@ -361,12 +350,12 @@ private:
         features.pNext = &features12;
         vkGetPhysicalDeviceFeatures2(physical_.handle, &features);
         address_supported_ = features12.bufferDeviceAddress && features.features.shaderInt64;
-        forced_addressing_ = env_choice("PRISM_VULKAN_ADDRESSING", {"auto", "descriptors", "addresses"});
+        forced_addressing_ = setting_choice(Setting::VulkanAddressing, {"auto", "descriptors", "addresses"}, "vulkan");
         if (forced_addressing_ == "auto") forced_addressing_.clear();
         if (forced_addressing_ == "addresses" && !address_supported_)
             throw Error(std::string("vulkan: PRISM_VULKAN_ADDRESSING=addresses but ") + physical_.properties.deviceName +
                         " lacks bufferDeviceAddress or shaderInt64");
-        indirect_ = env_choice("PRISM_VULKAN_DISPATCH", {"indirect", "fixed"}) != "fixed";
+        indirect_ = setting_choice(Setting::VulkanDispatch, {"indirect", "fixed"}, "vulkan") != "fixed";
         max_buffer_ = std::min<size_t>(max_allocation_, device_heap_bytes_);
         if (!address_supported_ || forced_addressing_ == "descriptors")
             max_buffer_ = std::min<size_t>(max_buffer_, physical_.properties.limits.maxStorageBufferRange);

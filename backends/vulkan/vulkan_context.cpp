@@ -11,6 +11,7 @@
 #include "backends/vulkan/vulkan_backend.h"
 #include "core/render/backend.h"
 #include "core/render/device_filter.h"
+#include "core/util/environment.h"
 #include "core/util/error.h"
 #include "core/render/launch_config.h"
 
@@ -66,8 +67,7 @@ void record_message(const std::string& message) {
 }
 
 bool validation_requested() {
-    const char* value = std::getenv("PRISM_VULKAN_VALIDATION");
-    return value && std::strcmp(value, "1") == 0;
+    return setting(Setting::VulkanValidation) == "1";
 }
 
 const char* result_name(VkResult result) {

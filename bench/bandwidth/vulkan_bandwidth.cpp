@@ -18,6 +18,7 @@
 #include "bench/bandwidth/pci_link.h"
 #include "bench/bandwidth/sizes.h"
 #include "bench/bandwidth/sweep.h"
+#include "core/util/environment.h"
 #include "core/util/error.h"
 #include "kernels/bandwidth_copy.h"
 #include "spirv/bandwidth_copy.h"
@@ -295,8 +296,7 @@ private:
         transfer_timestamps_ = families[transfer_family_].timestampValidBits > 0;
         compute_timestamp_mask_ = mask(families[compute_family_].timestampValidBits);
         transfer_timestamp_mask_ = mask(families[transfer_family_].timestampValidBits);
-        const char* d2d = std::getenv("PRISM_VULKAN_D2D_QUEUE");
-        d2d_on_transfer_ = dedicated_transfer_ && d2d && std::string(d2d) == "transfer";
+        d2d_on_transfer_ = dedicated_transfer_ && setting(Setting::VulkanD2dQueue) == "transfer";
     }
 
     static uint64_t mask(uint32_t bits) { return bits >= 64 ? ~uint64_t(0) : (uint64_t(1) << bits) - 1; }

@@ -5,14 +5,15 @@
 #include <cstdlib>
 #include <string>
 
+#include "core/util/environment.h"
 #include "core/util/error.h"
 
 namespace prism {
 
 std::optional<size_t> device_memory_limit() {
-    const char* text = std::getenv("PRISM_DEVICE_MEMORY_LIMIT");
-    if (!text || !*text) return std::nullopt;
-    std::string value(text);
+    std::optional<std::string> text = setting(Setting::DeviceMemoryLimit);
+    if (!text || text->empty()) return std::nullopt;
+    const std::string& value = *text;
     if (!std::all_of(value.begin(), value.end(), [](unsigned char c) { return std::isdigit(c); }))
         throw Error("PRISM_DEVICE_MEMORY_LIMIT='" + value + "' is not a byte count");
     try {

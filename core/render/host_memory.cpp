@@ -8,6 +8,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include "core/util/environment.h"
 #include "core/util/error.h"
 
 namespace prism {
@@ -16,9 +17,9 @@ namespace {
 std::string mib(uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
 
 std::optional<uint64_t> limit_from_environment() {
-    const char* text = std::getenv("PRISM_HOST_MEMORY_LIMIT");
-    if (!text || !*text) return std::nullopt;
-    const std::string value(text);
+    std::optional<std::string> text = setting(Setting::HostMemoryLimit);
+    if (!text || text->empty()) return std::nullopt;
+    const std::string& value = *text;
     if (!std::all_of(value.begin(), value.end(), [](unsigned char c) { return std::isdigit(c); }))
         throw Error("PRISM_HOST_MEMORY_LIMIT='" + shorten(value) + "' is not a byte count");
     try {

@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <thread>
 
+#include "core/util/environment.h"
 #include "core/util/error.h"
 
 namespace prism {
@@ -27,8 +28,8 @@ BvhLayout parse_bvh_layout(const std::string& name, const std::string& where) {
 
 BvhLayout resolve_bvh_layout(const std::string& requested, const std::string& backend) {
     if (requested != "auto") return parse_bvh_layout(requested, "");
-    const char* variable = std::getenv("PRISM_BVH_LAYOUT");
-    if (variable && *variable && std::string(variable) != "auto") return parse_bvh_layout(variable, "PRISM_BVH_LAYOUT: ");
+    std::string variable = setting(Setting::BvhLayout).value_or("");
+    if (!variable.empty() && variable != "auto") return parse_bvh_layout(variable, "PRISM_BVH_LAYOUT: ");
     std::string api = parse_backend_spec(resolve_backend_name(backend)).api;
     return api == "cpu" || api == "cpu-ref" ? BvhLayout::Wide : BvhLayout::Stack;
 }
