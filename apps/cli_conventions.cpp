@@ -22,7 +22,8 @@ std::string version_text() {
 const CLI::App* innermost_subcommand(const CLI::App& app) {
     const CLI::App* current = &app;
     for (;;) {
-        std::vector<const CLI::App*> parsed = current->get_subcommands([](const CLI::App* sub) { return sub->parsed(); });
+        std::vector<const CLI::App*> parsed =
+            current->get_subcommands([](const CLI::App* sub) { return sub->parsed(); });
         if (parsed.empty()) return current;
         current = parsed.back();
     }
@@ -31,7 +32,7 @@ const CLI::App* innermost_subcommand(const CLI::App& app) {
 std::string command_path(const CLI::App* command) {
     std::string path;
     for (const CLI::App* c = command; c->get_parent(); c = c->get_parent()) path = " " + c->get_name() + path;
-    return "prism" + path;   // as typed, whatever path the binary was run by
+    return "prism" + path;  // as typed, whatever path the binary was run by
 }
 
 // CLI11 names a missing required option by its first long name; name every spelling, so "-o" is found too.
@@ -50,7 +51,7 @@ std::string name_every_spelling(const CLI::App* command, const std::string& mess
 void add_global_options(CLI::App& app) {
     app.set_version_flag("--version", version_text, "Print the version, commit and backends built, and exit");
     app.add_flag("-q,--quiet", quiet_flag, "No progress and no informational output: only errors (and data on stdout)");
-    app.fallthrough();   // `prism render ... --quiet` as well as `prism --quiet render ...`
+    app.fallthrough();  // `prism render ... --quiet` as well as `prism --quiet render ...`
 }
 
 bool quiet() { return quiet_flag; }
@@ -69,7 +70,7 @@ void route_output(const std::string& json_path) {
 }
 
 int report_parse_error(CLI::App& app, const CLI::ParseError& error) {
-    if (error.get_exit_code() == 0) return app.exit(error);   // --help, --help-all, --version
+    if (error.get_exit_code() == 0) return app.exit(error);  // --help, --help-all, --version
     const CLI::App* command = innermost_subcommand(app);
     std::string message = name_every_spelling(command, error.what());
     // CLI11 checks required options before it complains about words it did not expect; the unexpected word is the
@@ -80,8 +81,8 @@ int report_parse_error(CLI::App& app, const CLI::ParseError& error) {
         for (const CLI::App* sub : app.get_subcommands({})) known += (known.empty() ? "" : ", ") + sub->get_name();
         message = "unknown subcommand '" + extras.front() + "' (one of " + known + ")";
     } else if (!extras.empty()) {
-        message = std::string(extras.front()[0] == '-' ? "unknown option '" : "unexpected argument '") +
-                  extras.front() + "'";
+        message =
+            std::string(extras.front()[0] == '-' ? "unknown option '" : "unexpected argument '") + extras.front() + "'";
     }
     std::fprintf(stderr, "%s: error: %s; see '%s --help'\n", command_path(command).c_str(), message.c_str(),
                  command_path(command).c_str());

@@ -22,8 +22,9 @@ void add_bandwidth_command(CLI::App& app) {
         ->capture_default_str();
     command->add_option("--warmup", options->warmup, "Untimed copies before each measurement")->capture_default_str();
     command->add_option("--api", options->apis, "APIs to measure: cuda,opencl,vulkan (default all)")->delimiter(',');
-    command->add_option("--device", options->devices,
-                        "Device filters, e.g. opencl:nvidia or vulkan:llvmpipe or h100 (case-insensitive substring)")
+    command
+        ->add_option("--device", options->devices,
+                     "Device filters, e.g. opencl:nvidia or vulkan:llvmpipe or h100 (case-insensitive substring)")
         ->delimiter(',');
     add_json_option(command, options->json_path, "Write the results as JSON (schema in docs/bandwidth.md)");
     command->add_option("--plot", options->plot_path,

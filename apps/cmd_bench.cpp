@@ -66,7 +66,7 @@ double median(std::vector<double> values) {
 
 // Median over runs of each stage's time at each depth.
 struct StageMedians {
-    std::vector<std::vector<std::vector<double>>> samples;   // [stage][depth][run]
+    std::vector<std::vector<std::vector<double>>> samples;  // [stage][depth][run]
     StageMedians() : samples(stage_count, std::vector<std::vector<double>>(RT_MAX_DEPTH + 1)) {}
     void add(const FrameStats& stats) {
         std::vector<std::vector<double>> frame(stage_count, std::vector<double>(RT_MAX_DEPTH + 1, 0.0));
@@ -90,14 +90,14 @@ struct FirstFrame {
     std::vector<uint32_t> image;
 };
 
-nlohmann::json bench_frames(RenderEngine& engine, const Scene& scene, const BenchOptions& options,
-                            FirstFrame& first, Progress& progress) {
+nlohmann::json bench_frames(RenderEngine& engine, const Scene& scene, const BenchOptions& options, FirstFrame& first,
+                            Progress& progress) {
     const uint32_t frames = options.warmup + options.runs;
     auto report = [&](uint32_t done) {
-        progress.update(double(done) / frames, done <= options.warmup
-                                                   ? "warm-up " + std::to_string(done) + "/" + std::to_string(options.warmup)
-                                                   : "run " + std::to_string(done - options.warmup) + "/" +
-                                                         std::to_string(options.runs));
+        progress.update(double(done) / frames,
+                        done <= options.warmup
+                            ? "warm-up " + std::to_string(done) + "/" + std::to_string(options.warmup)
+                            : "run " + std::to_string(done - options.warmup) + "/" + std::to_string(options.runs));
     };
     for (uint32_t i = 0; i < options.warmup; ++i) {
         engine.render(scene.camera, options.settings);
@@ -137,7 +137,7 @@ nlohmann::json bench_frames(RenderEngine& engine, const Scene& scene, const Benc
                               {"shadow_rays", s.shadow_rays_per_depth[d]},
                               {"intersect_mrays_per_s", mrays(s.rays_per_depth[d], intersect_ms)},
                               {"shadow_mrays_per_s", mrays(s.shadow_rays_per_depth[d], shadow_stage_ms)}};
-        for (size_t stage = 0; stage < stage_count; ++stage)   // <stage>_ms for every per-depth stage
+        for (size_t stage = 0; stage < stage_count; ++stage)  // <stage>_ms for every per-depth stage
             if (stage_pass(Stage(stage)) == StagePass::Bounce)
                 row[std::string(stage_name(Stage(stage))) + "_ms"] = stages.at(Stage(stage), d);
         per_depth.push_back(std::move(row));
@@ -157,8 +157,8 @@ nlohmann::json bench_frames(RenderEngine& engine, const Scene& scene, const Benc
             {"frame_ms_max", *std::max_element(frame_ms.begin(), frame_ms.end())},
             {"fps", 1000.0 / frame},
             {"stage_ms", stage_ms},
-            {"host_ms", {{"enqueue", median(enqueue_ms)}, {"device_wait", median(wait_ms)},
-                         {"readback", median(readback_ms)}}},
+            {"host_ms",
+             {{"enqueue", median(enqueue_ms)}, {"device_wait", median(wait_ms)}, {"readback", median(readback_ms)}}},
             {"total_rays", s.total_rays()},
             {"mrays_per_s_end_to_end", mrays(s.total_rays(), frame)},
             {"primary_mrays_per_s", mrays(primary, stages.at(Stage::Intersect, 0))},
@@ -166,7 +166,7 @@ nlohmann::json bench_frames(RenderEngine& engine, const Scene& scene, const Benc
             {"shadow_mrays_per_s", mrays(shadows, shadow_ms)},
             {"per_depth", per_depth},
             {"max_ray_count_difference_vs_first", ray_difference},
-            {"image_psnr_vs_first_db", std::min(psnr_rgba8(first.image, last.image), 999.0)},   // 999: identical
+            {"image_psnr_vs_first_db", std::min(psnr_rgba8(first.image, last.image), 999.0)},  // 999: identical
             {"image_hash", std::hash<std::string_view>{}(std::string_view(
                                reinterpret_cast<const char*>(last.image.data()), last.image.size() * 4))}};
 }
@@ -176,7 +176,7 @@ nlohmann::json bench_frames(RenderEngine& engine, const Scene& scene, const Benc
 // each backend, Embree rtcIntersect1 and rtcIntersect8 — runs once per round, round after round, so a machine
 // that gets busier or quieter during the benchmark (a shared 2-core one) slows all of them alike; each reports
 // its median round, after one warm-up round.
-using QueryMethod = std::function<double(const std::vector<RayQuery>&)>;   // one run, in ms
+using QueryMethod = std::function<double(const std::vector<RayQuery>&)>;  // one run, in ms
 
 std::vector<nlohmann::json> bench_queries(const std::vector<QueryMethod>& methods, const oracle::OracleRays& rays,
                                           uint32_t runs) {
@@ -187,7 +187,7 @@ std::vector<nlohmann::json> bench_queries(const std::vector<QueryMethod>& method
         for (uint32_t round = 0; round < runs + 1; ++round)
             for (size_t m = 0; m < methods.size(); ++m) {
                 double t = methods[m](set);
-                if (round > 0) ms[m].push_back(t);   // the first round is the warm-up
+                if (round > 0) ms[m].push_back(t);  // the first round is the warm-up
             }
         std::vector<double> medians;
         for (auto& samples : ms) medians.push_back(median(samples));
@@ -230,10 +230,14 @@ void run_bench(BenchOptions options) {
 #endif
     nlohmann::json result = bench::result_header();
     result["kind"] = "frames";
-    result["settings"] = {{"width", options.settings.width}, {"height", options.settings.height},
-                          {"max_depth", options.settings.max_depth}, {"runs", options.runs},
-                          {"warmup", options.warmup}, {"seed_setting", options.seed_setting},
-                          {"bvh", options.scene.bvh}, {"bvh_layout", options.scene.layout},
+    result["settings"] = {{"width", options.settings.width},
+                          {"height", options.settings.height},
+                          {"max_depth", options.settings.max_depth},
+                          {"runs", options.runs},
+                          {"warmup", options.warmup},
+                          {"seed_setting", options.seed_setting},
+                          {"bvh", options.scene.bvh},
+                          {"bvh_layout", options.scene.layout},
                           {"queries_interleaved", true}};
     result["scenes"] = nlohmann::json::array();
     result["failures"] = nlohmann::json::array();
@@ -256,7 +260,8 @@ void run_bench(BenchOptions options) {
             if (layout == loaded.device.bvh_options.layout) return loaded.device;
             auto found = other_layouts.find(layout);
             if (found == other_layouts.end())
-                found = other_layouts.emplace(layout, build_device_scene_for(loaded.scene, scene_options, layout)).first;
+                found =
+                    other_layouts.emplace(layout, build_device_scene_for(loaded.scene, scene_options, layout)).first;
             return found->second;
         };
         nlohmann::json scene_json = {{"scene", scene_name},
@@ -273,66 +278,72 @@ void run_bench(BenchOptions options) {
             rays = oracle::make_oracle_rays(loaded.scene, *embree, options.query_rays / 2, options.query_rays, 7);
         }
 #endif
-        std::vector<std::unique_ptr<RenderEngine>> query_engines;   // kept for the interleaved query rounds
+        std::vector<std::unique_ptr<RenderEngine>> query_engines;  // kept for the interleaved query rounds
         for (const std::string& backend : backends) try {
-            const DeviceScene& device = device_for(backend);
-            auto engine_owner = std::make_unique<RenderEngine>(backend, device);
-            RenderEngine& engine = *engine_owner;
-            BackendInfo info = engine.info();
-            std::string layout = bvh_layout_name(device.bvh_options.layout);
-            std::printf("%s on %s [%s], %s BVH...\n", scene_name.c_str(), backend.c_str(), info.device.c_str(),
-                        layout.c_str());
-            std::fflush(stdout);
-            nlohmann::json entry = {{"backend", backend},        {"api", info.name},
-                                    {"device", info.device},     {"driver", info.driver},
-                                    {"api_version", info.api_version},
-                                    {"bvh_layout", layout},      {"bvh_build_ms", device.bvh_build_ms}};
-            Progress progress("bench " + scene_name + " on " + backend);
-            entry["frames"] = bench_frames(engine, loaded.scene, options, first, progress);
-            progress.finish();
+                const DeviceScene& device = device_for(backend);
+                auto engine_owner = std::make_unique<RenderEngine>(backend, device);
+                RenderEngine& engine = *engine_owner;
+                BackendInfo info = engine.info();
+                std::string layout = bvh_layout_name(device.bvh_options.layout);
+                std::printf("%s on %s [%s], %s BVH...\n", scene_name.c_str(), backend.c_str(), info.device.c_str(),
+                            layout.c_str());
+                std::fflush(stdout);
+                nlohmann::json entry = {{"backend", backend},
+                                        {"api", info.name},
+                                        {"device", info.device},
+                                        {"driver", info.driver},
+                                        {"api_version", info.api_version},
+                                        {"bvh_layout", layout},
+                                        {"bvh_build_ms", device.bvh_build_ms}};
+                Progress progress("bench " + scene_name + " on " + backend);
+                entry["frames"] = bench_frames(engine, loaded.scene, options, first, progress);
+                progress.finish();
 #ifdef PRISM_HAVE_EMBREE
-            if (embree) query_engines.push_back(std::move(engine_owner));
+                if (embree) query_engines.push_back(std::move(engine_owner));
 #endif
-            const auto& f = entry["frames"];
-            std::printf("  frame %.2f ms (%.1f fps), primary %.1f, secondary %.1f, shadow %.1f Mrays/s\n",
-                        f["frame_ms"].get<double>(), f["fps"].get<double>(), f["primary_mrays_per_s"].get<double>(),
-                        f["secondary_mrays_per_s"].get<double>(), f["shadow_mrays_per_s"].get<double>());
-            scene_json["backends"].push_back(entry);
-        } catch (const std::exception& e) {
-            record_failure(result, scene_name, backend, e.what());
-        }
+                const auto& f = entry["frames"];
+                std::printf("  frame %.2f ms (%.1f fps), primary %.1f, secondary %.1f, shadow %.1f Mrays/s\n",
+                            f["frame_ms"].get<double>(), f["fps"].get<double>(), f["primary_mrays_per_s"].get<double>(),
+                            f["secondary_mrays_per_s"].get<double>(), f["shadow_mrays_per_s"].get<double>());
+                scene_json["backends"].push_back(entry);
+            } catch (const std::exception& e) {
+                record_failure(result, scene_name, backend, e.what());
+            }
 #ifdef PRISM_HAVE_EMBREE
         if (embree) try {
-            std::vector<QueryMethod> methods;
-            for (auto& engine : query_engines)
-                methods.push_back([&engine](const std::vector<RayQuery>& set) {
-                    engine->trace(set, false);
-                    return engine->last_trace_ms();
-                });
-            for (bool packets : {false, true})
-                methods.push_back([&embree, packets](const std::vector<RayQuery>& set) {
-                    auto start = std::chrono::steady_clock::now();
-                    if (packets) embree->intersect8(set);
-                    else embree->intersect1(set);
-                    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-                });
-            std::vector<nlohmann::json> queries = bench_queries(methods, rays, options.runs);
-            for (size_t b = 0; b < query_engines.size(); ++b) scene_json["backends"][b]["queries"] = queries[b];
-            query_engines.clear();
-            scene_json["embree"] = {{"version", RTC_VERSION_STRING},
-                                    {"intersect1", queries[queries.size() - 2]},
-                                    {"intersect8", queries.back()}};
-            for (const auto& b : scene_json["backends"]) {
-                std::printf("  %s vs Embree rtcIntersect1: primary %.2fx, diffuse %.2fx\n",
-                            b["backend"].get<std::string>().c_str(),
-                            b["queries"]["primary_mrays_per_s"].get<double>() /
-                                scene_json["embree"]["intersect1"]["primary_mrays_per_s"].get<double>(),
-                            b["queries"]["diffuse_mrays_per_s"].get<double>() /
-                                scene_json["embree"]["intersect1"]["diffuse_mrays_per_s"].get<double>());
+                std::vector<QueryMethod> methods;
+                for (auto& engine : query_engines)
+                    methods.push_back([&engine](const std::vector<RayQuery>& set) {
+                        engine->trace(set, false);
+                        return engine->last_trace_ms();
+                    });
+                for (bool packets : {false, true})
+                    methods.push_back([&embree, packets](const std::vector<RayQuery>& set) {
+                        auto start = std::chrono::steady_clock::now();
+                        if (packets)
+                            embree->intersect8(set);
+                        else
+                            embree->intersect1(set);
+                        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                            .count();
+                    });
+                std::vector<nlohmann::json> queries = bench_queries(methods, rays, options.runs);
+                for (size_t b = 0; b < query_engines.size(); ++b) scene_json["backends"][b]["queries"] = queries[b];
+                query_engines.clear();
+                scene_json["embree"] = {{"version", RTC_VERSION_STRING},
+                                        {"intersect1", queries[queries.size() - 2]},
+                                        {"intersect8", queries.back()}};
+                for (const auto& b : scene_json["backends"]) {
+                    std::printf("  %s vs Embree rtcIntersect1: primary %.2fx, diffuse %.2fx\n",
+                                b["backend"].get<std::string>().c_str(),
+                                b["queries"]["primary_mrays_per_s"].get<double>() /
+                                    scene_json["embree"]["intersect1"]["primary_mrays_per_s"].get<double>(),
+                                b["queries"]["diffuse_mrays_per_s"].get<double>() /
+                                    scene_json["embree"]["intersect1"]["diffuse_mrays_per_s"].get<double>());
+                }
+            } catch (const std::exception& e) {
+                record_failure(result, scene_name, "embree queries", e.what());
             }
-        } catch (const std::exception& e) {
-            record_failure(result, scene_name, "embree queries", e.what());
-        }
 #endif
         result["scenes"].push_back(scene_json);
     }
@@ -340,10 +351,9 @@ void run_bench(BenchOptions options) {
     const nlohmann::json& failures = result["failures"];
     if (!failures.empty())
         throw Error("bench: " + std::to_string(failures.size()) + " run" + (failures.size() > 1 ? "s" : "") +
-                    " failed (first: " +
-                    failures[0]["scene"].get<std::string>() +
-                    (failures[0].contains("backend") ? " on " + failures[0]["backend"].get<std::string>() : "") +
-                    ": " + failures[0]["error"].get<std::string>() + ")" +
+                    " failed (first: " + failures[0]["scene"].get<std::string>() +
+                    (failures[0].contains("backend") ? " on " + failures[0]["backend"].get<std::string>() : "") + ": " +
+                    failures[0]["error"].get<std::string>() + ")" +
                     (options.json.empty() ? "" : "; the finished runs and every error are in " + options.json));
 }
 
@@ -358,9 +368,10 @@ void add_bench_command(CLI::App& app) {
     command->add_option("--backends", options->backends, "comma-separated backends")->capture_default_str();
     add_data_dir_option(command, options->scene.data_dir);
     command->add_option("--bvh", options->scene.bvh, "sah or median")->check(CLI::IsMember({"sah", "median"}));
-    command->add_option("--bvh-layout", options->scene.layout,
-                        "stack, escape, wide or auto (per backend: wide on cpu, stack on GPUs; PRISM_BVH_LAYOUT "
-                        "overrides auto)")
+    command
+        ->add_option("--bvh-layout", options->scene.layout,
+                     "stack, escape, wide or auto (per backend: wide on cpu, stack on GPUs; PRISM_BVH_LAYOUT "
+                     "overrides auto)")
         ->check(CLI::IsMember({"stack", "escape", "wide", "auto"}))
         ->capture_default_str();
     command->add_option("--width", options->settings.width)->capture_default_str();

@@ -18,7 +18,7 @@ namespace {
 struct InfoOptions {
     SceneOptions scene;
     bool scene_given = false;
-    std::string json;   // "-": standard output
+    std::string json;  // "-": standard output
 };
 
 nlohmann::json backends_json() {
@@ -83,15 +83,16 @@ void run_info(const InfoOptions& options) {
     }
     if (info.contains("scene")) {
         const auto& s = info["scene"];
-        std::printf("Scene %s:\n  triangles %zu (traced %zu, degenerate %zu), meshes %zu, instances %zu, materials %zu, "
-                    "textures %zu, lights %zu\n  BVH (%s, %s layout): %zu nodes (%zu top level), SAH cost %.2f, "
-                    "built in %.1f ms; load %.1f ms; %.1f MiB on the device\n",
-                    options.scene.scene.c_str(), s["triangles"].get<size_t>(), s["traced_triangles"].get<size_t>(),
-                    s["degenerate_triangles"].get<size_t>(), s["meshes"].get<size_t>(), s["instances"].get<size_t>(),
-                    s["materials"].get<size_t>(), s["textures"].get<size_t>(), s["lights"].get<size_t>(),
-                    options.scene.bvh.c_str(), s["bvh_layout"].get<std::string>().c_str(), s["bvh_nodes"].get<size_t>(),
-                    s["top_level_nodes"].get<size_t>(), s["sah_cost"].get<double>(), s["bvh_build_ms"].get<double>(),
-                    s["load_ms"].get<double>(), double(s["device_bytes"].get<size_t>()) / (1024.0 * 1024.0));
+        std::printf(
+            "Scene %s:\n  triangles %zu (traced %zu, degenerate %zu), meshes %zu, instances %zu, materials %zu, "
+            "textures %zu, lights %zu\n  BVH (%s, %s layout): %zu nodes (%zu top level), SAH cost %.2f, "
+            "built in %.1f ms; load %.1f ms; %.1f MiB on the device\n",
+            options.scene.scene.c_str(), s["triangles"].get<size_t>(), s["traced_triangles"].get<size_t>(),
+            s["degenerate_triangles"].get<size_t>(), s["meshes"].get<size_t>(), s["instances"].get<size_t>(),
+            s["materials"].get<size_t>(), s["textures"].get<size_t>(), s["lights"].get<size_t>(),
+            options.scene.bvh.c_str(), s["bvh_layout"].get<std::string>().c_str(), s["bvh_nodes"].get<size_t>(),
+            s["top_level_nodes"].get<size_t>(), s["sah_cost"].get<double>(), s["bvh_build_ms"].get<double>(),
+            s["load_ms"].get<double>(), double(s["device_bytes"].get<size_t>()) / (1024.0 * 1024.0));
         for (const auto& w : s["warnings"]) std::printf("  warning: %s\n", w.get<std::string>().c_str());
     }
 }

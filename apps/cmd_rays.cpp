@@ -35,9 +35,10 @@ std::vector<RayQuery> read_rays(const std::string& path) {
     if (!file) throw Error(path + ": cannot open");
     std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
     if (bytes.size() % sizeof(RayQuery) != 0)
-        throw Error(path + ": size " + std::to_string(bytes.size()) + " is not a multiple of 32 bytes (8 float32 per ray)");
+        throw Error(path + ": size " + std::to_string(bytes.size()) +
+                    " is not a multiple of 32 bytes (8 float32 per ray)");
     std::vector<RayQuery> rays(bytes.size() / sizeof(RayQuery));
-    if (!rays.empty()) std::memcpy(rays.data(), bytes.data(), bytes.size());   // memcpy takes no null pointer
+    if (!rays.empty()) std::memcpy(rays.data(), bytes.data(), bytes.size());  // memcpy takes no null pointer
     for (size_t i = 0; i < rays.size(); ++i) {
         const RayQuery& r = rays[i];
         bool finite = std::isfinite(r.origin[0]) && std::isfinite(r.origin[1]) && std::isfinite(r.origin[2]) &&
@@ -50,7 +51,7 @@ std::vector<RayQuery> read_rays(const std::string& path) {
 
 void run_rays(const RaysOptions& options) {
     route_output();
-    check_backend_option(options.backend);   // options before any work
+    check_backend_option(options.backend);  // options before any work
     check_writable_option("--out", options.out);
     std::vector<RayQuery> rays = read_rays(options.in);
     LoadedScene loaded = load_and_build(options.scene, options.backend);
@@ -59,8 +60,8 @@ void run_rays(const RaysOptions& options) {
     std::vector<RayHit> hits = engine.trace(rays, options.any_hit);
     double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     static_assert(sizeof(RayHit) == 20);
-    write_file_atomically(options.out, std::string_view(reinterpret_cast<const char*>(hits.data()),
-                                                        hits.size() * sizeof(RayHit)));
+    write_file_atomically(options.out,
+                          std::string_view(reinterpret_cast<const char*>(hits.data()), hits.size() * sizeof(RayHit)));
     size_t hit_count = 0;
     for (const RayHit& h : hits) hit_count += h.t < INFINITY;
     std::printf("prism rays: %zu rays on %s: %zu hits, %.1f ms (%.2f Mrays/s incl. upload) -> %s\n", rays.size(),

@@ -37,17 +37,17 @@ void run_render(const RenderOptions& options) {
     route_output();
     RenderSettings settings = options.settings;
     ImageFormat format = ImageFormat::Png8;
-    try {   // every check before any work
+    try {  // every check before any work
         format = output_image_format(options.out, options.png_depth);
         settings.read_radiance = needs_linear_radiance(format);
         check_render_options(options.backend, settings, options.out, options.stats);
     } catch (const Error&) {
-        if (started_as_mpi_rank() && launcher_rank() > 0) std::exit(1);   // rank 0 says it, once
+        if (started_as_mpi_rank() && launcher_rank() > 0) std::exit(1);  // rank 0 says it, once
         throw;
     }
     if (wants_distributed_render(options.backend, options.distributed))
-        return run_distributed_render({options.scene, options.backend, settings, options.out, format, options.stats,
-                                       options.distributed});
+        return run_distributed_render(
+            {options.scene, options.backend, settings, options.out, format, options.stats, options.distributed});
     auto start = std::chrono::steady_clock::now();
     LoadedScene loaded = load_and_build(options.scene, options.backend);
     auto built = std::chrono::steady_clock::now();
@@ -58,19 +58,19 @@ void run_render(const RenderOptions& options) {
                 loaded.device.traced_triangles, loaded.device.instances.size(), info.name.c_str(), info.device.c_str());
     for (const std::string& warning : loaded.scene.warnings) std::printf("  warning: %s\n", warning.c_str());
     std::printf("  load %.1f ms, BVH %.1f ms (%s, %s layout, SAH cost %.1f), upload %.1f ms\n", loaded.load_ms,
-                loaded.device.bvh_build_ms, options.scene.bvh.c_str(), loaded.layout.c_str(),
-                loaded.device.sah_cost, upload_ms);
+                loaded.device.bvh_build_ms, options.scene.bvh.c_str(), loaded.layout.c_str(), loaded.device.sah_cost,
+                upload_ms);
     std::fflush(stdout);
 
     Progress rendering("rendering " + std::to_string(settings.width) + "x" + std::to_string(settings.height));
-    bool by_depth = info.name != "cpu-ref";   // the wavefront backends report each depth; cpu-ref its tiles
+    bool by_depth = info.name != "cpu-ref";  // the wavefront backends report each depth; cpu-ref its tiles
     FrameResult frame;
     try {
         frame = engine.render(loaded.scene.camera, settings, [&](double fraction) {
             uint32_t depths_done = uint32_t(fraction * settings.max_depth + 1e-6);
-            rendering.update(fraction, by_depth ? "depth " + std::to_string(depths_done) + "/" +
-                                                      std::to_string(settings.max_depth)
-                                                : "tiles");
+            rendering.update(
+                fraction,
+                by_depth ? "depth " + std::to_string(depths_done) + "/" + std::to_string(settings.max_depth) : "tiles");
         });
     } catch (const std::bad_alloc&) {
         throw Error(options.scene.scene + ": out of host memory while rendering on " + info.name);
@@ -84,8 +84,10 @@ void run_render(const RenderOptions& options) {
         nlohmann::json stats = frame_json(frame, options.settings, info);
         stats["scene"] = options.scene.scene;
         stats["commit"] = build_commit();
-        stats["bvh"] = {{"method", options.scene.bvh}, {"layout", loaded.layout},
-                        {"build_ms", loaded.device.bvh_build_ms}, {"sah_cost", loaded.device.sah_cost}};
+        stats["bvh"] = {{"method", options.scene.bvh},
+                        {"layout", loaded.layout},
+                        {"build_ms", loaded.device.bvh_build_ms},
+                        {"sah_cost", loaded.device.sah_cost}};
         stats_file.emplace(options.stats, stats.dump(2) + "\n");
     }
     write_image(options.out, format, int(frame.width), int(frame.height), frame.image, frame.radiance);
@@ -109,10 +111,11 @@ void add_render_command(CLI::App& app) {
     auto* command = app.add_subcommand(
         "render", "Render one frame to a PNG (8- or 16-bit sRGB), OpenEXR or .hdr (both linear and unclamped)");
     add_scene_options(command, options->scene);
-    command->add_option("--backend", options->backend,
-                        "auto, cpu-ref, cpu, cuda, opencl, vulkan; a device after a colon (opencl:pocl, vulkan:nvidia), "
-                        "every device with :all (cuda:all); a comma list splits the frame over several (one entry "
-                        "per MPI rank under mpirun)")
+    command
+        ->add_option("--backend", options->backend,
+                     "auto, cpu-ref, cpu, cuda, opencl, vulkan; a device after a colon (opencl:pocl, vulkan:nvidia), "
+                     "every device with :all (cuda:all); a comma list splits the frame over several (one entry "
+                     "per MPI rank under mpirun)")
         ->capture_default_str();
     command->add_option("--width", options->settings.width, "image width")->capture_default_str();
     command->add_option("--height", options->settings.height, "image height")->capture_default_str();

@@ -51,19 +51,19 @@ struct ViewOptions {
     SceneOptions scene;
     std::string backend = "auto";
     RenderSettings settings;
-    uint32_t frames = 0;      // 0: until Esc or the window closes
-    double seconds = 0.0;     // > 0: also stop after this much wall-clock time (bench/soak_viewer.sh)
-    std::string screenshot;   // with --frames: the last frame, read back from the window
+    uint32_t frames = 0;     // 0: until Esc or the window closes
+    double seconds = 0.0;    // > 0: also stop after this much wall-clock time (bench/soak_viewer.sh)
+    std::string screenshot;  // with --frames: the last frame, read back from the window
     bool no_vsync = false;
-    std::string keys;         // scripted key presses, "FRAME:KEY,..."
-    std::string display = "auto";   // auto, interop, host-copy, none (viewer/frame_display.h)
-    std::string stats;        // --stats: the timing summary as JSON
-    bool headless = false;    // an offscreen EGL framebuffer instead of a window (viewer/offscreen_window.h)
-    uint32_t alternate = 0;   // --alternate-display N: N frames shown, N only rendered, ... (0: every frame shown)
-    bool no_panel = false;    // --no-panel, or PRISM_VIEW_PANEL=0: the frame alone, as before the panel
-    std::string interactive_scale = "auto";   // resolution while moving: auto (from --target-fps) or a fraction
+    std::string keys;              // scripted key presses, "FRAME:KEY,..."
+    std::string display = "auto";  // auto, interop, host-copy, none (viewer/frame_display.h)
+    std::string stats;             // --stats: the timing summary as JSON
+    bool headless = false;         // an offscreen EGL framebuffer instead of a window (viewer/offscreen_window.h)
+    uint32_t alternate = 0;        // --alternate-display N: N frames shown, N only rendered, ... (0: every frame shown)
+    bool no_panel = false;         // --no-panel, or PRISM_VIEW_PANEL=0: the frame alone, as before the panel
+    std::string interactive_scale = "auto";  // resolution while moving: auto (from --target-fps) or a fraction
     double target_fps = 30.0;
-    std::vector<std::string> drops;   // --drop FRAME:PATH: scripted file drops
+    std::vector<std::string> drops;  // --drop FRAME:PATH: scripted file drops
 };
 
 #ifdef PRISM_HAVE_VIEWER
@@ -77,7 +77,7 @@ public:
     explicit MovingObject(const LoadedScene& loaded) {
         for (const Instance& instance : loaded.scene.instances) base_.push_back(instance.transform);
         if (base_.empty()) return;
-        index_ = base_.size() - 1;   // the loaders and builtin scenes add the floor first and the model last
+        index_ = base_.size() - 1;  // the loaders and builtin scenes add the floor first and the model last
         const Aabb& bounds = loaded.device.mesh_bounds.at(loaded.device.instance_meshes.at(index_));
         Aabb world;
         for (int corner = 0; corner < 8; ++corner) {
@@ -123,10 +123,10 @@ SceneOptions movable(SceneOptions options) {
 // A dropped (or reloaded) file: a scene, or an environment map for the current scene.
 enum class DroppedKind { Scene, Environment };
 
-// Which kind `path` is, by its name (or "builtin:...") (a cube map is a folder of six faces, or one face inside one); throws
-// prism::Error naming the file when it is neither.
+// Which kind `path` is, by its name (or "builtin:...") (a cube map is a folder of six faces, or one face inside one);
+// throws prism::Error naming the file when it is neither.
 DroppedKind classify_dropped(const std::filesystem::path& path) {
-    if (path.string().rfind("builtin:", 0) == 0) return DroppedKind::Scene;   // L on a builtin scene
+    if (path.string().rfind("builtin:", 0) == 0) return DroppedKind::Scene;  // L on a builtin scene
     std::string name = path.filename().string();
     for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));
     auto ends_with = [&](const char* suffix) {
@@ -139,7 +139,8 @@ DroppedKind classify_dropped(const std::filesystem::path& path) {
     std::error_code error;
     if (std::filesystem::is_directory(path, error) && is_cube_map_folder(path)) return DroppedKind::Environment;
     if (is_cube_map_folder(path.parent_path())) return DroppedKind::Environment;
-    throw Error(path.string() + ": not a scene (.gltf .glb .obj .ply .ply.gz .json) nor an environment map (.hdr, "
+    throw Error(path.string() +
+                ": not a scene (.gltf .glb .obj .ply .ply.gz .json) nor an environment map (.hdr, "
                 "a cube-map folder)");
 }
 
@@ -150,7 +151,7 @@ void load_environment(const std::filesystem::path& path, Scene& scene) {
     std::string name = path.filename().string();
     for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));
     if (name.size() > 4 && name.compare(name.size() - 4, 4, ".hdr") == 0) return load_equirect_map(path, scene);
-    load_cube_map(path.parent_path(), scene);   // a face of a cube map: the folder it is in
+    load_cube_map(path.parent_path(), scene);  // a face of a cube map: the folder it is in
 }
 
 class ViewSession {
@@ -163,7 +164,7 @@ public:
           drops_(parse_drops(options.drops)),
           scale_(options.interactive_scale, options.target_fps),
           window_(viewer::open_window("Prism", int(settings_.width), int(settings_.height), !options.no_vsync,
-                                       options.headless)),
+                                      options.headless)),
           loaded_(std::make_unique<LoadedScene>(load_and_build(movable(options.scene), options.backend))),
           controls_(loaded_->scene.camera),
           moving_(*loaded_),
@@ -208,7 +209,7 @@ public:
         // --frames N renders a frame on every pass (benchmarks, scripted runs); otherwise the session renders only
         // when something changed, and waits for events in between.
         const bool continuous = options_.frames != 0;
-        bool counted_interval = false;   // last_present ends an interval fps may use (not an idle wait)
+        bool counted_interval = false;  // last_present ends an interval fps may use (not an idle wait)
         for (;;) {
             if (window_->should_close()) break;
             double elapsed = std::chrono::duration<double>(Clock::now() - started_).count();
@@ -220,20 +221,22 @@ public:
             while (next_drop_ < drops_.size() && drops_[next_drop_].first <= frame)
                 window_->receive_drop({drops_[next_drop_++].second});
             bool script_left = next_key_ < script_.size() || next_drop_ < drops_.size();
-            bool busy = continuous || need_render_ || last_render_scaled_ || moving_on_ || held_keys_.any_down() ||
-                        script_left;
+            bool busy =
+                continuous || need_render_ || last_render_scaled_ || moving_on_ || held_keys_.any_down() || script_left;
             viewer::Input input;
             if (busy) {
                 input = window_->poll();
             } else {
                 double timeout = options_.seconds > 0.0 ? options_.seconds - elapsed : 60.0;
                 input = window_->wait(std::max(timeout, 0.001));
-                counted_interval = false;   // the time spent waiting is not a frame interval
+                counted_interval = false;  // the time spent waiting is not a frame interval
             }
             const double now = viewer::input_clock();
             for (const viewer::FlyKeyEvent& event : input.fly_keys) {
-                if (event.pressed) held_keys_.press(event.key, event.time);
-                else held_keys_.release(event.key, event.time);
+                if (event.pressed)
+                    held_keys_.press(event.key, event.time);
+                else
+                    held_keys_.release(event.key, event.time);
             }
             // A scripted fly key is held for its time, ending now: the same presses and releases as the window's.
             while (next_key_ < script_.size() && script_[next_key_].frame <= frame) {
@@ -251,8 +254,10 @@ public:
             bool redraw = input.resized || (panel_ && input.any());
             for (Action action : input.actions) {
                 if (action == Action::Quit) return finish();
-                if (action == Action::Screenshot) screenshot = true;
-                else need_render_ |= apply(action);
+                if (action == Action::Screenshot)
+                    screenshot = true;
+                else
+                    need_render_ |= apply(action);
                 redraw = true;
             }
             for (const std::string& path : input.dropped) need_render_ |= load_file(path, true);
@@ -286,7 +291,7 @@ public:
             moving |= held_keys_.any_down();
 
             bool render = continuous || moving || need_render_ || last_render_scaled_;
-            if (!render && !redraw && !screenshot) continue;   // nothing changed: back to waiting
+            if (!render && !redraw && !screenshot) continue;  // nothing changed: back to waiting
 
             viewer::FrameTiming timing;
             auto ms = [](Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); };
@@ -306,8 +311,8 @@ public:
                 double scale = moving ? scale_.moving_scale() : 1.0;
                 resize_render(scale);
                 viewer::set_read_back(display_->path(), settings_, shows);
-                if (ablate_ == "gl") settings_.copy_to_gl = false;   // GL shows the shared buffer as it is
-                if (ablate_ == "copy") shows = false;                  // the frame copies, GL does nothing
+                if (ablate_ == "gl") settings_.copy_to_gl = false;  // GL shows the shared buffer as it is
+                if (ablate_ == "copy") shows = false;               // the frame copies, GL does nothing
                 start = Clock::now();
                 last_frame_ = engine_->render(controls_.camera(), settings_);
                 scale_.record(settings_.width, settings_.height, last_frame_.stats.frame_ms);
@@ -337,15 +342,16 @@ public:
                 ++frames_shown_;
             }
             auto presented = Clock::now();
-            if (!render) continue;   // the panel drawn again over the same frame: no frame timing
+            if (!render) continue;  // the panel drawn again over the same frame: no frame timing
             timing.render_ms = ms(rendered - start);
-            timing.display_ms = ms(drawn - rendered);   // a screenshot's read-back is in neither
+            timing.display_ms = ms(drawn - rendered);  // a screenshot's read-back is in neither
             timing.present_ms = ms(presented - swap_start);
             timing.frame_ms = ms(presented - last_present);
             stats_.add(timing);
             if (counted_interval) {
                 double interval_ms = timing.frame_ms;
-                frame_interval_ms_ = frame_interval_ms_ == 0.0 ? interval_ms : 0.9 * frame_interval_ms_ + 0.1 * interval_ms;
+                frame_interval_ms_ =
+                    frame_interval_ms_ == 0.0 ? interval_ms : 0.9 * frame_interval_ms_ + 0.1 * interval_ms;
             }
             last_present = presented;
             counted_interval = true;
@@ -360,7 +366,8 @@ private:
             size_t colon = item.find(':');
             std::string frame = colon == std::string::npos ? "" : item.substr(0, colon);
             if (frame.empty() || frame.size() > 9 || colon + 1 >= item.size() ||
-                !std::all_of(frame.begin(), frame.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }))
+                !std::all_of(frame.begin(), frame.end(),
+                             [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }))
                 throw Error("view: --drop expects FRAME:PATH, got '" + item + "'");
             drops.emplace_back(uint32_t(std::stoul(frame)), item.substr(colon + 1));
         }
@@ -406,7 +413,9 @@ private:
         if (found == other_layouts_.end()) {
             std::printf("  building the %s BVH for %s\n", bvh_layout_name(layout).c_str(), spec.c_str());
             std::fflush(stdout);
-            found = other_layouts_.emplace(layout, build_device_scene_for(loaded_->scene, movable(options_.scene), layout)).first;
+            found =
+                other_layouts_.emplace(layout, build_device_scene_for(loaded_->scene, movable(options_.scene), layout))
+                    .first;
         }
         return found->second;
     }
@@ -438,7 +447,7 @@ private:
             display_height_ = settings_.height;
             return;
         }
-        display_.reset();   // it holds the shared buffer of the old size
+        display_.reset();  // it holds the shared buffer of the old size
         display_ = make_display(*engine_);
     }
 
@@ -454,8 +463,8 @@ private:
         json["window"] = {{"width", full_width_}, {"height", full_height_}};
         json["max_depth"] = settings_.max_depth;
         json["vsync"] = !options_.no_vsync;
-        json["backend"] = {{"name", info.name}, {"device", info.device}, {"driver", info.driver},
-                           {"api_version", info.api_version}};
+        json["backend"] = {
+            {"name", info.name}, {"device", info.device}, {"driver", info.driver}, {"api_version", info.api_version}};
         json["backend_switches"] = backend_switches_;
         json["gl"] = window_->context_description();
         json["headless"] = options_.headless;
@@ -486,20 +495,25 @@ private:
     bool apply(Action action) {
         bool changed = true;
         switch (action) {
-        case Action::DepthUp: set_depth(std::min(settings_.max_depth + 1, 32u)); break;
-        case Action::DepthDown: set_depth(std::max(settings_.max_depth - 1, 1u)); break;
-        case Action::ResetCamera: controls_.reset(); break;
-        case Action::FrameScene: controls_.frame_scene(float(full_width_) / float(std::max(full_height_, 1u))); break;
-        case Action::ToggleHelp: help_ = !help_; changed = false; break;
-        case Action::Reload: changed = reload(); break;
-        case Action::ToggleMoving:
-            if (moving_.empty()) break;
-            moving_on_ = !moving_on_;
-            std::printf("  moving object '%s': %s\n", moving_.name().c_str(), moving_on_ ? "on" : "off");
-            break;
-        default:
-            if (viewer::is_backend_key(action)) changed = switch_backend(viewer::backend_for_key(action));
-            break;
+            case Action::DepthUp: set_depth(std::min(settings_.max_depth + 1, 32u)); break;
+            case Action::DepthDown: set_depth(std::max(settings_.max_depth - 1, 1u)); break;
+            case Action::ResetCamera: controls_.reset(); break;
+            case Action::FrameScene:
+                controls_.frame_scene(float(full_width_) / float(std::max(full_height_, 1u)));
+                break;
+            case Action::ToggleHelp:
+                help_ = !help_;
+                changed = false;
+                break;
+            case Action::Reload: changed = reload(); break;
+            case Action::ToggleMoving:
+                if (moving_.empty()) break;
+                moving_on_ = !moving_on_;
+                std::printf("  moving object '%s': %s\n", moving_.name().c_str(), moving_on_ ? "on" : "off");
+                break;
+            default:
+                if (viewer::is_backend_key(action)) changed = switch_backend(viewer::backend_for_key(action));
+                break;
         }
         std::fflush(stdout);
         return changed;
@@ -539,7 +553,7 @@ private:
                 device_ = &next_device;
                 backend_spec_ = spec;
             } catch (const Error& e) {
-                settings_ = previous;   // make_display set the read-back for a display that is not used
+                settings_ = previous;  // make_display set the read-back for a display that is not used
                 why = e.what();
             }
         }
@@ -573,8 +587,8 @@ private:
             } else {
                 next->scene = loaded_->scene;
                 load_environment(path, next->scene);
-                next->device = build_device_scene_for(next->scene, movable(options_.scene),
-                                                      loaded_->device.bvh_options.layout);
+                next->device =
+                    build_device_scene_for(next->scene, movable(options_.scene), loaded_->device.bvh_options.layout);
             }
             replace_scene(std::move(next), kind == DroppedKind::Scene && dropped);
             if (kind == DroppedKind::Scene) {
@@ -675,7 +689,7 @@ private:
             std::snprintf(activity, sizeof activity, "still: full resolution, idle until a change");
         view.activity = activity;
         view.frames_rendered = frames_rendered_;
-        view.frames_shown = frames_shown_ + 1;   // this one
+        view.frames_shown = frames_shown_ + 1;  // this one
         view.message = message_;
         view.message_is_error = message_is_error_;
         view.backends = {"cpu-ref", "cpu", "cuda", "opencl", "vulkan"};
@@ -705,48 +719,48 @@ private:
     RenderSettings settings_;
     viewer::DisplayMode mode_;
     std::vector<viewer::ScriptedKey> script_;
-    std::vector<std::pair<uint32_t, std::string>> drops_;   // --drop, by frame
+    std::vector<std::pair<uint32_t, std::string>> drops_;  // --drop, by frame
     viewer::InteractiveScale scale_;
-    std::unique_ptr<viewer::Window> window_;   // first: no display fails fast, and the GL context outlives
-                                               // the FrameDisplay and the panel
-    std::optional<GlContextHandles> gl_;   // given to backends in the interop modes
+    std::unique_ptr<viewer::Window> window_;  // first: no display fails fast, and the GL context outlives
+                                              // the FrameDisplay and the panel
+    std::optional<GlContextHandles> gl_;      // given to backends in the interop modes
     std::unique_ptr<LoadedScene> loaded_;
-    std::map<BvhLayout, DeviceScene> other_layouts_;   // built on a backend switch that needs another layout;
-                                                       // before engine_, which traces one of them
-    DeviceScene* device_ = nullptr;                     // the scene the current engine traces
+    std::map<BvhLayout, DeviceScene> other_layouts_;  // built on a backend switch that needs another layout;
+                                                      // before engine_, which traces one of them
+    DeviceScene* device_ = nullptr;                   // the scene the current engine traces
     viewer::CameraControls controls_;
     MovingObject moving_;
     bool moving_on_ = false;
-    std::string scene_file_;         // what L reloads
-    std::string environment_file_;   // a dropped environment map, kept on reload
-    std::string backend_spec_;       // the current engine's, as created
+    std::string scene_file_;        // what L reloads
+    std::string environment_file_;  // a dropped environment map, kept on reload
+    std::string backend_spec_;      // the current engine's, as created
     std::unique_ptr<RenderEngine> engine_;
     std::unique_ptr<viewer::FrameDisplay> display_;
-    std::unique_ptr<viewer::Panel> panel_;   // null with --no-panel, or when it cannot start (panel_error_)
+    std::unique_ptr<viewer::Panel> panel_;  // null with --no-panel, or when it cannot start (panel_error_)
     std::string panel_error_;
     viewer::HeldKeys held_keys_;
     size_t next_key_ = 0, next_drop_ = 0;
     bool help_ = false;
-    bool need_render_ = true;   // something changed that the frame shown does not have yet (the first frame too)
-    bool last_render_scaled_ = false;   // the last frame was rendered below full resolution: refine when still
-    uint32_t full_width_ = 0, full_height_ = 0;         // the window's framebuffer (offscreen: --width/--height)
-    uint32_t display_width_ = 0, display_height_ = 0;   // the frame size the display was made for
+    bool need_render_ = true;          // something changed that the frame shown does not have yet (the first frame too)
+    bool last_render_scaled_ = false;  // the last frame was rendered below full resolution: refine when still
+    uint32_t full_width_ = 0, full_height_ = 0;        // the window's framebuffer (offscreen: --width/--height)
+    uint32_t display_width_ = 0, display_height_ = 0;  // the frame size the display was made for
     std::string message_;
     bool message_is_error_ = false;
     FrameResult last_frame_;
-    std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();   // the first frame
+    std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();  // the first frame
     uint32_t frames_rendered_ = 0;
     uint64_t frames_shown_ = 0;
-    double frame_interval_ms_ = 0.0;   // smoothed time between presented frames while rendering continuously
+    double frame_interval_ms_ = 0.0;  // smoothed time between presented frames while rendering continuously
     int files_loaded_ = 0, load_errors_ = 0;
     viewer::FrameTimings stats_;
     viewer::GlTimer gl_timer_;
     int backend_switches_ = 0;
-    std::string ablate_;   // PRISM_VIEW_ABLATE: "", "copy" or "gl"
+    std::string ablate_;  // PRISM_VIEW_ABLATE: "", "copy" or "gl"
 };
 
 void run_view(const ViewOptions& options) {
-    check_frame_options(options.backend, options.settings);   // before the window or the scene
+    check_frame_options(options.backend, options.settings);  // before the window or the scene
     if (options.frames == 0 && !options.screenshot.empty())
         throw Error("view: --screenshot needs --frames (P saves screenshots in an interactive session)");
     if (!options.screenshot.empty()) check_output_extension(options.screenshot);
@@ -759,8 +773,9 @@ void run_view(const ViewOptions& options) {
 #else
 
 void run_view(const ViewOptions&) {
-    throw Error("view: not available in this build (GLFW or OpenGL not found at configure time: "
-                "apt-get install libglfw3-dev libgl-dev and reconfigure)");
+    throw Error(
+        "view: not available in this build (GLFW or OpenGL not found at configure time: "
+        "apt-get install libglfw3-dev libgl-dev and reconfigure)");
 }
 
 #endif
@@ -771,17 +786,23 @@ void add_view_command(CLI::App& app) {
     auto options = std::make_shared<ViewOptions>();
     auto* command = app.add_subcommand("view", "Interactive preview in a window (GLFW + OpenGL)");
     add_scene_options(command, options->scene);
-    command->add_option("--backend", options->backend,
-                        "auto, cpu-ref, cpu, cuda, opencl, vulkan; a device after a colon (opencl:pocl)")
+    command
+        ->add_option("--backend", options->backend,
+                     "auto, cpu-ref, cpu, cuda, opencl, vulkan; a device after a colon (opencl:pocl)")
         ->capture_default_str();
     command->add_option("--width", options->settings.width, "window and frame width")->capture_default_str();
     command->add_option("--height", options->settings.height, "window and frame height")->capture_default_str();
     command->add_option("--depth", options->settings.max_depth, "ray generations traced (+/- change it)")
         ->capture_default_str();
-    command->add_option("--frames", options->frames, "render this many frames, one on every pass, and exit (0: until Esc, rendering only when something changes)")
+    command
+        ->add_option("--frames", options->frames,
+                     "render this many frames, one on every pass, and exit (0: until Esc, rendering only when "
+                     "something changes)")
         ->capture_default_str();
-    command->add_option("--seconds", options->seconds,
-                        "stop after this many seconds of wall-clock time (0: no limit; with --frames, whichever ends first)")
+    command
+        ->add_option(
+            "--seconds", options->seconds,
+            "stop after this many seconds of wall-clock time (0: no limit; with --frames, whichever ends first)")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
     command->add_option("--screenshot", options->screenshot,
@@ -792,31 +813,33 @@ void add_view_command(CLI::App& app) {
                         "for SECONDS with FRAME:KEY:SECONDS), e.g. 0:M,3:2,4:W:1.5");
     command->add_option("--drop", options->drops,
                         "scripted file drop FRAME:PATH (repeatable): loaded as if dropped onto the window");
-    command->add_flag("--no-panel", options->no_panel,
-                      "no on-screen panel: the frame alone (also PRISM_VIEW_PANEL=0)");
-    command->add_option("--interactive-scale", options->interactive_scale,
-                        "resolution while the camera or scene moves: auto (to hold --target-fps) or a fraction in "
-                        "(0, 1] of the window's; full resolution once it stops")
+    command->add_flag("--no-panel", options->no_panel, "no on-screen panel: the frame alone (also PRISM_VIEW_PANEL=0)");
+    command
+        ->add_option("--interactive-scale", options->interactive_scale,
+                     "resolution while the camera or scene moves: auto (to hold --target-fps) or a fraction in "
+                     "(0, 1] of the window's; full resolution once it stops")
         ->capture_default_str();
-    command->add_option("--target-fps", options->target_fps, "frame rate --interactive-scale auto aims for while moving")
+    command
+        ->add_option("--target-fps", options->target_fps, "frame rate --interactive-scale auto aims for while moving")
         ->capture_default_str();
-    command->add_option("--display", options->display,
-                        "how frames reach the window: auto (GPU buffer interop where the backend and GL allow it, "
-                        "else host copy), interop (required), host-copy, none (render only)")
+    command
+        ->add_option("--display", options->display,
+                     "how frames reach the window: auto (GPU buffer interop where the backend and GL allow it, "
+                     "else host copy), interop (required), host-copy, none (render only)")
         ->capture_default_str();
     command->add_option("--stats", options->stats,
                         "write the timing summary (median render/display/frame ms, fps, display path) as JSON");
-    command->add_option("--alternate-display", options->alternate,
-                        "measure what showing a frame costs within one run: N frames shown, then N only rendered, and "
-                        "so on; the summary and --stats compare their median frame times (0: show every frame)")
+    command
+        ->add_option("--alternate-display", options->alternate,
+                     "measure what showing a frame costs within one run: N frames shown, then N only rendered, and "
+                     "so on; the summary and --stats compare their median frame times (0: show every frame)")
         ->capture_default_str();
     command->add_flag("--headless", options->headless,
                       "draw into an offscreen framebuffer of an EGL context (an EGL device, else Mesa's surfaceless "
                       "platform) instead of a window: no X server needed; input only from --keys");
     command->callback([options] {
         route_output();
-        if (setting(Setting::ViewPanel) == "0")
-            options->no_panel = true;
+        if (setting(Setting::ViewPanel) == "0") options->no_panel = true;
         if (options->headless && options->frames == 0 && options->seconds <= 0.0)
             throw Error("view: --headless needs --frames or --seconds (there is no window to close)");
         run_view(*options);

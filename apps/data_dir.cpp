@@ -31,7 +31,7 @@ std::filesystem::path scenes_beside_executable() {
     // A binary still in its build tree reads the scenes of the checkout it was built from.
     if (inside(folder, PRISM_BUILD_TREE) && std::filesystem::is_directory(PRISM_SOURCE_SCENES_DIR, error))
         return PRISM_SOURCE_SCENES_DIR;
-    std::filesystem::path installed = folder.parent_path() / "share" / "prism" / "scenes";   // <prefix>/bin/prism
+    std::filesystem::path installed = folder.parent_path() / "share" / "prism" / "scenes";  // <prefix>/bin/prism
     if (std::filesystem::is_directory(installed, error)) return installed;
     return {};
 }

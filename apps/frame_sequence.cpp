@@ -37,8 +37,7 @@ NumberField find_number_field(const std::string& pattern) {
             width = width * 10 + (pattern[j++] - '0');
         if (j >= pattern.size() || pattern[j] != 'd' || width > 12)
             throw Error("--out '" + pattern + "': '%' must start %d, %0Nd (N up to 12) or %%");
-        if (field.begin != std::string::npos)
-            throw Error("--out '" + pattern + "': more than one frame-number field");
+        if (field.begin != std::string::npos) throw Error("--out '" + pattern + "': more than one frame-number field");
         field = NumberField{i, j + 1, width};
         i = j;
     }
@@ -53,10 +52,9 @@ FrameRange parse_frame_range(const std::string& text) {
     FrameRange range;
     size_t dash = text.find('-');
     std::string_view all(text);
-    bool ok = dash == std::string::npos
-                  ? parse_frame_number(all, range.first) && (range.last = range.first, true)
-                  : parse_frame_number(all.substr(0, dash), range.first) &&
-                        parse_frame_number(all.substr(dash + 1), range.last);
+    bool ok = dash == std::string::npos ? parse_frame_number(all, range.first) && (range.last = range.first, true)
+                                        : parse_frame_number(all.substr(0, dash), range.first) &&
+                                              parse_frame_number(all.substr(dash + 1), range.last);
     if (!ok) throw Error("--frames '" + text + "': expected A-B or N (non-negative frame numbers)");
     if (range.last < range.first) throw Error("--frames '" + text + "': the last frame is before the first");
     return range;

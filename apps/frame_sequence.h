@@ -10,7 +10,7 @@
 namespace prism::app {
 
 struct FrameRange {
-    uint32_t first = 0, last = 0;   // inclusive
+    uint32_t first = 0, last = 0;  // inclusive
     uint32_t count() const { return last - first + 1; }
 };
 

@@ -48,7 +48,7 @@ void FrameWriter::encode_loop() {
         queue_.pop_front();
         ++writing_;
         lock.unlock();
-        changed_.notify_all();   // a place in the queue is free
+        changed_.notify_all();  // a place in the queue is free
         std::exception_ptr failed;
         try {
             write_image(frame.path, frame.format, int(frame.width), int(frame.height), frame.image, frame.radiance);

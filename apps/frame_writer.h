@@ -28,7 +28,7 @@ class FrameWriter {
 public:
     // threads: encoders; 0 picks a quarter of the host's cores, 1 to 4.
     explicit FrameWriter(unsigned threads = 0);
-    ~FrameWriter();   // drops what was not finished; call finish() to keep it
+    ~FrameWriter();  // drops what was not finished; call finish() to keep it
     FrameWriter(const FrameWriter&) = delete;
     FrameWriter& operator=(const FrameWriter&) = delete;
 

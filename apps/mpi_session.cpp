@@ -12,7 +12,7 @@
 namespace prism::app {
 namespace {
 
-constexpr int kTag = 20;   // one tag: every exchange is ordered per pair of ranks
+constexpr int kTag = 20;  // one tag: every exchange is ordered per pair of ranks
 
 // Fixed header, then text, rays, shadow rays, image and radiance back to back.
 struct Header {
@@ -33,14 +33,20 @@ template <typename T>
 void take(const std::vector<char>& bytes, size_t& at, std::vector<T>& out, size_t count) {
     if (at + count * sizeof(T) > bytes.size()) throw Error("MPI: a work message is shorter than its header says");
     out.resize(count);
-    if (count == 0) return;   // memcpy takes no null pointer, even for zero bytes
+    if (count == 0) return;  // memcpy takes no null pointer, even for zero bytes
     std::memcpy(out.data(), bytes.data() + at, count * sizeof(T));
     at += count * sizeof(T);
 }
 
 std::vector<char> serialise(const WorkMessage& m) {
-    Header h{int32_t(m.kind), m.worker, m.item, m.ms, uint32_t(m.text.size()), uint32_t(m.rays_per_depth.size()),
-             uint32_t(m.image.size()), uint32_t(m.radiance.size())};
+    Header h{int32_t(m.kind),
+             m.worker,
+             m.item,
+             m.ms,
+             uint32_t(m.text.size()),
+             uint32_t(m.rays_per_depth.size()),
+             uint32_t(m.image.size()),
+             uint32_t(m.radiance.size())};
     std::vector<char> bytes;
     append(bytes, &h, 1);
     append(bytes, m.text.data(), m.text.size());

@@ -18,18 +18,18 @@ int launcher_rank();
 
 class MpiSession {
 public:
-    MpiSession();    // MPI_Init_thread; throws prism::Error when the build has no MPI
-    ~MpiSession();   // MPI_Finalize
+    MpiSession();   // MPI_Init_thread; throws prism::Error when the build has no MPI
+    ~MpiSession();  // MPI_Finalize
     MpiSession(const MpiSession&) = delete;
     MpiSession& operator=(const MpiSession&) = delete;
 
     int rank() const { return rank_; }
     int size() const { return size_; }
-    int local_rank() const { return local_rank_; }   // among the ranks on this host: picks this rank's GPU
+    int local_rank() const { return local_rank_; }  // among the ranks on this host: picks this rank's GPU
 
     // Worker ranks: any thread may call; a message and its answer are one exchange (a mutex orders them).
     WorkMessage exchange_with_coordinator(const WorkMessage& message);
-    void send_to_coordinator(const WorkMessage& message);   // no answer expected (Failed, RankDone)
+    void send_to_coordinator(const WorkMessage& message);  // no answer expected (Failed, RankDone)
     // Rank 0, main thread only.
     WorkMessage receive_from_workers(int& source_rank);
     void send_to_worker(int rank, const WorkMessage& message);

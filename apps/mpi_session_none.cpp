@@ -1,14 +1,14 @@
 // The stand-in for builds without MPI (apps/mpi_session.h): it only says so.
 #include "apps/mpi_session.h"
 
-
 #include "core/util/error.h"
 
 namespace prism::app {
 
 MpiSession::MpiSession() {
-    throw Error("this prism was built without MPI, so it cannot split work over mpirun's ranks (install "
-                "libopenmpi-dev and reconfigure)");
+    throw Error(
+        "this prism was built without MPI, so it cannot split work over mpirun's ranks (install "
+        "libopenmpi-dev and reconfigure)");
 }
 
 MpiSession::~MpiSession() = default;

@@ -31,14 +31,13 @@ void check_backend_option(const std::string& backend) {
 }
 
 void check_min_weight_option(float min_weight) {
-    if (!(min_weight >= 0.0f && min_weight <= 1.0f))   // NaN fails both comparisons
+    if (!(min_weight >= 0.0f && min_weight <= 1.0f))  // NaN fails both comparisons
         throw Error("--min-weight " + std::to_string(min_weight) + ": expected a number from 0 to 1");
 }
 
 void check_writable_option(const std::string& option, const std::string& path) {
     std::error_code error;
-    if (std::filesystem::is_directory(path, error))
-        throw Error(option + " " + shorten_path(path) + ": is a directory");
+    if (std::filesystem::is_directory(path, error)) throw Error(option + " " + shorten_path(path) + ": is a directory");
     std::filesystem::path probe = path;
     probe += ".probe-" + std::to_string(::getpid());
     const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NONBLOCK, 0600);

@@ -12,16 +12,22 @@ namespace {
 
 std::string seconds(double value) {
     char text[32];
-    if (value < 10.0) std::snprintf(text, sizeof text, "%.2f s", value);
-    else if (value < 120.0) std::snprintf(text, sizeof text, "%.1f s", value);
-    else std::snprintf(text, sizeof text, "%d min %02d s", int(value) / 60, int(value) % 60);
+    if (value < 10.0)
+        std::snprintf(text, sizeof text, "%.2f s", value);
+    else if (value < 120.0)
+        std::snprintf(text, sizeof text, "%.1f s", value);
+    else
+        std::snprintf(text, sizeof text, "%d min %02d s", int(value) / 60, int(value) % 60);
     return text;
 }
 
 }  // namespace
 
 Progress::Progress(std::string task)
-    : task_(std::move(task)), enabled_(!quiet()), terminal_(isatty(STDERR_FILENO)), start_(Clock::now()),
+    : task_(std::move(task)),
+      enabled_(!quiet()),
+      terminal_(isatty(STDERR_FILENO)),
+      start_(Clock::now()),
       last_update_(start_) {
     if (!enabled_) return;
     // Plain lines start at the first news: a step that fails at once leaves only its one-line error.
@@ -85,7 +91,8 @@ std::string Progress::status_line(Clock::time_point now) const {
     if (fraction_ > 0.0) {
         // The rate of the last report, less the time since: the estimate counts down between reports.
         double at_update = std::chrono::duration<double>(last_update_ - start_).count();
-        double left = at_update * (1.0 - fraction_) / fraction_ - std::chrono::duration<double>(now - last_update_).count();
+        double left =
+            at_update * (1.0 - fraction_) / fraction_ - std::chrono::duration<double>(now - last_update_).count();
         line += ", ETA " + seconds(std::max(left, 0.0));
     }
     return line;

@@ -15,7 +15,7 @@ namespace prism::app {
 class Progress {
 public:
     explicit Progress(std::string task);
-    ~Progress();   // a step abandoned by an exception clears its line
+    ~Progress();  // a step abandoned by an exception clears its line
     Progress(const Progress&) = delete;
     Progress& operator=(const Progress&) = delete;
 
@@ -26,8 +26,8 @@ public:
 
 private:
     using Clock = std::chrono::steady_clock;
-    std::string status_line(Clock::time_point now) const;   // callers hold mutex_
-    void draw(Clock::time_point now);                       // callers hold mutex_
+    std::string status_line(Clock::time_point now) const;  // callers hold mutex_
+    void draw(Clock::time_point now);                      // callers hold mutex_
     void tick();
 
     std::string task_;
@@ -37,7 +37,7 @@ private:
     Clock::time_point start_;
     Clock::time_point last_update_;
     Clock::time_point last_draw_;
-    double fraction_ = -1.0;         // negative until the step reports one
+    double fraction_ = -1.0;  // negative until the step reports one
     double printed_fraction_ = -1.0;
     std::string detail_;
     std::mutex mutex_;

@@ -68,8 +68,12 @@ void run_worker_rank(MpiSession& session, const WorkerJob& job, const std::vecto
 nlohmann::json workers_json(const WorkCoordinator& coordinator, bool sequence) {
     nlohmann::json list = nlohmann::json::array();
     for (const WorkerRecord& w : coordinator.workers())
-        list.push_back({{"rank", w.rank}, {"worker", w.worker}, {"backend", w.backend}, {"device", w.device},
-                        {sequence ? "frames" : "tiles", w.items}, {"render_ms", w.render_ms}});
+        list.push_back({{"rank", w.rank},
+                        {"worker", w.worker},
+                        {"backend", w.backend},
+                        {"device", w.device},
+                        {sequence ? "frames" : "tiles", w.items},
+                        {"render_ms", w.render_ms}});
     return list;
 }
 
@@ -106,7 +110,7 @@ void report(const DistributedRender& render, const WorkerJob& job, const WorkCoo
         stats["tile_size"] = render.options.tile_size;
         stats["tiles"] = job.tiles.size();
     }
-    stats["wall_ms"] = wall_ms;   // with the workers' scene loading and device start-up
+    stats["wall_ms"] = wall_ms;  // with the workers' scene loading and device start-up
     write_file_atomically(render.stats, stats.dump(2) + "\n");
 }
 
@@ -116,14 +120,16 @@ void add_distributed_options(CLI::App* command, DistributedOptions& options) {
     command->add_option("--frames", options.frames,
                         "render frames A-B (or N) of a sequence; --out then names them with %d or %0Nd "
                         "(out_%04d.png)");
-    command->add_option("--turntable", options.turntable_seconds,
-                        "with --frames: the camera turns once around its target every SECONDS")
+    command
+        ->add_option("--turntable", options.turntable_seconds,
+                     "with --frames: the camera turns once around its target every SECONDS")
         ->check(CLI::NonNegativeNumber);
     command->add_option("--fps", options.fps, "frames per second of a sequence (the turntable's clock)")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
-    command->add_option("--tile-size", options.tile_size,
-                        "pixels per side of the tiles a frame is split into over devices or MPI ranks")
+    command
+        ->add_option("--tile-size", options.tile_size,
+                     "pixels per side of the tiles a frame is split into over devices or MPI ranks")
         ->check(CLI::Range(1u, 1u << 16))
         ->capture_default_str();
 }
@@ -147,12 +153,15 @@ void run_distributed_render(const DistributedRender& render) {
     }
     const int rank = session ? session->rank() : 0;
     const int ranks = session ? session->size() : 1;
-    std::vector<std::string> backends = plan_local_workers(render.backend, rank, ranks, session ? session->local_rank() : 0);
+    std::vector<std::string> backends =
+        plan_local_workers(render.backend, rank, ranks, session ? session->local_rank() : 0);
     if (rank != 0) return run_worker_rank(*session, job, backends);
 
     auto start = Clock::now();
     const uint32_t items = job.sequence ? job.frames.count() : uint32_t(job.tiles.size());
-    WorkerNaming naming = ranks > 1 ? WorkerNaming::Rank : backends.size() > 1 ? WorkerNaming::Device : WorkerNaming::None;
+    WorkerNaming naming = ranks > 1             ? WorkerNaming::Rank
+                          : backends.size() > 1 ? WorkerNaming::Device
+                                                : WorkerNaming::None;
     WorkCoordinator coordinator(items, job.tiles, render.settings.width, render.settings.height,
                                 !job.sequence && needs_linear_radiance(render.format), naming);
 
@@ -179,12 +188,12 @@ void run_distributed_render(const DistributedRender& render) {
     coordinator.check_complete();
     double wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
     if (!job.sequence)
-        write_rendered_image(render.out, render.format, render.settings.width, render.settings.height, coordinator.image(),
-                             coordinator.radiance());
+        write_rendered_image(render.out, render.format, render.settings.width, render.settings.height,
+                             coordinator.image(), coordinator.radiance());
     if (job.sequence)
-        std::printf("prism render: %s, frames %u-%u over %d rank%s (%zu worker%s on rank 0)\n", render.scene.scene.c_str(),
-                    job.frames.first, job.frames.last, ranks, ranks > 1 ? "s" : "", backends.size(),
-                    backends.size() > 1 ? "s" : "");
+        std::printf("prism render: %s, frames %u-%u over %d rank%s (%zu worker%s on rank 0)\n",
+                    render.scene.scene.c_str(), job.frames.first, job.frames.last, ranks, ranks > 1 ? "s" : "",
+                    backends.size(), backends.size() > 1 ? "s" : "");
     else
         std::printf("prism render: %s, %ux%u in %u tiles of %u over %d rank%s (%zu worker%s on rank 0)\n",
                     render.scene.scene.c_str(), render.settings.width, render.settings.height, items,

@@ -31,9 +31,9 @@ bool wants_distributed_render(const std::string& backend, const DistributedOptio
 struct DistributedRender {
     SceneOptions scene;
     std::string backend;
-    RenderSettings settings;   // read_radiance already set for the output format
+    RenderSettings settings;  // read_radiance already set for the output format
     std::string out;
-    ImageFormat format;        // of --out, checked before any work (core/image/image_output.h)
+    ImageFormat format;  // of --out, checked before any work (core/image/image_output.h)
     std::string stats;
     DistributedOptions options;
 };

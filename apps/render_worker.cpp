@@ -15,8 +15,8 @@ namespace prism::app {
 namespace {
 
 // `writer`: a sequence's frame writer (null for tiles, which go back to the coordinator).
-WorkMessage render_item(const WorkerJob& job, RenderEngine& engine, LoadedScene& loaded, FrameWriter* writer, int worker,
-                        int32_t item) {
+WorkMessage render_item(const WorkerJob& job, RenderEngine& engine, LoadedScene& loaded, FrameWriter* writer,
+                        int worker, int32_t item) {
     RenderSettings settings = job.settings;
     const Camera& camera = loaded.scene.camera;
     Camera frame_camera = camera;
@@ -24,8 +24,9 @@ WorkMessage render_item(const WorkerJob& job, RenderEngine& engine, LoadedScene&
     if (job.sequence) {
         uint32_t frame = job.frames.first + uint32_t(item);
         frame_camera = turntable_camera(camera, frame, job.options.turntable_seconds, job.options.fps);
-        if (!loaded.scene.spins.empty())   // a refit of the top level: every worker's frame N is the same
-            engine.update_instances(loaded.device, instance_transforms_at(loaded.scene, frame / job.options.fps), false);
+        if (!loaded.scene.spins.empty())  // a refit of the top level: every worker's frame N is the same
+            engine.update_instances(loaded.device, instance_transforms_at(loaded.scene, frame / job.options.fps),
+                                    false);
         frame_path = numbered_output_path(job.out, frame);
     } else {
         settings.region = job.tiles[size_t(item)];
@@ -41,8 +42,8 @@ WorkMessage render_item(const WorkerJob& job, RenderEngine& engine, LoadedScene&
     result.shadow_rays_per_depth = frame.stats.shadow_rays_per_depth;
     if (job.sequence) {
         // Encoded while the next frame renders; the worker reports done only once every frame is on disk.
-        writer->submit({frame_path, job.format, frame.width, frame.height, std::move(frame.image),
-                        std::move(frame.radiance)});
+        writer->submit(
+            {frame_path, job.format, frame.width, frame.height, std::move(frame.image), std::move(frame.radiance)});
     } else {
         result.image = std::move(frame.image);
         result.radiance = std::move(frame.radiance);

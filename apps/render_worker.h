@@ -13,13 +13,13 @@
 namespace prism::app {
 
 struct WorkerJob {
-    SceneOptions scene;          // its BVH layout already fixed for every worker (shared_bvh_layout)
+    SceneOptions scene;  // its BVH layout already fixed for every worker (shared_bvh_layout)
     RenderSettings settings;
-    std::vector<PixelRect> tiles;   // the items when not a sequence
+    std::vector<PixelRect> tiles;  // the items when not a sequence
     bool sequence = false;
-    FrameRange frames;              // the items of a sequence: frames.first + item
-    std::string out;                // the image, or the numbered pattern of a sequence
-    ImageFormat format = ImageFormat::Png8;   // of out (core/image/image_output.h)
+    FrameRange frames;                       // the items of a sequence: frames.first + item
+    std::string out;                         // the image, or the numbered pattern of a sequence
+    ImageFormat format = ImageFormat::Png8;  // of out (core/image/image_output.h)
     DistributedOptions options;
 };
 

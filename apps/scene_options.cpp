@@ -17,15 +17,18 @@ void add_scene_options(CLI::App* command, SceneOptions& options, bool scene_requ
     auto* scene = command->add_option("--scene", options.scene,
                                       "builtin:sphere|bunny|dragon, a Prism scene (.json) or a model "
                                       "(.gltf .glb .obj .ply .ply.gz)");
-    if (scene_required) scene->required();
-    else scene->capture_default_str();
+    if (scene_required)
+        scene->required();
+    else
+        scene->capture_default_str();
     add_data_dir_option(command, options.data_dir);
     command->add_option("--bvh", options.bvh, "BVH builder: sah (binned SAH) or median (the seed's split)")
         ->check(CLI::IsMember({"sah", "median"}))
         ->capture_default_str();
-    command->add_option("--bvh-layout", options.layout,
-                        "node layout: stack, escape (the seed's stackless order), wide (8-wide nodes) or auto (wide on "
-                        "cpu/cpu-ref, stack on GPUs; PRISM_BVH_LAYOUT overrides auto)")
+    command
+        ->add_option("--bvh-layout", options.layout,
+                     "node layout: stack, escape (the seed's stackless order), wide (8-wide nodes) or auto (wide on "
+                     "cpu/cpu-ref, stack on GPUs; PRISM_BVH_LAYOUT overrides auto)")
         ->check(CLI::IsMember({"stack", "escape", "wide", "auto"}))
         ->capture_default_str();
     command->add_flag("--allow-any-path", options.allow_any_path,
@@ -49,8 +52,8 @@ DeviceScene build_device_scene_for(const Scene& scene, const SceneOptions& optio
 
 LoadedScene load_and_build(const SceneOptions& options, const std::string& backend) {
     LoadedScene loaded;
-    check_backend_option(backend);   // every scene-reading command: cpu:7 fails before loading
-    BvhLayout layout = resolve_bvh_layout(options.layout, backend);   // a bad PRISM_BVH_LAYOUT fails before loading
+    check_backend_option(backend);  // every scene-reading command: cpu:7 fails before loading
+    BvhLayout layout = resolve_bvh_layout(options.layout, backend);  // a bad PRISM_BVH_LAYOUT fails before loading
     auto start = std::chrono::steady_clock::now();
     LoadOptions load_options;
     load_options.data_dir = options.data_dir.empty() ? default_data_dir() : std::filesystem::path(options.data_dir);

@@ -13,13 +13,13 @@ namespace prism::app {
 
 struct SceneOptions {
     std::string scene = "builtin:sphere";
-    std::string data_dir;   // empty: default_data_dir() (apps/data_dir.h)
+    std::string data_dir;  // empty: default_data_dir() (apps/data_dir.h)
     std::string bvh = "sah";
-    std::string layout = "auto";   // stack, escape, wide, or auto: per backend (core/render/render_engine.h)
+    std::string layout = "auto";  // stack, escape, wide, or auto: per backend (core/render/render_engine.h)
     // Instances may move after the build (the viewer's moving object): the wide layout then keeps its top level
     // over instances, which a move refits; otherwise it flattens them into one BVH (BvhBuildOptions).
     bool moving_instances = false;
-    bool allow_any_path = false;   // --allow-any-path: the scene may read files outside its folder
+    bool allow_any_path = false;  // --allow-any-path: the scene may read files outside its folder
 };
 
 void add_scene_options(CLI::App* command, SceneOptions& options, bool scene_required = false);
@@ -30,7 +30,7 @@ struct LoadedScene {
     Scene scene;
     DeviceScene device;
     double load_ms = 0.0;
-    std::string layout;   // the node layout built (options.layout resolved for the backend)
+    std::string layout;  // the node layout built (options.layout resolved for the backend)
 };
 
 // Loads the scene and builds its device arrays with the BVH layout `options.layout` resolves to for `backend`,

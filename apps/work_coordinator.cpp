@@ -21,8 +21,9 @@ WorkerRecord& WorkCoordinator::record(int rank, int worker) {
     for (WorkerRecord& r : workers_)
         if (r.rank == rank && r.worker == worker) return r;
     // Kept in rank, then worker order, for the report.
-    auto at = std::find_if(workers_.begin(), workers_.end(),
-                           [&](const WorkerRecord& r) { return r.rank > rank || (r.rank == rank && r.worker > worker); });
+    auto at = std::find_if(workers_.begin(), workers_.end(), [&](const WorkerRecord& r) {
+        return r.rank > rank || (r.rank == rank && r.worker > worker);
+    });
     return *workers_.insert(at, WorkerRecord{rank, worker, "", "", 0, 0.0});
 }
 
@@ -43,7 +44,7 @@ void WorkCoordinator::add_counts(std::vector<uint32_t>& total, const std::vector
 }
 
 bool WorkCoordinator::too_slow_for_what_is_left(const WorkerRecord& asking) const {
-    if (asking.items == 0) return false;   // not measured yet
+    if (asking.items == 0) return false;  // not measured yet
     // The others' combined rate, from the items each has returned, and the items they still hold; the asker's
     // time for one item. Without the asker, the others finish what they hold and what is left in about
     // (held + left) / rate.
@@ -99,7 +100,8 @@ std::optional<WorkMessage> WorkCoordinator::handle(int rank, const WorkMessage& 
                     throw Error("rank " + std::to_string(rank) + " returned a tile of the wrong size");
                 place_region(std::span<uint32_t>(image_), width_, tile, std::span<const uint32_t>(message.image));
                 if (!radiance_.empty() && message.radiance.size() == size_t(tile.pixels()) * 4)
-                    place_region(std::span<float>(radiance_), width_, tile, std::span<const float>(message.radiance), 4);
+                    place_region(std::span<float>(radiance_), width_, tile, std::span<const float>(message.radiance),
+                                 4);
             }
             return assign_next(r);
         }

@@ -21,9 +21,9 @@ struct WorkerRecord {
     int rank = 0, worker = 0;
     std::string backend, device;
     uint32_t items = 0;
-    double render_ms = 0.0;   // wall time of its items, rendering only
-    bool stopped = false;     // told to stop (no items left, a failure, or too slow for what was left)
-    bool busy = false;        // holds an item it has not returned
+    double render_ms = 0.0;  // wall time of its items, rendering only
+    bool stopped = false;    // told to stop (no items left, a failure, or too slow for what was left)
+    bool busy = false;       // holds an item it has not returned
 };
 
 // How a failing worker is named in the error: not at all (one worker), "device W" (one process) or "rank R".

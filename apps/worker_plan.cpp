@@ -13,7 +13,8 @@ size_t device_count(const std::string& api) {
     for (const BackendFactory& factory : registered_backends())
         if (factory.name == api) {
             BackendAvailability availability = factory.probe();
-            if (!availability.available) throw Error(api + ":all: " + api + " is unavailable (" + availability.detail + ")");
+            if (!availability.available)
+                throw Error(api + ":all: " + api + " is unavailable (" + availability.detail + ")");
             return std::max<size_t>(availability.devices.size(), 1);
         }
     throw Error("--backend " + api + ":all: no backend named '" + api + "' in this build");
@@ -47,8 +48,10 @@ bool names_several_devices(const std::string& backend) {
 std::vector<std::string> plan_local_workers(const std::string& backend, int rank, int ranks, int local_rank) {
     std::vector<std::string> list = split_backend_list(backend);
     std::vector<std::string> mine;
-    if (ranks > 1) mine.push_back(list[size_t(rank) % list.size()]);
-    else mine = list;
+    if (ranks > 1)
+        mine.push_back(list[size_t(rank) % list.size()]);
+    else
+        mine = list;
     std::vector<std::string> workers;
     for (const std::string& entry : mine) {
         std::string name = resolve_backend_name(entry);
@@ -59,7 +62,8 @@ std::vector<std::string> plan_local_workers(const std::string& backend, int rank
                 workers.push_back(spec.api);
                 continue;
             }
-            for (size_t d = 0, n = device_count(spec.api); d < n; ++d) workers.push_back(spec.api + ":" + std::to_string(d));
+            for (size_t d = 0, n = device_count(spec.api); d < n; ++d)
+                workers.push_back(spec.api + ":" + std::to_string(d));
         } else if (ranks > 1 && spec.api == "cuda" && spec.device_filter.empty()) {
             workers.push_back("cuda:" + std::to_string(size_t(local_rank) % device_count("cuda")));
         } else {

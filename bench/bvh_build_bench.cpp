@@ -32,13 +32,16 @@ namespace fs = std::filesystem;
 
 struct SeriesEntry {
     std::string name;
-    std::string file;   // relative to the scenes folder
+    std::string file;  // relative to the scenes folder
 };
 
 const SeriesEntry kSeries[] = {
-    {"dragon_res4", "stanford/dragon_res4.ply.gz"}, {"dragon_res3", "stanford/dragon_res3.ply.gz"},
-    {"bunny", "stanford/bunny.ply"},                {"dragon_res2", "stanford/dragon_res2.ply.gz"},
-    {"conference", "mcguire/conference/conference.obj"}, {"dragon", "stanford/dragon.ply.gz"},
+    {"dragon_res4", "stanford/dragon_res4.ply.gz"},
+    {"dragon_res3", "stanford/dragon_res3.ply.gz"},
+    {"bunny", "stanford/bunny.ply"},
+    {"dragon_res2", "stanford/dragon_res2.ply.gz"},
+    {"conference", "mcguire/conference/conference.obj"},
+    {"dragon", "stanford/dragon.ply.gz"},
 };
 
 // Triangle bounds the way the scene code hands them over: empty for triangles no ray can hit.
@@ -151,8 +154,8 @@ int main(int argc, char** argv) {
                     double cpu_ms = median(cpu_times);
                     double rate = double(bounds.size()) / (ms * 1e3);
                     std::printf("%-12s %9zu %-7s %7u %11.1f %11.1f %11.2f %9.2f %9zu %6u\n", entry.name.c_str(),
-                                bounds.size(), method_name, threads, ms, cpu_ms, rate, bvh.sah_cost,
-                                bvh.nodes.size(), bvh.depth);
+                                bounds.size(), method_name, threads, ms, cpu_ms, rate, bvh.sah_cost, bvh.nodes.size(),
+                                bvh.depth);
                     std::fflush(stdout);
                     result["results"].push_back({{"scene", entry.name},
                                                  {"file", entry.file},

@@ -16,7 +16,7 @@ namespace prism::oracle {
 struct EmbreeScene::Impl {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
-    std::vector<uint32_t> instance_of_geometry;   // Embree geometry id → Prism instance index
+    std::vector<uint32_t> instance_of_geometry;  // Embree geometry id → Prism instance index
     unsigned threads = 0;
 };
 
@@ -32,18 +32,16 @@ EmbreeScene::EmbreeScene(const Scene& scene, unsigned threads) : impl_(std::make
         const Mesh& mesh = scene.meshes[instance.mesh];
         // Flattened into world space: Embree's own instancing would change the numbering, not the hits.
         RTCGeometry geometry = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                                     RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                                                                     mesh.positions.size()));
+        auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+            geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.positions.size()));
         for (size_t v = 0; v < mesh.positions.size(); ++v) {
             glm::vec3 p = glm::vec3(instance.transform * glm::vec4(mesh.positions[v], 1.0f));
             vertices[3 * v] = p.x;
             vertices[3 * v + 1] = p.y;
             vertices[3 * v + 2] = p.z;
         }
-        auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0,
-                                                                       RTC_FORMAT_UINT3, 3 * sizeof(uint32_t),
-                                                                       mesh.triangles.size()));
+        auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+            geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), mesh.triangles.size()));
         for (size_t t = 0; t < mesh.triangles.size(); ++t) {
             indices[3 * t] = mesh.triangles[t].x;
             indices[3 * t + 1] = mesh.triangles[t].y;
@@ -154,7 +152,8 @@ OracleRays make_oracle_rays(const Scene& scene, const EmbreeScene& embree, size_
         float px = (2.0f * (float(i % side) + 0.5f) / float(side) - 1.0f) * tan_half;
         float py = (1.0f - 2.0f * (float(i / side) + 0.5f) / float(side)) * tan_half;
         glm::vec3 d = glm::normalize(forward + px * right + py * up);
-        out.rays.push_back(RayQuery{{camera.position.x, camera.position.y, camera.position.z}, 0.0f, {d.x, d.y, d.z}, inf});
+        out.rays.push_back(
+            RayQuery{{camera.position.x, camera.position.y, camera.position.z}, 0.0f, {d.x, d.y, d.z}, inf});
     }
     out.primary = out.rays.size();
     std::vector<RayHit> hits = embree.intersect1(out.rays);
@@ -180,9 +179,11 @@ OracleRays make_oracle_rays(const Scene& scene, const EmbreeScene& embree, size_
         // Cosine-weighted hemisphere around n.
         float r1 = uniform(rng), r2 = uniform(rng);
         float phi = 2.0f * 3.14159265f * r1, radius = std::sqrt(r2);
-        glm::vec3 t = glm::normalize(std::abs(n.x) > 0.9f ? glm::cross(n, glm::vec3(0, 1, 0)) : glm::cross(n, glm::vec3(1, 0, 0)));
+        glm::vec3 t = glm::normalize(std::abs(n.x) > 0.9f ? glm::cross(n, glm::vec3(0, 1, 0))
+                                                          : glm::cross(n, glm::vec3(1, 0, 0)));
         glm::vec3 s = glm::cross(n, t);
-        glm::vec3 d = glm::normalize(t * (radius * std::cos(phi)) + s * (radius * std::sin(phi)) + n * std::sqrt(1.0f - r2));
+        glm::vec3 d =
+            glm::normalize(t * (radius * std::cos(phi)) + s * (radius * std::sin(phi)) + n * std::sqrt(1.0f - r2));
         float scale = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), 1.0f});
         glm::vec3 o = p + n * (1e-4f * scale);
         out.rays.push_back(RayQuery{{o.x, o.y, o.z}, 0.0f, {d.x, d.y, d.z}, inf});

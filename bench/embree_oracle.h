@@ -14,7 +14,7 @@ namespace prism::oracle {
 
 class EmbreeScene {
 public:
-    explicit EmbreeScene(const Scene& scene, unsigned threads = 0);   // every instance, world space
+    explicit EmbreeScene(const Scene& scene, unsigned threads = 0);  // every instance, world space
     ~EmbreeScene();
     EmbreeScene(const EmbreeScene&) = delete;
     EmbreeScene& operator=(const EmbreeScene&) = delete;
@@ -35,13 +35,12 @@ struct OracleRays {
     size_t primary = 0;
     size_t diffuse = 0;
 };
-OracleRays make_oracle_rays(const Scene& scene, const EmbreeScene& embree, size_t primary, size_t total,
-                            uint32_t seed);
+OracleRays make_oracle_rays(const Scene& scene, const EmbreeScene& embree, size_t primary, size_t total, uint32_t seed);
 
 struct Agreement {
     size_t rays = 0;
-    size_t same = 0;             // same instance and primitive, or both miss
-    size_t t_outside_tolerance = 0;   // same primitive but t differs by more than 1e-4 relative
+    size_t same = 0;                 // same instance and primitive, or both miss
+    size_t t_outside_tolerance = 0;  // same primitive but t differs by more than 1e-4 relative
     double fraction() const { return rays ? double(same) / double(rays) : 0.0; }
 };
 Agreement compare_hits(const std::vector<RayHit>& a, const std::vector<RayHit>& b);

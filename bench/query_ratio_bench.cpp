@@ -98,11 +98,12 @@ int main(int argc, char** argv) {
                 double n = double(sets[s].size());
                 double cpu_best = *std::min_element(cpu.begin(), cpu.end());
                 double reference_best = *std::min_element(reference.begin(), reference.end());
-                std::printf("%-14s %-7s cpu %6.2f Mrays/s (median %6.2f)  embree %6.2f (median %6.2f)  ratio best %.3f "
-                            "median %.3f  agree %.5f\n",
-                            name.c_str(), s ? "diffuse" : "primary", n / cpu_best / 1e3, n / median(cpu) / 1e3,
-                            n / reference_best / 1e3, n / median(reference) / 1e3, reference_best / cpu_best,
-                            median(reference) / median(cpu), agreement.fraction());
+                std::printf(
+                    "%-14s %-7s cpu %6.2f Mrays/s (median %6.2f)  embree %6.2f (median %6.2f)  ratio best %.3f "
+                    "median %.3f  agree %.5f\n",
+                    name.c_str(), s ? "diffuse" : "primary", n / cpu_best / 1e3, n / median(cpu) / 1e3,
+                    n / reference_best / 1e3, n / median(reference) / 1e3, reference_best / cpu_best,
+                    median(reference) / median(cpu), agreement.fraction());
             }
         }
     } catch (const std::exception& e) {

@@ -8,8 +8,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const auto files = prism::fuzz::split_two_files(prism::fuzz::as_text(data, size), "#prism-fuzz-bin");
     prism::fuzz::write_file(dir / "fuzz.gltf", files.first);
     std::error_code ignored;
-    if (files.found) prism::fuzz::write_file(dir / "fuzz.bin", files.second);
-    else std::filesystem::remove(dir / "fuzz.bin", ignored);
+    if (files.found)
+        prism::fuzz::write_file(dir / "fuzz.bin", files.second);
+    else
+        std::filesystem::remove(dir / "fuzz.bin", ignored);
     prism::fuzz::load_and_build(dir / "fuzz.gltf");
     return 0;
 }

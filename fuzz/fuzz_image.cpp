@@ -23,8 +23,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         scene.meshes.push_back(triangle);
         scene.instances.push_back(prism::Instance{});
         scene.materials.push_back(prism::Material{});
-        if (cube_map) prism::load_cube_map(dir / "sky", scene);
-        else prism::load_equirect_map(path, scene);
+        if (cube_map)
+            prism::load_cube_map(dir / "sky", scene);
+        else
+            prism::load_equirect_map(path, scene);
         prism::validate_scene(scene);
         (void)prism::build_device_scene(scene);
     });

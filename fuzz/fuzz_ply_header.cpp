@@ -1,7 +1,7 @@
 // PLY headers with the body held fixed: the input is a header (up to and with "end_header"; added when missing),
 // followed by a 3-vertex triangle body and, in the .ply.gz copy, a second gzip member of 2 MiB of blanks (more
-// than the reader's margin, so the inflation cap is reached; compressed once, so each run stays fast). Element counts, property
-// lists and types are what the fuzzer varies; the reader must size nothing from a count the bytes do not back,
+// than the reader's margin, so the inflation cap is reached; compressed once, so each run stays fast). Element counts,
+// property lists and types are what the fuzzer varies; the reader must size nothing from a count the bytes do not back,
 // and the gzip reader must stop inflating where the header's counts end. Dictionary: fuzz/dict/ply.dict.
 #include <string>
 
@@ -30,8 +30,10 @@ std::string gzip(const std::string& bytes) {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::string header(prism::fuzz::as_text(data, size));
     const size_t end = header.find("end_header\n");
-    if (end == std::string::npos) header += "\nend_header\n";
-    else header.resize(end + 11);
+    if (end == std::string::npos)
+        header += "\nend_header\n";
+    else
+        header.resize(end + 11);
     const std::string body = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
     const auto plain = prism::fuzz::scratch_dir() / "header.ply";
     prism::fuzz::write_file(plain, header + body);

@@ -52,7 +52,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     (void)made;
     const auto refs = references_of(prism::fuzz::as_text(data, size));
     for (const std::string& reference : refs)
-        if (reference.find('\0') != std::string::npos) return 0;   // not a path any format can hold
+        if (reference.find('\0') != std::string::npos) return 0;  // not a path any format can hold
 
     nlohmann::json gltf = nlohmann::json::parse(R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],
       "nodes":[{"mesh":0}],"meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0}]}],
@@ -63,7 +63,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     gltf["buffers"][0]["uri"] = refs[2];
     gltf["images"][0]["uri"] = refs[3];
     prism::fuzz::write_file(folder / "ref.gltf", gltf.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
-    prism::fuzz::write_file(folder / "ref.obj", "mtllib " + refs[4] + "\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl textured\nf 1 2 3\n");
+    prism::fuzz::write_file(folder / "ref.obj",
+                            "mtllib " + refs[4] + "\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl textured\nf 1 2 3\n");
     prism::fuzz::write_file(folder / "ref.mtl", "newmtl textured\nmap_Kd " + refs[5] + "\n");
     nlohmann::json scene = {{"objects", {{{"file", refs[0]}}, {{"file", "ref.gltf"}}, {{"file", "ref.obj"}}}},
                             {"materials", {{"m", {{"textures", {{{"file", refs[1]}}}}}}}}};

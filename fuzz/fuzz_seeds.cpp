@@ -26,7 +26,7 @@ using nlohmann::json;
 
 namespace {
 
-constexpr size_t kMaxSeedBytes = 64 * 1024;   // larger real files are left out (or shrunk, below)
+constexpr size_t kMaxSeedBytes = 64 * 1024;  // larger real files are left out (or shrunk, below)
 
 std::string read_file(const fs::path& path) {
     std::ifstream file(path, std::ios::binary);
@@ -100,11 +100,15 @@ std::string write_ply(const prism::Mesh& mesh, PlyFormat format, bool extras) {
     const char* names[] = {"ascii", "binary_little_endian", "binary_big_endian"};
     std::string text = "ply\nformat " + std::string(names[int(format)]) + " 1.0\ncomment derived from a scan\n";
     text += "element vertex " + std::to_string(mesh.positions.size()) + "\n";
-    text += extras ? "property double x\nproperty double y\nproperty double z\n" : "property float x\nproperty float y\nproperty float z\n";
-    if (extras) text += "property float nx\nproperty float ny\nproperty float nz\nproperty uchar red\nproperty uchar green\n"
-                        "property uchar blue\nproperty float u\nproperty float v\nproperty float confidence\n";
+    text += extras ? "property double x\nproperty double y\nproperty double z\n"
+                   : "property float x\nproperty float y\nproperty float z\n";
+    if (extras)
+        text +=
+            "property float nx\nproperty float ny\nproperty float nz\nproperty uchar red\nproperty uchar green\n"
+            "property uchar blue\nproperty float u\nproperty float v\nproperty float confidence\n";
     text += "element face " + std::to_string(mesh.triangles.size()) + "\n";
-    text += extras ? "property list uint int vertex_index\nproperty uchar flags\n" : "property list uchar int vertex_indices\n";
+    text += extras ? "property list uint int vertex_index\nproperty uchar flags\n"
+                   : "property list uchar int vertex_indices\n";
     if (extras) text += "element edge 1\nproperty int vertex1\nproperty int vertex2\n";
     text += "end_header\n";
     const bool big = format == PlyFormat::Big;
@@ -176,7 +180,8 @@ std::string rewrite_lines(const std::string& text, const std::string& keyword, c
     for (std::string line; std::getline(in, line);) {
         size_t start = line.find_first_not_of(" \t");
         if (start != std::string::npos && line.compare(start, keyword.size(), keyword) == 0 &&
-            line.size() > start + keyword.size() && std::isspace(static_cast<unsigned char>(line[start + keyword.size()])))
+            line.size() > start + keyword.size() &&
+            std::isspace(static_cast<unsigned char>(line[start + keyword.size()])))
             line = line.substr(0, start) + keyword + " " + replacement;
         out += line + "\n";
     }
@@ -210,9 +215,13 @@ void obj_seeds(const fs::path& scenes, SeedWriter& seeds) {
         std::string first;
         for (std::string line; std::getline(lines, line) && first.empty();)
             if (line.rfind("newmtl ", 0) == 0) first = line.substr(7);
-        std::string seed = "mtllib fuzz.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\n"
-                           "g patch\nusemtl " + first + "\nf 1/1/1 2/2/1 3/3/1\nf 2/2 4/3 3/1\nf -1//1 -2//1 -3//1\n"
-                           "#prism-fuzz-mtl\n" + mtl_with_fixture_textures(text);
+        std::string seed =
+            "mtllib fuzz.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\n"
+            "g patch\nusemtl " +
+            first +
+            "\nf 1/1/1 2/2/1 3/3/1\nf 2/2 4/3 3/1\nf -1//1 -2//1 -3//1\n"
+            "#prism-fuzz-mtl\n" +
+            mtl_with_fixture_textures(text);
         seeds.add("obj", "mtl-" + mtl.parent_path().filename().string() + "-" + mtl.stem().string() + ".txt", seed);
     }
 }
@@ -308,10 +317,11 @@ void image_seeds(const fs::path& scenes, SeedWriter& seeds, const fs::path& scra
         const bool hdr = image.extension() == ".hdr";
         int width = 0, height = 0, channels = 0;
         const std::string bytes = read_file(image);
-        void* pixels = hdr ? static_cast<void*>(stbi_loadf_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
-                                                                       int(bytes.size()), &width, &height, &channels, 3))
-                           : static_cast<void*>(stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
-                                                                      int(bytes.size()), &width, &height, &channels, 4));
+        void* pixels =
+            hdr ? static_cast<void*>(stbi_loadf_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
+                                                            int(bytes.size()), &width, &height, &channels, 3))
+                : static_cast<void*>(stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
+                                                           int(bytes.size()), &width, &height, &channels, 4));
         if (!pixels) continue;
         const int w = std::min(width, 16), h = std::min(height, 12);
         std::vector<uint8_t> rgba(size_t(w) * h * 4);
@@ -320,8 +330,10 @@ void image_seeds(const fs::path& scenes, SeedWriter& seeds, const fs::path& scra
             for (int x = 0; x < w; ++x) {
                 const size_t source = size_t(y * height / h) * width + size_t(x * width / w);
                 for (int c = 0; c < 3; ++c) {
-                    if (hdr) rgb[(size_t(y) * w + x) * 3 + c] = static_cast<float*>(pixels)[source * 3 + c];
-                    else rgba[(size_t(y) * w + x) * 4 + c] = static_cast<uint8_t*>(pixels)[source * 4 + c];
+                    if (hdr)
+                        rgb[(size_t(y) * w + x) * 3 + c] = static_cast<float*>(pixels)[source * 3 + c];
+                    else
+                        rgba[(size_t(y) * w + x) * 4 + c] = static_cast<uint8_t*>(pixels)[source * 4 + c];
                 }
                 if (!hdr) rgba[(size_t(y) * w + x) * 4 + 3] = static_cast<uint8_t*>(pixels)[source * 4 + 3];
             }
@@ -334,7 +346,7 @@ void image_seeds(const fs::path& scenes, SeedWriter& seeds, const fs::path& scra
         } else {
             stbi_write_png(file.c_str(), w, h, 4, rgba.data(), w * 4);
             seeds.add("image", stem + ".png", read_file(file));
-            stbi_write_png(file.c_str(), w, h, 3, rgba.data(), w * 4);   // stride 4, 3 channels: RGB data
+            stbi_write_png(file.c_str(), w, h, 3, rgba.data(), w * 4);  // stride 4, 3 channels: RGB data
             seeds.add("image", stem + "-rgb.png", read_file(file));
             stbi_write_jpg(file.c_str(), w, h, 4, rgba.data(), 85);
             seeds.add("image", stem + ".jpg", read_file(file));
@@ -357,16 +369,18 @@ std::string deep_chain_gltf(int nodes) {
         if (i) text += ',';
         text += i + 1 < nodes ? R"({"children":[)" + std::to_string(i + 1) + "]}" : R"({"mesh":0})";
     }
-    text += R"(],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"buffers":[{"uri":"fuzz.bin","byteLength":36}],)"
-            R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
-            R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}]})";
+    text +=
+        R"(],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"buffers":[{"uri":"fuzz.bin","byteLength":36}],)"
+        R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
+        R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}]})";
     return text;
 }
 
 std::string glb_of(const std::string& json_text) {
     std::string chunk = json_text;
     while (chunk.size() % 4) chunk += ' ';
-    std::string out = "glTF" + prism::test::little_endian32(2) + prism::test::little_endian32(uint32_t(20 + chunk.size()));
+    std::string out =
+        "glTF" + prism::test::little_endian32(2) + prism::test::little_endian32(uint32_t(20 + chunk.size()));
     out += prism::test::little_endian32(uint32_t(chunk.size())) + "JSON" + chunk;
     return out;
 }
@@ -380,8 +394,9 @@ void hostile_seeds(SeedWriter& seeds, const fs::path& scratch) {
     seeds.add("ply", "gzip-bomb.ply.gz", prism::test::gzip_bomb(tri_ply, ' ', size_t(1) << 20, 32));
     seeds.add("ply_header", "triangle.txt", tri_header);
     seeds.add("ply_header", "huge-counts.txt", huge_counts.substr(0, huge_counts.find("end_header\n") + 11));
-    std::string many_lists = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
-                             "property float y\nproperty float z\nelement face 18446744073709551615\n";
+    std::string many_lists =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+        "property float y\nproperty float z\nelement face 18446744073709551615\n";
     for (int i = 0; i < 8; ++i) many_lists += "property list uint uint extra" + std::to_string(i) + "\n";
     seeds.add("ply_header", "many-lists.txt", many_lists + "property list uchar int vertex_indices\nend_header\n");
 
@@ -393,7 +408,8 @@ void hostile_seeds(SeedWriter& seeds, const fs::path& scratch) {
     json huge_accessor = json::parse(read_file(scratch / "tri.gltf"));
     huge_accessor["accessors"][2]["count"] = 2147483648u;
     huge_accessor["buffers"][0]["uri"] = "fuzz.bin";
-    seeds.add("gltf", "index-count-2-to-31.txt", huge_accessor.dump() + "\n#prism-fuzz-bin\n" + read_file(scratch / "tri.bin"));
+    seeds.add("gltf", "index-count-2-to-31.txt",
+              huge_accessor.dump() + "\n#prism-fuzz-bin\n" + read_file(scratch / "tri.bin"));
     json shared = json::parse(deep_chain_gltf(3));
     shared["nodes"][1]["children"] = {2};
     shared["nodes"][0]["children"] = {1, 2};
@@ -402,17 +418,20 @@ void hostile_seeds(SeedWriter& seeds, const fs::path& scratch) {
     seeds.add("obj", "nan-vertex.txt", "v nan 1 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     seeds.add("obj", "huge-index.txt", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999\nf 1 2 3.5e9\n");
     seeds.add("obj", "negative-index.txt", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -5 -1 -2\n");
-    seeds.add("obj", "escaping-mtl.txt", "mtllib ../tri.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n#prism-fuzz-mtl\n"
-                                         "newmtl m\nmap_Kd /etc/passwd\n");
+    seeds.add("obj", "escaping-mtl.txt",
+              "mtllib ../tri.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n#prism-fuzz-mtl\n"
+              "newmtl m\nmap_Kd /etc/passwd\n");
 
     seeds.add("scene_json", "deep.json", R"({"lights":)" + nesting + "}");
     seeds.add("scene_json", "escaping.json", R"({"objects":[{"file":"../tri.obj"},{"file":"/etc/passwd.obj"}]})");
     seeds.add("image", "blank-2048x4096.png", prism::test::blank_png(2048, 4096));
 
     seeds.add("scene_refs", "fixtures.txt", "tri.obj\ntex.png\ntri.bin\ntex.png\ntri.mtl\ntex.png\n");
-    seeds.add("scene_refs", "climbing.txt", "../tri.obj\n../tex.png\n../tri.bin\n../../../../etc/passwd\n../tri.mtl\n../tex.png\n");
+    seeds.add("scene_refs", "climbing.txt",
+              "../tri.obj\n../tex.png\n../tri.bin\n../../../../etc/passwd\n../tri.mtl\n../tex.png\n");
     seeds.add("scene_refs", "absolute.txt", "/etc/passwd\n/dev/zero\n/proc/self/status\n/etc/hostname\n/dev/null\n/\n");
-    seeds.add("scene_refs", "encoded.txt", "./tri.ply\nscene/../tex.png\n%2e%2e/tri.bin\n%2e%2e%2ftex.png\nTRI.MTL\n.\n");
+    seeds.add("scene_refs", "encoded.txt",
+              "./tri.ply\nscene/../tex.png\n%2e%2e/tri.bin\n%2e%2e%2ftex.png\nTRI.MTL\n.\n");
 }
 
 int main(int argc, char** argv) {
@@ -425,7 +444,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "fuzz_seeds: %s: no such folder (the shared scenes)\n", scenes.c_str());
         return 1;
     }
-    const fs::path& scratch = prism::fuzz::scratch_dir();   // the fixtures, for the seeds that copy them
+    const fs::path& scratch = prism::fuzz::scratch_dir();  // the fixtures, for the seeds that copy them
     SeedWriter seeds(out);
     ply_seeds(scenes, seeds, scratch);
     obj_seeds(scenes, seeds);

@@ -94,7 +94,7 @@ void write_file(const std::filesystem::path& path, std::string_view bytes) {
     file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     if (!file) {
         std::fprintf(stderr, "prism fuzz: cannot write %s\n", path.c_str());
-        std::abort();   // the harness's own failure, not the loader's: stop rather than fuzz nothing
+        std::abort();  // the harness's own failure, not the loader's: stop rather than fuzz nothing
     }
 }
 
@@ -107,7 +107,7 @@ TwoFiles split_two_files(std::string_view input, std::string_view separator) {
 
 void load_and_build_or_throw(const std::filesystem::path& scene_file) {
     LoadOptions options;
-    options.data_dir = scratch_dir() / "no-data";   // bare models get the constant sky, not a cube map from disk
+    options.data_dir = scratch_dir() / "no-data";  // bare models get the constant sky, not a cube map from disk
     const Scene scene = load_scene(scene_file.string(), options);
     (void)build_device_scene(scene);
 }
@@ -122,12 +122,14 @@ void check_error_message(const char* message) {
     if (show) std::fprintf(stderr, "rejected: %s\n", message);
     const std::string_view text(message);
     const char* broken = nullptr;
-    if (text.empty()) broken = "empty error message";
-    else if (text.find_first_of("\r\n") != std::string_view::npos) broken = "error message spans several lines";
+    if (text.empty())
+        broken = "empty error message";
+    else if (text.find_first_of("\r\n") != std::string_view::npos)
+        broken = "error message spans several lines";
     else if (text.front() != '/' || text.find(": ") == std::string_view::npos)
         broken = "error message does not name the file (\"<file>: <cause>\")";
     else if (text.substr(text.find(": ") + 2).find_first_not_of(' ') == std::string_view::npos)
-        broken = "error message gives no cause";   // "<file>: " (a cause may itself end in ':', "not found : a.b:")
+        broken = "error message gives no cause";  // "<file>: " (a cause may itself end in ':', "not found : a.b:")
     if (!broken) return;
     std::fprintf(stderr, "prism fuzz: %s: \"%s\"\n", broken, message);
     std::abort();

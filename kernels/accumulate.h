@@ -8,7 +8,7 @@
 #include "math.h"
 
 RT_FUNC void rt_accumulate_word_pair(KernelGlobals kg, uint slot, float value) {
-    if (!(value > 0.0f)) return;   // nothing to add; also drops NaN
+    if (!(value > 0.0f)) return;  // nothing to add; also drops NaN
     value = rt_min(value, 1.0e9f);
     // value * 2^24 = high * 2^32 + low: high counts units of 256.
     float high = rt_floor(value * (1.0f / 256.0f));
@@ -16,7 +16,7 @@ RT_FUNC void rt_accumulate_word_pair(KernelGlobals kg, uint slot, float value) {
     uint lo = rt_uint(low);
     uint hi = rt_uint(high);
     uint old = RT_ATOMIC_ADD(kg, accum, slot, lo);
-    if (old + lo < old) hi += 1u;   // the low word wrapped: carry into the high word
+    if (old + lo < old) hi += 1u;  // the low word wrapped: carry into the high word
     if (hi != 0u) RT_ATOMIC_ADD(kg, accum, slot + 1u, hi);
 }
 
@@ -28,7 +28,8 @@ RT_FUNC void rt_accumulate(KernelGlobals kg, uint pixel, float3 value) {
 }
 
 RT_FUNC float rt_accumulated_word_pair(KernelGlobals kg, uint slot) {
-    return rt_float(RT_FETCH(kg, accum, slot + 1u)) * 256.0f + rt_float(RT_FETCH(kg, accum, slot)) * (1.0f / RT_ACCUM_SCALE);
+    return rt_float(RT_FETCH(kg, accum, slot + 1u)) * 256.0f +
+           rt_float(RT_FETCH(kg, accum, slot)) * (1.0f / RT_ACCUM_SCALE);
 }
 
 RT_FUNC float3 rt_accumulated(KernelGlobals kg, uint pixel) {

@@ -20,9 +20,7 @@ RT_STRUCT_END(BandwidthBuffers)
 
 // Copies `count` uint4 elements from bandwidth_src to bandwidth_dst.
 RT_FUNC void rt_bandwidth_copy(BandwidthBuffers kg, uint count) {
-    RT_GRID_LOOP(i, count) {
-        RT_STORE(kg, bandwidth_dst, i, RT_FETCH(kg, bandwidth_src, i));
-    }
+    RT_GRID_LOOP(i, count) { RT_STORE(kg, bandwidth_dst, i, RT_FETCH(kg, bandwidth_src, i)); }
 }
 
 // Threads per work-group in every language; the host sizes the grid from it.

@@ -38,7 +38,8 @@ RT_FUNC float3 rt_environment(KernelGlobals kg, float3 direction) {
     uint kind = frame.env.x;
     if (kind == RT_ENV_CUBEMAP) {
         float3 f = rt_cubemap_lookup(direction);
-        return rt_xyz(rt_sample_texture(kg, frame.env.y + rt_uint(f.x), make_float2(f.y, f.z), RT_SAMPLER_REPEAT)) * tint;
+        return rt_xyz(rt_sample_texture(kg, frame.env.y + rt_uint(f.x), make_float2(f.y, f.z), RT_SAMPLER_REPEAT)) *
+               tint;
     }
     if (kind == RT_ENV_EQUIRECT) {
         float3 d = normalize(direction);

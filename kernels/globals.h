@@ -12,10 +12,10 @@
 // Address mode: each array is a buffer reference made from its 64-bit device address, which the shader preamble
 // (shaders/common.glsl) declares as rt_addresses[binding]. No descriptor range limit applies; RT_FETCH and friends
 // (compat/glsl.h) go through rt_array_<name>().
-#define RT_DATA_ARRAY(slot, type, name, access, role)                                                              \
+#define RT_DATA_ARRAY(slot, type, name, access, role)                                                         \
     layout(buffer_reference, std430, buffer_reference_align = 16) RT_GLSL_ACCESS_##access buffer name##_ref { \
-        type name##_at[];                                                                                    \
-    };                                                                                                       \
+        type name##_at[];                                                                                     \
+    };                                                                                                        \
     name##_ref rt_array_##name() { return name##_ref(rt_addresses[slot]); }
 #else
 #define RT_DATA_ARRAY(slot, type, name, access, role) \

@@ -80,7 +80,7 @@ RT_STRUCT_BEGIN(TriangleHits4)
     float4 t;
     float4 u;
     float4 v;
-    uint mask;   // bit k: triangle k is hit with tmin < t < tmax
+    uint mask;  // bit k: triangle k is hit with tmin < t < tmax
 RT_STRUCT_END(TriangleHits4)
 
 // The four triangles of a block at once: rt_intersect_triangle lane by lane, the same operations in the same

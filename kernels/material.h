@@ -12,7 +12,7 @@ RT_FUNC float3 rt_texture_environment(uint mode, float3 c, float4 t, float3 env)
     if (mode == RT_TEXMODE_REPLACE) return tc;
     if (mode == RT_TEXMODE_DECAL) return c * (1.0f - t.w) + tc * t.w;
     if (mode == RT_TEXMODE_BLEND) return c * (rt_splat3(1.0f) - tc) + env * tc;
-    return c * tc;   // RT_TEXMODE_MODULATE
+    return c * tc;  // RT_TEXMODE_MODULATE
 }
 
 // Thesis eq. 6.3: R_f = clamp(bias + scale * (1 + I.N)^power, 0, 1), I the unit ray direction and N the unit
@@ -77,9 +77,9 @@ RT_FUNC float4 rt_sample_map(KernelGlobals kg, uint layer, float4 uv, float4 fal
 
 // What a hit's material gives besides its diffuse colour, where textures and the view angle can vary it.
 RT_STRUCT_BEGIN(SurfaceTerms)
-    float4 specular;   // xyz: S (tints reflected light), w: reflectivity r
-    float4 emission;   // xyz: emitted radiance, w: ambient occlusion (1: none)
-    float4 fresnel;    // x: R_f (eq. 6.3), the share of eq. 6.7's reflected path
+    float4 specular;  // xyz: S (tints reflected light), w: reflectivity r
+    float4 emission;  // xyz: emitted radiance, w: ambient occlusion (1: none)
+    float4 fresnel;   // x: R_f (eq. 6.3), the share of eq. 6.7's reflected path
 RT_STRUCT_END(SurfaceTerms)
 
 // glTF metallic-roughness on the seed's model, per hit. A Whitted tracer has no glossy lobe, so roughness dims

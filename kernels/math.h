@@ -16,8 +16,12 @@ RT_FUNC float4 rt_splat4(float s) { return make_float4(s, s, s, s); }
 RT_FUNC float rt_max3(float3 v) { return rt_max(v.x, rt_max(v.y, v.z)); }
 RT_FUNC float rt_clamp01(float x) { return rt_min(rt_max(x, 0.0f), 1.0f); }
 RT_FUNC float3 rt_lerp3(float3 a, float3 b, float t) { return a * (1.0f - t) + b * t; }
-RT_FUNC float3 rt_min3v(float3 a, float3 b) { return make_float3(rt_min(a.x, b.x), rt_min(a.y, b.y), rt_min(a.z, b.z)); }
-RT_FUNC float3 rt_max3v(float3 a, float3 b) { return make_float3(rt_max(a.x, b.x), rt_max(a.y, b.y), rt_max(a.z, b.z)); }
+RT_FUNC float3 rt_min3v(float3 a, float3 b) {
+    return make_float3(rt_min(a.x, b.x), rt_min(a.y, b.y), rt_min(a.z, b.z));
+}
+RT_FUNC float3 rt_max3v(float3 a, float3 b) {
+    return make_float3(rt_max(a.x, b.x), rt_max(a.y, b.y), rt_max(a.z, b.z));
+}
 
 // Selects channel c (0, 1, 2) of v; GLSL has v[c] but C++/CUDA/OpenCL vectors do not.
 RT_FUNC float rt_channel(float3 v, uint c) { return c == 0u ? v.x : (c == 1u ? v.y : v.z); }

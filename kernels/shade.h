@@ -14,16 +14,16 @@
 
 #include "material.h"
 
-#define RT_MAX_CHILDREN 5   // reflection, three dispersed refractions, the pass-through of a partly covered surface
+#define RT_MAX_CHILDREN 5  // reflection, three dispersed refractions, the pass-through of a partly covered surface
 
 // The surface at a hit, in world space. Normals face the incoming ray.
 RT_STRUCT_BEGIN(Surface)
     float4 position;
-    float4 normal;      // shading normal (interpolated vertex normals, or the geometric one)
-    float4 geometric;   // geometric normal; w = 1 when the ray arrives from outside (the front side)
+    float4 normal;     // shading normal (interpolated vertex normals, or the geometric one)
+    float4 geometric;  // geometric normal; w = 1 when the ray arrives from outside (the front side)
     float4 vertex_color;
-    float4 uv;          // TEXCOORD_0 in xy, TEXCOORD_1 in zw
-    uint4 ids;          // x = material, y = RT_VERTEX_HAS_COLOR when the mesh has vertex colours
+    float4 uv;  // TEXCOORD_0 in xy, TEXCOORD_1 in zw
+    uint4 ids;  // x = material, y = RT_VERTEX_HAS_COLOR when the mesh has vertex colours
 RT_STRUCT_END(Surface)
 
 // `shading_normal` false leaves the shading normal at the geometric one (no vertex normals, no normal map): what a
@@ -65,7 +65,8 @@ RT_FUNC Surface rt_surface_at(KernelGlobals kg, float3 direction, Hit hit, bool 
             float4 uv4 = a.uv * w + b.uv * u + c.uv * v;
             float4 texel = rt_sample_layer(kg, RT_FETCH(kg, texture_layers, material.maps.w), uv4);
             float scale = material.metal_rough.w;
-            float3 tilt = make_float3((2.0f * texel.x - 1.0f) * scale, (2.0f * texel.y - 1.0f) * scale, 2.0f * texel.z - 1.0f);
+            float3 tilt =
+                make_float3((2.0f * texel.x - 1.0f) * scale, (2.0f * texel.y - 1.0f) * scale, 2.0f * texel.z - 1.0f);
             float3 mapped = t_world * tilt.x + bitangent * tilt.y + n * tilt.z;
             if (dot(mapped, mapped) > 0.0f) n = normalize(mapped);
         }
@@ -78,8 +79,7 @@ RT_FUNC Surface rt_surface_at(KernelGlobals kg, float3 direction, Hit hit, bool 
     // depends on the triangle's coordinates only, not on how far the ray travelled or how each API rounds t,
     // so the offset of rt_offset_ray_origin always clears the surface (Ray Tracing Gems ch. 6).
     float3 p_object = rt_xyz(geometry.v0) + rt_xyz(geometry.e1) * u + rt_xyz(geometry.e2) * v;
-    float3 p_world =
-        rt_transform_point(inst.object_to_world0, inst.object_to_world1, inst.object_to_world2, p_object);
+    float3 p_world = rt_transform_point(inst.object_to_world0, inst.object_to_world1, inst.object_to_world2, p_object);
 
     Surface s;
     s.position = rt_float4(p_world, 0.0f);
@@ -96,13 +96,13 @@ RT_FUNC Surface rt_surface(KernelGlobals kg, float3 origin, float3 direction, Hi
 }
 
 RT_STRUCT_BEGIN(ShadeResult)
-    float4 emitted;        // xyz: what this hit adds to its pixel with no further ray (ambient + emission)
-    float4 light_weight;   // xyz: multiplies each light's irradiance reaching the point (shadow rays)
-    float4 lit_origin;     // xyz: the point moved off the surface on the side the ray came from
-    float4 normal;         // xyz: shading normal facing the ray
-    float4 geometric;      // xyz: geometric normal facing the ray
+    float4 emitted;       // xyz: what this hit adds to its pixel with no further ray (ambient + emission)
+    float4 light_weight;  // xyz: multiplies each light's irradiance reaching the point (shadow rays)
+    float4 lit_origin;    // xyz: the point moved off the surface on the side the ray came from
+    float4 normal;        // xyz: shading normal facing the ray
+    float4 geometric;     // xyz: geometric normal facing the ray
     Ray children[RT_MAX_CHILDREN];
-    uint4 counts;          // x = number of children
+    uint4 counts;  // x = number of children
 RT_STRUCT_END(ShadeResult)
 
 RT_FUNC Ray rt_make_ray(float3 origin, float3 direction, float3 weight, uint pixel, uint mask, uint depth) {
@@ -132,7 +132,8 @@ RT_FUNC Ray rt_refraction_ray(Surface s, Material m, float3 d, float3 weight, ui
     }
     float eta = s.geometric.w != 0.0f ? 1.0f / ior : ior;
     float4 t = rt_refract(d, n, eta);
-    if (t.w == 0.0f) return rt_make_ray(outside, rt_reflect(d, n), weight, pixel, mask, depth);   // total internal reflection
+    if (t.w == 0.0f)
+        return rt_make_ray(outside, rt_reflect(d, n), weight, pixel, mask, depth);  // total internal reflection
     float3 dir = normalize(rt_xyz(t));
     // A shading normal far from the geometric one can bend the ray back out; refract about the true surface then.
     if (dot(dir, ng) >= 0.0f) {
@@ -155,7 +156,7 @@ RT_FUNC ShadeResult rt_shade(KernelGlobals kg, Ray ray, Hit hit) {
     float3 arriving = rt_xyz(ray.weight);
     // A ray leaving a solid medium has crossed it from where it entered: Beer-Lambert over that distance.
     if (s.geometric.w == 0.0f && rt_max3(rt_xyz(m.absorption)) > 0.0f) {
-        float3 a = rt_xyz(m.absorption) * (-hit.tuv.x * 1.44269504f);   // exp(-x) = 2^(-x log2 e)
+        float3 a = rt_xyz(m.absorption) * (-hit.tuv.x * 1.44269504f);  // exp(-x) = 2^(-x log2 e)
         arriving = arriving * make_float3(rt_exp2(a.x), rt_exp2(a.y), rt_exp2(a.z));
     }
     float3 weight = arriving * coverage;
@@ -174,8 +175,8 @@ RT_FUNC ShadeResult rt_shade(KernelGlobals kg, Ray ray, Hit hit) {
 
     ShadeResult result;
     result.light_weight = rt_float4(weight * base, 0.0f);
-    result.emitted = rt_float4(
-        weight * (base * rt_xyz(frame.ambient_light) * terms.emission.w + rt_xyz(terms.emission)), 0.0f);
+    result.emitted =
+        rt_float4(weight * (base * rt_xyz(frame.ambient_light) * terms.emission.w + rt_xyz(terms.emission)), 0.0f);
     result.lit_origin = rt_float4(rt_offset_ray_origin(rt_xyz(s.position), ng), 0.0f);
     result.normal = s.normal;
     result.geometric = s.geometric;
@@ -191,7 +192,7 @@ RT_FUNC ShadeResult rt_shade(KernelGlobals kg, Ray ray, Hit hit) {
         float3 w_reflect = weight * rt_xyz(terms.specular) * (rf * reflectivity);
         if (rt_max3(w_reflect) > min_weight) {
             float3 dir = rt_reflect(d, n);
-            if (dot(dir, ng) <= 0.0f) dir = rt_reflect(d, ng);   // shading normal pointed it into the surface
+            if (dot(dir, ng) <= 0.0f) dir = rt_reflect(d, ng);  // shading normal pointed it into the surface
             result.children[count] = rt_make_ray(rt_xyz(result.lit_origin), dir, w_reflect, pixel, mask, depth + 1u);
             count += 1u;
         }

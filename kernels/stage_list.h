@@ -1,7 +1,8 @@
 // THE list of wavefront stages, in the order a frame launches them. Everything that names a stage comes from it:
-// the Stage enum, its names and the frame loop (core/render/backend.h, core/render/renderer.cpp), the CUDA and OpenCL entry points
-// and launches, the cpu backend's dispatch, and Vulkan's shader set and indirect launches (backends/*/CMakeLists.txt
-// read these lines). Adding a stage: its rt_kernel_<name> in kernels/stages.h and one line here.
+// the Stage enum, its names and the frame loop (core/render/backend.h, core/render/renderer.cpp), the CUDA and OpenCL
+// entry points and launches, the cpu backend's dispatch, and Vulkan's shader set and indirect launches
+// (backends/*/CMakeLists.txt read these lines). Adding a stage: its rt_kernel_<name> in kernels/stages.h and one line
+// here.
 //
 // RT_STAGE(name, Name, pass, launch)
 //   name    the stage's function is rt_kernel_<name>(kg, depth) (kernels/stages.h)

@@ -34,7 +34,8 @@ RT_FUNC Ray rt_primary_ray(FrameParams frame, uint index) {
     float aspect = frame.camera_forward.w;
     float px = (2.0f * (rt_float(x) + 0.5f) / rt_float(frame.size.x) - 1.0f) * tan_half * aspect;
     float py = (1.0f - 2.0f * (rt_float(y) + 0.5f) / rt_float(frame.size.y)) * tan_half;
-    float3 dir = normalize(rt_xyz(frame.camera_forward) + rt_xyz(frame.camera_right) * px + rt_xyz(frame.camera_up) * py);
+    float3 dir =
+        normalize(rt_xyz(frame.camera_forward) + rt_xyz(frame.camera_right) * px + rt_xyz(frame.camera_up) * py);
     return rt_make_ray(rt_xyz(frame.camera_position), dir, rt_splat3(1.0f), index, RT_CHANNEL_ALL, 0u);
 }
 
@@ -91,7 +92,7 @@ RT_FUNC void rt_stage_shade(KernelGlobals kg, uint index, uint depth) {
     }
 }
 
-#define RT_SHADOW_LAYERS 8u   // cut-out or blended surfaces a shadow ray looks through before it counts as blocked
+#define RT_SHADOW_LAYERS 8u  // cut-out or blended surfaces a shadow ray looks through before it counts as blocked
 
 // What of a shadow ray's contribution reaches its point: all of it unless something lies between (one any-hit
 // query). Where some material is cut out or blended (RT_FLAG_ALPHA_SHADOWS), the ray takes the surfaces between in

@@ -67,7 +67,7 @@ RT_FUNC float4 rt_sample_texture(KernelGlobals kg, uint texture, float2 uv, uint
     TextureInfo info = RT_FETCH(kg, texture_infos, texture);
     float x = uv.x * rt_float(info.info.y) - 0.5f;
     float y = uv.y * rt_float(info.info.z) - 0.5f;
-    if (!(rt_abs(x) < 1e8f && rt_abs(y) < 1e8f)) return make_float4(0.0f, 0.0f, 0.0f, 1.0f);   // NaN or huge uv
+    if (!(rt_abs(x) < 1e8f && rt_abs(y) < 1e8f)) return make_float4(0.0f, 0.0f, 0.0f, 1.0f);  // NaN or huge uv
     if ((sampling & RT_SAMPLER_NEAREST) != 0u)
         return rt_texel(kg, info, rt_int(rt_floor(x + 0.5f)), rt_int(rt_floor(y + 0.5f)), sampling);
     float fx = rt_floor(x);

@@ -23,7 +23,7 @@
 
 // The ray as the traversal sees it in the current space (world at the top level, object inside an instance).
 RT_STRUCT_BEGIN(TraversalRay)
-    float4 origin;    // w = tmin
+    float4 origin;  // w = tmin
     float4 direction;
     float4 inv_direction;
 RT_STRUCT_END(TraversalRay)
@@ -38,8 +38,8 @@ RT_FUNC TraversalRay rt_traversal_ray(float3 origin, float3 direction, float tmi
 
 // The same ray in the instance's object space. t is preserved because the direction is not renormalised.
 RT_FUNC TraversalRay rt_ray_to_object(Instance inst, TraversalRay world) {
-    float3 o = rt_transform_point(inst.world_to_object0, inst.world_to_object1, inst.world_to_object2,
-                                  rt_xyz(world.origin));
+    float3 o =
+        rt_transform_point(inst.world_to_object0, inst.world_to_object1, inst.world_to_object2, rt_xyz(world.origin));
     float3 d = rt_transform_vector(inst.world_to_object0, inst.world_to_object1, inst.world_to_object2,
                                    rt_xyz(world.direction));
     return rt_traversal_ray(o, d, world.origin.w);
@@ -76,8 +76,8 @@ RT_FUNC Hit rt_intersect_leaf(KernelGlobals kg, Hit best, TraversalRay ray, uint
 RT_FUNC Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, uint instance, uint first, uint count) {
     for (uint b = 0u; b < (count + 3u) / 4u; ++b) {
         TriangleBlock block = RT_FETCH(kg, triangle_blocks, first + b);
-        TriangleHits4 hits = rt_intersect_triangles4(block, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w,
-                                                     best.tuv.x);
+        TriangleHits4 hits =
+            rt_intersect_triangles4(block, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w, best.tuv.x);
         uint mask = hits.mask;
         while (mask != 0u) {
             uint k = rt_lowest_bit(mask);
@@ -108,8 +108,8 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
     uint sp = 0u;
 
     uint index = 0u;
-    bool visit = rt_intersect_node(RT_FETCH(kg, nodes, 0u), rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin,
-                                   tmax) < RT_INFINITY;
+    bool visit = rt_intersect_node(RT_FETCH(kg, nodes, 0u), rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin, tmax) <
+                 RT_INFINITY;
     while (visit) {
         BvhNode node = RT_FETCH(kg, nodes, index);
         uint first = rt_as_uint(node.lower.w);
@@ -211,8 +211,8 @@ RT_FUNC Hit rt_trace_escape(KernelGlobals kg, float3 origin, float3 direction, f
             index = inst.info.x;
             end = rt_as_uint(RT_FETCH(kg, nodes, index).lower.w);
         } else {
-            best = rt_intersect_leaf(kg, best, ray, instance, info & RT_ESCAPE_FIRST_MASK,
-                                     info >> RT_ESCAPE_COUNT_SHIFT);
+            best =
+                rt_intersect_leaf(kg, best, ray, instance, info & RT_ESCAPE_FIRST_MASK, info >> RT_ESCAPE_COUNT_SHIFT);
             if (any_hit && best.ids.x != RT_NONE) return best;
             index = escape;
         }

@@ -42,7 +42,7 @@ RT_STRUCT_BEGIN(BvhWideNode)
     float4 upper_z1;
     uint4 child0;
     uint4 child1;
-    uint4 unused0;   // pads the node to 256 bytes: four cache lines
+    uint4 unused0;  // pads the node to 256 bytes: four cache lines
     uint4 unused1;
 RT_STRUCT_END(BvhWideNode)
 
@@ -50,10 +50,10 @@ RT_STRUCT_END(BvhWideNode)
 #define RT_BVH_LAYOUT_ESCAPE 1u
 #define RT_BVH_LAYOUT_WIDE 2u
 #define RT_BVH_WIDTH 8u
-#define RT_WIDE_LEAF 0x80000000u          // child flag: a leaf, first << 3 | (count - 1) below it
-#define RT_WIDE_LEAF_MAX 8u               // primitives per leaf
-#define RT_WIDE_FIRST_LIMIT 0x10000000u   // first primitive (block) of a leaf: below 2^28
-#define RT_BVH_WIDE_STACK_SIZE 128        // checked against each built tree (core/render/device_scene.cpp)
+#define RT_WIDE_LEAF 0x80000000u         // child flag: a leaf, first << 3 | (count - 1) below it
+#define RT_WIDE_LEAF_MAX 8u              // primitives per leaf
+#define RT_WIDE_FIRST_LIMIT 0x10000000u  // first primitive (block) of a leaf: below 2^28
+#define RT_BVH_WIDE_STACK_SIZE 128       // checked against each built tree (core/render/device_scene.cpp)
 #define RT_ESCAPE_INTERIOR 0xffffffffu
 #define RT_ESCAPE_COUNT_SHIFT 24u
 #define RT_ESCAPE_FIRST_MASK 0x00ffffffu
@@ -98,9 +98,9 @@ RT_STRUCT_END(TriangleShading)
 // the geometric normal is used) and colours.
 RT_STRUCT_BEGIN(Vertex)
     float4 normal;
-    float4 color;     // linear RGBA; (1,1,1,1) when the mesh has none
-    float4 uv;        // xy = TEXCOORD_0, zw = TEXCOORD_1
-    float4 tangent;   // xyz = tangent (along +u), w = bitangent sign (+1/-1); all 0 when the mesh has none
+    float4 color;    // linear RGBA; (1,1,1,1) when the mesh has none
+    float4 uv;       // xy = TEXCOORD_0, zw = TEXCOORD_1
+    float4 tangent;  // xyz = tangent (along +u), w = bitangent sign (+1/-1); all 0 when the mesh has none
 RT_STRUCT_END(Vertex)
 
 // An instance of a mesh (thesis 6.2: the Node Primitive). Rows of 3x4 affine matrices.
@@ -117,8 +117,8 @@ RT_STRUCT_BEGIN(Instance)
     uint4 info;
 RT_STRUCT_END(Instance)
 
-#define RT_INSTANCE_MIRRORED 1u   // the transform mirrors (det < 0; informative)
-#define RT_INSTANCE_IDENTITY 2u   // world_to_object is exactly the identity: object space is world space
+#define RT_INSTANCE_MIRRORED 1u  // the transform mirrors (det < 0; informative)
+#define RT_INSTANCE_IDENTITY 2u  // world_to_object is exactly the identity: object space is world space
 
 // ---- Materials and textures ----------------------------------------------------------------------------------
 // The seed's material (thesis 6.3, eq. 6.7). See core/scene/scene.h Material for the meaning of each field.
@@ -126,7 +126,8 @@ RT_STRUCT_END(Instance)
 //  fresnel = (bias, scale, power, thickness), ior.xyz = per-channel IOR
 //  textures.x = first layer in texture_layers, textures.y = layer count, textures.z = RT_MATERIAL_* flags,
 //  textures.w = as_uint(alpha factor); emissive.w = alpha cutoff (RT_MATERIAL_ALPHA_MASK)
-//  metal_rough = (metallic factor, roughness factor, occlusion strength, normal scale): glTF's metallic-roughness model,
+//  metal_rough = (metallic factor, roughness factor, occlusion strength, normal scale): glTF's metallic-roughness
+//  model,
 //                read when RT_MATERIAL_METAL_ROUGH is set (material.h says how it maps onto the seed's terms)
 //  maps = texture_layers entries (RT_NONE: none) of the metallic-roughness (B = metallic, G = roughness),
 //         emissive (multiplies `emissive`), occlusion (R) and normal textures
@@ -140,9 +141,9 @@ RT_STRUCT_BEGIN(Material)
     uint4 textures;
     float4 metal_rough;
     uint4 maps;
-    float4 absorption;   // xyz: Beer-Lambert coefficients per unit length inside a solid medium (0: clear)
-    uint4 specular_maps; // texture_layers entries (RT_NONE: none) of KHR_materials_specular's specularTexture
-                         // (A scales the Fresnel term) and specularColorTexture (RGB tints it); zw unused
+    float4 absorption;    // xyz: Beer-Lambert coefficients per unit length inside a solid medium (0: clear)
+    uint4 specular_maps;  // texture_layers entries (RT_NONE: none) of KHR_materials_specular's specularTexture
+                          // (A scales the Fresnel term) and specularColorTexture (RGB tints it); zw unused
 RT_STRUCT_END(Material)
 
 #define RT_VERTEX_HAS_NORMAL 1u
@@ -176,7 +177,7 @@ RT_STRUCT_END(TextureLayer)
 #define RT_WRAP_CLAMP 1u
 #define RT_WRAP_MIRROR 2u
 #define RT_SAMPLER_NEAREST 16u
-#define RT_SAMPLER_REPEAT 0u   // bilinear, repeat both ways
+#define RT_SAMPLER_REPEAT 0u  // bilinear, repeat both ways
 
 #define RT_TEXENC_SRGB8 0u
 #define RT_TEXENC_LINEAR8 1u
@@ -206,14 +207,14 @@ RT_STRUCT_END(Light)
 #define RT_MAX_DEPTH 16u
 
 // Counter slots in the `counters` array (all zeroed at the start of a frame).
-#define RT_COUNTER_RAYS 0u                               // + depth: rays queued for that depth
-#define RT_COUNTER_SHADOWS (RT_COUNTER_RAYS + RT_MAX_DEPTH + 1u)   // + depth: shadow rays made at that depth
-#define RT_COUNTER_DROPPED (RT_COUNTER_SHADOWS + RT_MAX_DEPTH + 1u) // rays lost to a full queue (must stay 0)
+#define RT_COUNTER_RAYS 0u                                           // + depth: rays queued for that depth
+#define RT_COUNTER_SHADOWS (RT_COUNTER_RAYS + RT_MAX_DEPTH + 1u)     // + depth: shadow rays made at that depth
+#define RT_COUNTER_DROPPED (RT_COUNTER_SHADOWS + RT_MAX_DEPTH + 1u)  // rays lost to a full queue (must stay 0)
 #define RT_COUNTER_SLOTS (RT_COUNTER_DROPPED + 1u)
 
-#define RT_FLAG_ANY_HIT 1u        // intersect reports any hit (ray queries with --any-hit)
-#define RT_FLAG_NO_SHADING 2u     // ray queries: no frame, intersect only
-#define RT_FLAG_ONE_INSTANCE 4u   // the top level holds exactly instance 0 (the wide traversal starts inside it)
+#define RT_FLAG_ANY_HIT 1u       // intersect reports any hit (ray queries with --any-hit)
+#define RT_FLAG_NO_SHADING 2u    // ray queries: no frame, intersect only
+#define RT_FLAG_ONE_INSTANCE 4u  // the top level holds exactly instance 0 (the wide traversal starts inside it)
 // The wide layout with its instances flattened (static scenes, core/render/device_scene_flat.cpp): wide_nodes hold one
 // world-space BVH over every instance's triangles, and each block lane names its instance.
 #define RT_FLAG_FLAT_INSTANCES 8u

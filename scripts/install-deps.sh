@@ -28,8 +28,9 @@ packages=(
   libx11-dev
   # MPI: `prism render` under mpirun splits a frame or a sequence over ranks (OpenMPI; the tests run mpirun).
   libopenmpi-dev openmpi-bin
-  # Fuzzing the loaders (scripts/fuzz.sh): clang with libFuzzer and the sanitizer runtimes.
-  clang libclang-rt-14-dev
+  # Fuzzing the loaders (scripts/fuzz.sh): clang with libFuzzer and the sanitizer runtimes; clang-format keeps the
+  # C++ in .clang-format's style (scripts/format.sh --check runs in scripts/test.sh).
+  clang libclang-rt-14-dev clang-format
   # Plots of the benchmark results (bench/plot_bench.py draws every chart).
   python3 python3-matplotlib
 )

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# README command 2: install, build, check that scripts/install-deps.sh installs everything the build used (so a
+# README command 2: install, check the C++ formatting, build, check that scripts/install-deps.sh installs everything the build used (so a
 # missing install step fails here, not on the next fresh machine), run the whole test suite (the CMake package's
 # consumer test included), then the AddressSanitizer + UBSan build of the tests, then the loaders' fuzzers for a
 # minute each. CPU, OpenCL (PoCL) and Vulkan (lavapipe) tests run here; CUDA
@@ -10,6 +10,8 @@ cd "$(dirname "$0")/.."
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-$(mktemp -d)}"; chmod 700 "$XDG_RUNTIME_DIR"
 jobs=$(nproc)
 
+echo "== format (.clang-format)"
+./scripts/format.sh --check
 echo "== build (ci preset)"
 cmake --preset ci
 cmake --build --preset ci -j "$jobs"

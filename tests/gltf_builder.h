@@ -88,8 +88,8 @@ public:
     std::filesystem::path write(const std::string& name, bool embed_buffer = true) {
         nlohmann::json out = document;
         if (embed_buffer && !buffer.empty())
-            out["buffers"] = {{{"byteLength", buffer.size()},
-                               {"uri", "data:application/octet-stream;base64," + base64(buffer)}}};
+            out["buffers"] = {
+                {{"byteLength", buffer.size()}, {"uri", "data:application/octet-stream;base64," + base64(buffer)}}};
         if (!out.contains("scenes") && out.contains("nodes")) {
             std::vector<bool> child(out["nodes"].size(), false);
             for (const auto& n : out["nodes"])

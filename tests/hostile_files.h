@@ -44,7 +44,7 @@ inline std::string gzip_bomb(const std::string& prefix, char fill, size_t chunk,
         out += block;
         crc = crc32_combine(crc, block_crc, static_cast<z_off_t>(chunk));
     }
-    out += std::string("\x03\x00", 2);   // a final, empty fixed-Huffman block
+    out += std::string("\x03\x00", 2);  // a final, empty fixed-Huffman block
     out += little_endian32(static_cast<uint32_t>(crc));
     out += little_endian32(static_cast<uint32_t>(prefix.size() + chunk * repeats));
     return out;
@@ -66,7 +66,7 @@ inline std::string blank_png(uint32_t width, uint32_t height) {
     for (uint32_t value : {width, height})
         for (int i = 3; i >= 0; --i) header += static_cast<char>((value >> (8 * i)) & 255u);
     header += std::string("\x08\x06\x00\x00\x00", 5);
-    const std::string raw(size_t(height) * (1 + size_t(width) * 4), '\0');   // filter byte 0 + pixels, per row
+    const std::string raw(size_t(height) * (1 + size_t(width) * 4), '\0');  // filter byte 0 + pixels, per row
     uLongf size = compressBound(static_cast<uLong>(raw.size()));
     std::string compressed(size, '\0');
     compress2(reinterpret_cast<Bytef*>(compressed.data()), &size, reinterpret_cast<const Bytef*>(raw.data()),

@@ -19,7 +19,7 @@ struct Case {
     std::string scene;
     uint32_t width, height, depth;
     prism::BvhLayout layout = prism::BvhLayout::Stack;
-    bool flatten = false;   // the wide layout: BvhBuildOptions::flatten_instances
+    bool flatten = false;  // the wide layout: BvhBuildOptions::flatten_instances
 };
 
 void PrintTo(const Case& c, std::ostream* os) { *os << c.scene; }
@@ -65,8 +65,10 @@ TEST_P(CpuAgreement, WavefrontMatchesRecursiveReference) {
     EXPECT_GT(distinct, actual.image.size() / 10);
 }
 
-const Case kCases[] = {Case{"builtin:sphere", 160, 120, 8}, Case{"builtin:bunny", 160, 120, 6},
-                       Case{"builtin:dragon", 128, 96, 6}, Case{"gltf/GlassVaseFlowers/GlassVaseFlowers.glb", 128, 128, 6},
+const Case kCases[] = {Case{"builtin:sphere", 160, 120, 8},
+                       Case{"builtin:bunny", 160, 120, 6},
+                       Case{"builtin:dragon", 128, 96, 6},
+                       Case{"gltf/GlassVaseFlowers/GlassVaseFlowers.glb", 128, 128, 6},
                        Case{"gltf/TransmissionTest/TransmissionTest.glb", 128, 96, 6},
                        Case{"gltf/BoxTextured/BoxTextured.glb", 96, 96, 4},
                        Case{"gltf/OrientationTest/OrientationTest.glb", 128, 96, 4},
@@ -101,7 +103,8 @@ TEST(CpuAgreement, LayoutsAndBuildersRenderTheSameImage) {
     prism::DeviceScene escape = load("builtin:sphere", prism::BvhLayout::Escape, prism::BvhMethod::Median);
     prism::DeviceScene wide = load("builtin:sphere", prism::BvhLayout::Wide, prism::BvhMethod::BinnedSah);
     prism::DeviceScene wide_median = load("builtin:sphere", prism::BvhLayout::Wide, prism::BvhMethod::Median);
-    prism::DeviceScene flat = load("builtin:sphere", prism::BvhLayout::Wide, prism::BvhMethod::BinnedSah, nullptr, true);
+    prism::DeviceScene flat =
+        load("builtin:sphere", prism::BvhLayout::Wide, prism::BvhMethod::BinnedSah, nullptr, true);
     prism::RenderSettings settings = prism::test::small_settings(96, 72);
     prism::FrameResult a = prism::RenderEngine("cpu", stack).render(scene.camera, settings);
     for (const prism::DeviceScene* other : {&escape, &wide, &wide_median, &flat}) {
@@ -164,7 +167,8 @@ TEST(CpuAgreement, WideTopLevelRefitAndRebuildMatchAFreshBuild) {
 // stale tree. The two-level wide layout (as `prism view` builds it) is what moving scenes use.
 TEST(CpuAgreement, FlattenedInstancesRefuseToMove) {
     prism::Scene scene;
-    prism::DeviceScene device = load("builtin:sphere", prism::BvhLayout::Wide, prism::BvhMethod::BinnedSah, &scene, true);
+    prism::DeviceScene device =
+        load("builtin:sphere", prism::BvhLayout::Wide, prism::BvhMethod::BinnedSah, &scene, true);
     std::vector<glm::mat4> transforms;
     for (const prism::Instance& instance : scene.instances) transforms.push_back(instance.transform);
     prism::RenderEngine engine("cpu", device);
@@ -176,7 +180,7 @@ TEST(CpuAgreement, FlattenedInstancesRefuseToMove) {
 TEST(CpuAgreement, InstancingHeavyScenesAreNotFlattened) {
     prism::Scene scene;
     prism::DeviceScene flat = load("builtin:sphere", prism::BvhLayout::Wide, prism::BvhMethod::BinnedSah, &scene, true);
-    EXPECT_TRUE(flat.bvh_options.flatten_instances);   // floor + one sphere: nothing repeats
+    EXPECT_TRUE(flat.bvh_options.flatten_instances);  // floor + one sphere: nothing repeats
     prism::Scene many = scene;
     const prism::Instance sphere = many.instances.back();
     for (int i = 1; i <= 2; ++i) {
@@ -188,7 +192,7 @@ TEST(CpuAgreement, InstancingHeavyScenesAreNotFlattened) {
     bvh.layout = prism::BvhLayout::Wide;
     bvh.flatten_instances = true;
     prism::DeviceScene kept = prism::build_device_scene(many, bvh);
-    EXPECT_FALSE(kept.bvh_options.flatten_instances);   // three spheres: three times the triangles
+    EXPECT_FALSE(kept.bvh_options.flatten_instances);  // three spheres: three times the triangles
     bvh.flatten_growth_limit = 4.0f;
     prism::DeviceScene forced = prism::build_device_scene(many, bvh);
     EXPECT_TRUE(forced.bvh_options.flatten_instances);
@@ -210,7 +214,8 @@ TEST(CpuAgreement, FlattenedInstancesReportTheTwoLevelHits) {
     const glm::vec3 eye = scene.camera.position;
     for (int y = 0; y < 64; ++y)
         for (int x = 0; x < 64; ++x) {
-            glm::vec3 d = glm::normalize(scene.camera.target - eye + glm::vec3(0.05f * float(x - 32), 0.05f * float(y - 40), 0.0f));
+            glm::vec3 d = glm::normalize(scene.camera.target - eye +
+                                         glm::vec3(0.05f * float(x - 32), 0.05f * float(y - 40), 0.0f));
             rays.push_back(prism::RayQuery{{eye.x, eye.y, eye.z}, 0.0f, {d.x, d.y, d.z}, INFINITY});
         }
     std::vector<prism::RayHit> a = prism::RenderEngine("cpu", two_level).trace(rays, false);
@@ -241,4 +246,3 @@ TEST(CpuAgreement, CopyToGlWithoutInteropIsAnError) {
     std::string message = prism::test::error_message([&] { engine.render(scene.camera, settings); });
     EXPECT_EQ(message.rfind("render: copy_to_gl without a GL interop (", 0), 0u) << message;
 }
-

@@ -31,7 +31,10 @@ TEST(DeviceArrayBook, BudgetCountsEveryArrayAndAReallocationFreesTheOld) {
     book.record(DeviceArray::hits, 400 << 10, 400 << 10);
     std::string message = error_message([&] { book.check_fits(DeviceArray::accum, 300 << 10, 300 << 10); });
     EXPECT_EQ(message.rfind("gpu: buffer 'accum' needs 0.3 MiB, bringing the total to 1.1 MiB, above the 1.0 MiB "
-                            "of memory of Test Device", 0), 0u) << message;
+                            "of memory of Test Device",
+                            0),
+              0u)
+        << message;
     // The array's own old size does not count against it.
     EXPECT_EQ(error_message([&] { book.check_fits(DeviceArray::rays, 600 << 10, 600 << 10); }),
               "(no prism::Error thrown)");
@@ -69,7 +72,7 @@ TEST(DeviceArrayBook, LimitVariableSetsTheBudgetAndIsNamed) {
 TEST(DeviceArrayBook, RangesAreCheckedAgainstTheAllocatedSize) {
     prism::DeviceArrayBook book("gpu", "d", std::nullopt);
     EXPECT_EQ(error_message([&] { book.check_range(DeviceArray::texels, 0, 0); }),
-              "gpu: access past the end of array 'texels' (0+0 of 0 bytes)");   // never allocated
+              "gpu: access past the end of array 'texels' (0+0 of 0 bytes)");  // never allocated
     book.record(DeviceArray::texels, 100, 112);
     book.check_range(DeviceArray::texels, 100, 0);
     book.check_range(DeviceArray::texels, 0, 100);
@@ -253,7 +256,7 @@ TEST_P(BackendContract, RayQueriesMatchTheReferenceHits) {
     for (const char* spec : {"builtin:bunny", "gltf/GlassVaseFlowers/GlassVaseFlowers.glb"}) {
         SCOPED_TRACE(spec);
         const prism::DeviceScene& device = scene(spec).device;
-        prism::Aabb bounds = prism::node_bounds(device.top_level.nodes[0]);   // the world box, whatever the layout
+        prism::Aabb bounds = prism::node_bounds(device.top_level.nodes[0]);  // the world box, whatever the layout
         glm::vec3 lower = bounds.lower, upper = bounds.upper;
         glm::vec3 center = 0.5f * (lower + upper);
         float radius = 0.75f * glm::length(upper - lower) + 1e-3f;
@@ -270,8 +273,8 @@ TEST_P(BackendContract, RayQueriesMatchTheReferenceHits) {
             // Two thirds from outside towards a point of the scene box, one third from inside in any direction.
             glm::vec3 origin = i % 3 ? center + radius * on_sphere() : in_box();
             glm::vec3 direction = i % 3 ? glm::normalize(in_box() - origin) : on_sphere();
-            rays[i] = prism::RayQuery{{origin.x, origin.y, origin.z}, 0.0f, {direction.x, direction.y, direction.z},
-                                      INFINITY};
+            rays[i] = prism::RayQuery{
+                {origin.x, origin.y, origin.z}, 0.0f, {direction.x, direction.y, direction.z}, INFINITY};
         }
         prism::RenderEngine reference("cpu-ref", device), engine(GetParam(), device);
         std::vector<prism::RayHit> expected = reference.trace(rays, false), actual = engine.trace(rays, false);
@@ -306,12 +309,14 @@ TEST_P(GpuBackend, WideLayoutIsRefusedInOneLine) {
     prism::Scene scene;
     prism::DeviceScene device = prism::test::load_device_scene("builtin:sphere", &scene, prism::BvhLayout::Wide);
     EXPECT_EQ(error_message([&] { prism::RenderEngine engine(GetParam(), device); }),
-              GetParam() + ": the wide BVH layout is traced by the cpu backends only; use --bvh-layout stack, escape "
-                           "or auto");
+              GetParam() +
+                  ": the wide BVH layout is traced by the cpu backends only; use --bvh-layout stack, escape "
+                  "or auto");
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, GpuBackend,
-                         ::testing::Values("cuda", prism::test::test_device("opencl"), prism::test::test_device("vulkan")),
+                         ::testing::Values("cuda", prism::test::test_device("opencl"),
+                                           prism::test::test_device("vulkan")),
                          [](const auto& info) { return prism::test::test_name_of(info.param); });
 
 // Images against the cpu-ref oracle on the seed's scenes and glTF models with glass, transmission and textures:

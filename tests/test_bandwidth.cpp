@@ -71,8 +71,8 @@ TEST_F(BandwidthRun, ExitsZeroAndMeasuresPoclAndLavapipe) {
     ASSERT_EQ(run_.exit_code, 0) << run_.output;
     ASSERT_TRUE(result_.is_object()) << "no JSON at " << json_path_;
     // Every copy kind must be there: a copy whose data check fails is dropped, so this also checks the data.
-    const std::set<std::string> kinds = {"h2d/pageable", "h2d/pinned", "d2h/pageable", "d2h/pinned",
-                                         "d2d/device", "kernel_copy/device"};
+    const std::set<std::string> kinds = {"h2d/pageable", "h2d/pinned", "d2h/pageable",
+                                         "d2h/pinned",   "d2d/device", "kernel_copy/device"};
     for (const char* api : {"opencl", "vulkan"}) {
         bool found = false;
         for (const json& device : result_["devices"]) {

@@ -39,7 +39,7 @@ void expect_seed_ingredients(const Scene& scene) {
     const Texture& checker = scene.textures[floor_material.textures[0].texture];
     EXPECT_EQ(checker.texels.size(), size_t(checker.width) * checker.height);
     std::set<uint32_t> first_row(checker.texels.begin(), checker.texels.begin() + checker.width);
-    EXPECT_EQ(first_row.size(), 2u);   // a checkerboard: two colours
+    EXPECT_EQ(first_row.size(), 2u);  // a checkerboard: two colours
     bool reflective = false, refractive = false;
     for (const Material& material : scene.materials) {
         reflective |= material.reflectivity > 0.0f && material.transmittance == 0.0f;
@@ -68,12 +68,12 @@ TEST(BuiltinScenes, SphereIsTheSeedGlassSphere) {
     EXPECT_LE(mesh.triangles.size(), 11000u);
     EXPECT_EQ(scene.triangle_count(), mesh.triangles.size() + 2);
     ASSERT_EQ(mesh.colors.size(), mesh.positions.size());
-    EXPECT_NE(mesh.colors.front(), mesh.colors.back());   // a gradient, not one colour
+    EXPECT_NE(mesh.colors.front(), mesh.colors.back());  // a gradient, not one colour
     const Material& glass = scene.materials[mesh.triangle_materials[0]];
     EXPECT_TRUE(glass.use_vertex_colors);
     EXPECT_EQ(glass.transmittance, 0.9f);
     EXPECT_EQ(glass.reflectivity, 0.3f);
-    EXPECT_LT(glass.ior.x, glass.ior.z);   // dispersive
+    EXPECT_LT(glass.ior.x, glass.ior.z);  // dispersive
     EXPECT_NEAR(glass.fresnel_bias, std::pow((glass.ior.y - 1) / (glass.ior.y + 1), 2.0f), 1e-6f);
     EXPECT_NEAR(glass.fresnel_scale, 1.0f - glass.fresnel_bias, 1e-6f);
     // Every triangle faces outward and the sphere rests on the floor (y = 0).
@@ -96,11 +96,12 @@ TEST(BuiltinScenes, BunnyStandsOnTheFloorAndReflects) {
     EXPECT_EQ(scene.meshes[bunny.mesh].triangles.size(), 69451u);
     EXPECT_NEAR(scene.materials[scene.meshes[bunny.mesh].triangle_materials[0]].reflectivity, 0.6f, 1e-6f);
     EXPECT_EQ(scene.environment.kind, EnvironmentKind::CubeMap);
-    EXPECT_EQ(scene.textures[scene.environment.textures[0]].width, 1024);   // the Miramar faces, not the fallback
+    EXPECT_EQ(scene.textures[scene.environment.textures[0]].width, 1024);  // the Miramar faces, not the fallback
     float lowest = 1e9f;
-    for (uint32_t v = 0; v < scene.meshes[bunny.mesh].positions.size(); ++v) lowest = std::min(lowest, world(scene, bunny, v).y);
+    for (uint32_t v = 0; v < scene.meshes[bunny.mesh].positions.size(); ++v)
+        lowest = std::min(lowest, world(scene, bunny, v).y);
     EXPECT_NEAR(lowest, 0.0f, 1e-4f);
-    EXPECT_GT(scene.triangle_count(), 69451u + 2u);   // plus the floor and the glass sphere
+    EXPECT_GT(scene.triangle_count(), 69451u + 2u);  // plus the floor and the glass sphere
 }
 
 TEST(BuiltinScenes, DragonIsDispersiveGlass) {

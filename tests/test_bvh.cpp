@@ -47,12 +47,13 @@ bool usable(const Aabb& box) {
 Aabb caller_bounds(const Triangle& t) {
     Aabb box;
     for (const glm::vec3& v : {t.a, t.b, t.c}) {
-        if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) {   // grow() would drop a NaN (glm::min keeps the other operand)
+        if (!std::isfinite(v.x) || !std::isfinite(v.y) ||
+            !std::isfinite(v.z)) {  // grow() would drop a NaN (glm::min keeps the other operand)
             box.lower = box.upper = glm::vec3(std::numeric_limits<float>::quiet_NaN());
             return box;
         }
     }
-    if (glm::length(glm::cross(t.b - t.a, t.c - t.a)) == 0.0f) return box;   // degenerate: empty bounds
+    if (glm::length(glm::cross(t.b - t.a, t.c - t.a)) == 0.0f) return box;  // degenerate: empty bounds
     box.grow(t.a);
     box.grow(t.b);
     box.grow(t.c);
@@ -74,15 +75,13 @@ Soup random_soup(uint32_t count, uint32_t seed) {
     for (int i = 0; i < 8; ++i) clusters.push_back({unit(rng) * 20 - 10, unit(rng) * 20 - 10, unit(rng) * 20 - 10});
     std::vector<Triangle> triangles;
     for (uint32_t i = 0; i < count; ++i) {
-        glm::vec3 center = clusters[i % clusters.size()] +
-                           glm::vec3(unit(rng) - 0.5f, unit(rng) - 0.5f, unit(rng) - 0.5f) * 6.0f;
+        glm::vec3 center =
+            clusters[i % clusters.size()] + glm::vec3(unit(rng) - 0.5f, unit(rng) - 0.5f, unit(rng) - 0.5f) * 6.0f;
         float size = (i % 10 == 0) ? 2.0f : 0.2f;
-        auto corner = [&] {
-            return center + glm::vec3(unit(rng) - 0.5f, unit(rng) - 0.5f, unit(rng) - 0.5f) * size;
-        };
+        auto corner = [&] { return center + glm::vec3(unit(rng) - 0.5f, unit(rng) - 0.5f, unit(rng) - 0.5f) * size; };
         Triangle t{corner(), corner(), corner()};
-        if (i % 17 == 3) t.b = t.c = t.a;                           // degenerate
-        if (i % 29 == 5) t.c.y = std::numeric_limits<float>::quiet_NaN();   // non-finite
+        if (i % 17 == 3) t.b = t.c = t.a;                                  // degenerate
+        if (i % 29 == 5) t.c.y = std::numeric_limits<float>::quiet_NaN();  // non-finite
         triangles.push_back(t);
     }
     return make_soup(std::move(triangles));
@@ -236,7 +235,7 @@ uint32_t check_structure(const Bvh& bvh, std::span<const Aabb> bounds, uint32_t 
         visits[entry.index]++;
         uint32_t lower_w = bits(node.lower.w), upper_w = bits(node.upper.w);
         uint32_t children[2];
-        if (bvh.layout != BvhLayout::Escape) {   // the wide layout keeps its binary tree in the stack layout
+        if (bvh.layout != BvhLayout::Escape) {  // the wide layout keeps its binary tree in the stack layout
             if (upper_w != 0) {
                 check_leaf(bvh, bounds, node, {lower_w, upper_w}, max_leaf, references);
                 continue;
@@ -253,15 +252,14 @@ uint32_t check_structure(const Bvh& bvh, std::span<const Aabb> bounds, uint32_t 
             if (escape <= entry.index || escape > nodes.size()) return depth;
             if (upper_w != RT_ESCAPE_INTERIOR) {
                 EXPECT_EQ(escape, entry.index + 1) << "a leaf escapes to the next node";
-                check_leaf(bvh, bounds, node,
-                           {upper_w & RT_ESCAPE_FIRST_MASK, upper_w >> RT_ESCAPE_COUNT_SHIFT},
+                check_leaf(bvh, bounds, node, {upper_w & RT_ESCAPE_FIRST_MASK, upper_w >> RT_ESCAPE_COUNT_SHIFT},
                            std::min(max_leaf, 255u), references);
                 continue;
             }
             children[0] = entry.index + 1;
             EXPECT_LT(children[0], escape) << "an interior node has a left child inside its subtree";
             if (children[0] >= escape) return depth;
-            children[1] = bits(nodes[children[0]].lower.w);   // the left subtree ends where the right begins
+            children[1] = bits(nodes[children[0]].lower.w);  // the left subtree ends where the right begins
             EXPECT_LT(children[1], escape);
             if (children[1] >= escape) return depth;
             EXPECT_EQ(bits(nodes[children[1]].lower.w), escape) << "the right subtree ends with its parent's";
@@ -282,8 +280,10 @@ uint32_t check_structure(const Bvh& bvh, std::span<const Aabb> bounds, uint32_t 
     }
     EXPECT_EQ(bvh.primitive_order.size(), expected_count);
     EXPECT_EQ(bvh.depth, depth);
-    if (bvh.layout == BvhLayout::Wide) check_wide_structure(bvh, bounds, max_leaf, referenced);
-    else EXPECT_TRUE(bvh.wide_nodes.empty());
+    if (bvh.layout == BvhLayout::Wide)
+        check_wide_structure(bvh, bounds, max_leaf, referenced);
+    else
+        EXPECT_TRUE(bvh.wide_nodes.empty());
     return depth;
 }
 
@@ -390,8 +390,10 @@ Hit trace_wide_layout(const Ray& ray, const Soup& soup, const Bvh& bvh) {
         for (uint32_t k = 0; k < RT_BVH_WIDTH; ++k) {
             uint32_t ref = wide_ref(node, k);
             if (ref == 0 || !hits_box(ray, wide_box(node, k), hit.t)) continue;
-            if (ref & RT_WIDE_LEAF) test_leaf(ray, soup, bvh, (ref & ~RT_WIDE_LEAF) >> 3, (ref & 7u) + 1, hit);
-            else stack.push_back(ref);
+            if (ref & RT_WIDE_LEAF)
+                test_leaf(ray, soup, bvh, (ref & ~RT_WIDE_LEAF) >> 3, (ref & 7u) + 1, hit);
+            else
+                stack.push_back(ref);
         }
     }
     return hit;
@@ -452,7 +454,9 @@ const BvhLayout kLayouts[] = {BvhLayout::Stack, BvhLayout::Escape, BvhLayout::Wi
 
 std::string describe(BvhMethod method, BvhLayout layout) {
     return std::string(method == BvhMethod::BinnedSah ? "sah" : "median") + "/" +
-           (layout == BvhLayout::Stack ? "stack" : layout == BvhLayout::Escape ? "escape" : "wide");
+           (layout == BvhLayout::Stack    ? "stack"
+            : layout == BvhLayout::Escape ? "escape"
+                                          : "wide");
 }
 
 // ---- Tests --------------------------------------------------------------------------------------------------
@@ -496,7 +500,7 @@ TEST(BvhBuild, SahIsCheaperThanTheSeedsMedianSplitOnTheBunny) {
 
 TEST(BvhBuild, SameNodesForAnyThreadCount) {
     const Soup& bunny_soup = bunny();
-    Soup large = random_soup(150000, 2);   // several parallel binning chunks at the top levels
+    Soup large = random_soup(150000, 2);  // several parallel binning chunks at the top levels
     for (const Soup* soup : {&bunny_soup, const_cast<const Soup*>(&large)}) {
         for (BvhMethod method : kMethods) {
             for (BvhLayout layout : kLayouts) {
@@ -518,7 +522,7 @@ TEST(BvhBuild, SameNodesForAnyThreadCount) {
 
 TEST(BvhBuild, NoUsablePrimitiveGivesOneLeafNoRayHits) {
     std::vector<Aabb> nothing;
-    std::vector<Aabb> all_left_out(5);   // default Aabb: empty
+    std::vector<Aabb> all_left_out(5);  // default Aabb: empty
     all_left_out[1].lower = glm::vec3(std::numeric_limits<float>::quiet_NaN());
     all_left_out[1].upper = glm::vec3(1.0f);
     for (const auto* input : {&nothing, &all_left_out}) {
@@ -541,7 +545,7 @@ TEST(BvhBuild, NoUsablePrimitiveGivesOneLeafNoRayHits) {
                     EXPECT_EQ(bits(node.lower.w), 1u);
                     EXPECT_EQ(bits(node.upper.w) >> RT_ESCAPE_COUNT_SHIFT, 0u);
                 }
-                if (layout == BvhLayout::Wide) {   // one node, no lane used
+                if (layout == BvhLayout::Wide) {  // one node, no lane used
                     ASSERT_EQ(bvh.wide_nodes.size(), 1u);
                     for (uint32_t k = 0; k < RT_BVH_WIDTH; ++k) EXPECT_EQ(wide_ref(bvh.wide_nodes[0], k), 0u);
                 }
@@ -619,7 +623,7 @@ TEST(BvhBuild, WideLayoutCapsLeavesAt8) {
 TEST(BvhBuild, WideStackBoundFollowsTheDeepestPath) {
     std::vector<BvhWideNode> nodes(3, empty_wide_node());
     Aabb box{glm::vec3(0.0f), glm::vec3(1.0f)};
-    for (uint32_t k = 0; k < 3; ++k) set_wide_lane_box(nodes[0], k, box);   // root: a leaf, node 1, node 2
+    for (uint32_t k = 0; k < 3; ++k) set_wide_lane_box(nodes[0], k, box);  // root: a leaf, node 1, node 2
     set_wide_lane_leaf(nodes[0], 0, 0, 1);
     set_wide_lane_node(nodes[0], 1, 1);
     set_wide_lane_node(nodes[0], 2, 2);
@@ -667,11 +671,12 @@ TEST(BvhBuild, MedianSplitsAtTheBoxMiddleCyclingAxes) {
 
 TEST(BvhBuild, TopLevelOverInstancesWithOneInstancePerLeaf) {
     std::vector<Aabb> instances(7);
-    for (int i = 0; i < 7; ++i) instances[i].lower = glm::vec3(3.0f * i, 0, 0), instances[i].upper = glm::vec3(3.0f * i + 1, 1, 1);
+    for (int i = 0; i < 7; ++i)
+        instances[i].lower = glm::vec3(3.0f * i, 0, 0), instances[i].upper = glm::vec3(3.0f * i + 1, 1, 1);
     for (BvhLayout layout : kLayouts) {
         BvhBuildOptions options = options_for(BvhMethod::BinnedSah, layout);
         options.max_leaf_size = 1;
-        options.wide_leaf_size = 1;   // as the device scene's top level builds it
+        options.wide_leaf_size = 1;  // as the device scene's top level builds it
         Bvh bvh = build_bvh(instances, options);
         EXPECT_EQ(bvh.nodes.size(), 13u);
         check_structure(bvh, instances, 1);

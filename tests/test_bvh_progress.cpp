@@ -63,7 +63,7 @@ TEST(BvhProgress, SpansEveryMeshOfAScene) {
     ASSERT_GT(scene.meshes.size(), 1u);
     Reports reports;
     BvhBuildOptions options;
-    options.threads = 1;   // one thread: the reports arrive in order
+    options.threads = 1;  // one thread: the reports arrive in order
     build_device_scene(scene, options, reports.callback());
     ASSERT_GE(reports.fractions.size(), 2u);
     EXPECT_TRUE(std::is_sorted(reports.fractions.begin(), reports.fractions.end()));

@@ -18,7 +18,7 @@ namespace fs = std::filesystem;
 
 struct Render {
     prism::test::CommandResult command;
-    std::vector<uint32_t> texels;   // empty when no image was written
+    std::vector<uint32_t> texels;  // empty when no image was written
 };
 
 const std::string kCacheVariables[] = {"POCL_CACHE_DIR", "PRISM_CACHE_DIR", "XDG_CACHE_HOME", "MESA_SHADER_CACHE_DIR"};
@@ -75,9 +75,9 @@ void expect_same_image(const std::string& backend, const std::string& assignment
     EXPECT_TRUE(blocked_render.texels == expected.texels) << assignments << ": the image differs";
 }
 
-#define REQUIRE_DEVICE(api, filter)                                                                      \
-    do {                                                                                                 \
-        std::string why;                                                                                 \
+#define REQUIRE_DEVICE(api, filter)                                                                          \
+    do {                                                                                                     \
+        std::string why;                                                                                     \
         if (!prism::test::device_present(api, filter, &why)) GTEST_SKIP() << "no " << filter << ": " << why; \
     } while (0)
 

@@ -75,7 +75,8 @@ nlohmann::json parse_json_file(const fs::path& path) {
 TEST(Cli, RendersTheDefaultSceneToAPng) {
     fs::path out = prism::test::temp_dir("cli") / "default.png";
     fs::remove(out);
-    prism::test::CommandResult r = run_prism("render --backend cpu --width 160 --height 90 --out '" + out.string() + "'");
+    prism::test::CommandResult r =
+        run_prism("render --backend cpu --width 160 --height 90 --out '" + out.string() + "'");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find("on cpu"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("ms"), std::string::npos) << r.output;
@@ -137,8 +138,8 @@ TEST(Cli, UnknownBackendListsTheAvailableOnes) {
 }
 
 TEST(Cli, UnsupportedOutputFormatFailsBeforeWork) {
-    prism::test::CommandResult r = run_prism("render --backend cpu --out '" +
-                                             (prism::test::temp_dir("cli") / "image.bmp").string() + "'");
+    prism::test::CommandResult r =
+        run_prism("render --backend cpu --out '" + (prism::test::temp_dir("cli") / "image.bmp").string() + "'");
     EXPECT_EQ(r.exit_code, 1);
     EXPECT_NE(r.output.find("image.bmp"), std::string::npos) << r.output;
 }
@@ -159,9 +160,8 @@ TEST(Cli, ShortAndLongOutputAliasesWriteTheImage) {
     for (const char* spelling : {"-o", "--output", "--out"}) {
         fs::path out = prism::test::temp_dir("cli") / (std::string("alias") + spelling + ".png");
         fs::remove(out);
-        prism::test::CommandResult r =
-            run_prism("render --backend cpu --width 32 --height 16 --depth 2 " + std::string(spelling) + " '" +
-                      out.string() + "'");
+        prism::test::CommandResult r = run_prism("render --backend cpu --width 32 --height 16 --depth 2 " +
+                                                 std::string(spelling) + " '" + out.string() + "'");
         ASSERT_EQ(r.exit_code, 0) << spelling << ": " << r.output;
         EXPECT_EQ(read_bytes(out).substr(1, 3), "PNG") << spelling;
     }
@@ -223,7 +223,8 @@ TEST(Cli, JsonDashWritesOnlyJsonToStandardOutput) {
     parsed = nlohmann::json::parse(bench.out, nullptr, false);
     ASSERT_FALSE(parsed.is_discarded()) << bench.out;
     EXPECT_EQ(parsed["scenes"][0]["backends"][0]["backend"], "cpu");
-    EXPECT_NE(bench.err.find("builtin:sphere on cpu"), std::string::npos) << "the human text goes to stderr: " << bench.err;
+    EXPECT_NE(bench.err.find("builtin:sphere on cpu"), std::string::npos)
+        << "the human text goes to stderr: " << bench.err;
     EXPECT_FALSE(fs::exists("-"));
 }
 
@@ -232,7 +233,8 @@ TEST(Cli, BenchWritesFinishedRunsAndEachFailureThenFails) {
     fs::remove(json);
     prism::test::CommandResult r = run_prism(
         "bench --scenes builtin:sphere,/nonexistent/scene.ply --backends cpu,vulkan:no-such-device --width 24 "
-        "--height 16 --depth 2 --runs 1 --warmup 0 --json '" + json.string() + "'");
+        "--height 16 --depth 2 --runs 1 --warmup 0 --json '" +
+        json.string() + "'");
     EXPECT_EQ(r.exit_code, 1) << r.output;
     EXPECT_NE(r.output.find("prism: error: bench: 2 runs failed"), std::string::npos) << r.output;
     nlohmann::json result = parse_json_file(json);
@@ -287,8 +289,8 @@ TEST(Cli, InstalledPrismFindsTheScenesOfItsPrefix) {
     fs::copy_file(binary, prefix / "bin" / "prism");
     fs::create_directory_symlink(fs::absolute(prism::test::scenes_dir() / "stanford"),
                                  prefix / "share" / "prism" / "scenes" / "stanford");
-    std::string command = "cd / && env -u PRISM_DATA_DIR '" + (prefix / "bin" / "prism").string() +
-                          "' info --scene builtin:bunny 2>&1";
+    std::string command =
+        "cd / && env -u PRISM_DATA_DIR '" + (prefix / "bin" / "prism").string() + "' info --scene builtin:bunny 2>&1";
     FILE* pipe = popen(command.c_str(), "r");
     ASSERT_NE(pipe, nullptr);
     std::string output;
@@ -301,7 +303,8 @@ TEST(Cli, InstalledPrismFindsTheScenesOfItsPrefix) {
 
 TEST(Cli, ProgressIsPlainLinesWithElapsedAndEtaWhenNotATerminal) {
     fs::path out = prism::test::temp_dir("cli") / "progress.png";
-    SplitResult r = run_prism_split("render --backend cpu --width 48 --height 32 --depth 3 --out '" + out.string() + "'");
+    SplitResult r =
+        run_prism_split("render --backend cpu --width 48 --height 32 --depth 3 --out '" + out.string() + "'");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(r.err.find('\r'), std::string::npos) << "no redrawn line on a pipe: " << r.err;
     EXPECT_NE(r.err.find("prism: loading builtin:sphere: done in "), std::string::npos) << r.err;
@@ -318,8 +321,10 @@ TEST(Cli, ProgressIsPlainLinesWithElapsedAndEtaWhenNotATerminal) {
 TEST(Cli, LoadingAModelShowsItsFractionAndEta) {
     fs::path out = prism::test::temp_dir("cli") / "loading.png";
     const std::string dragon = prism::test::scene("stanford/dragon.ply.gz").string();
-    SplitResult r = run_prism_split("render --backend cpu --scene '" + dragon + "' --width 8 --height 8 --depth 1 "
-                                    "--out '" + out.string() + "'");
+    SplitResult r = run_prism_split("render --backend cpu --scene '" + dragon +
+                                    "' --width 8 --height 8 --depth 1 "
+                                    "--out '" +
+                                    out.string() + "'");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const size_t line = r.err.find("prism: loading " + dragon + " (");
     ASSERT_NE(line, std::string::npos) << r.err;
@@ -381,9 +386,10 @@ TEST(Cli, RenderWritesExrAndSixteenBitPngOfTheSameFrame) {
 
 // A sky brighter than 1 seen directly: the EXR and .hdr keep it, the 8-bit PNG clips it.
 TEST(Cli, ExrAndHdrKeepRadianceAboveOne) {
-    prism::test::write_file("bright-triangle.ply",
-                            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-                            "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    prism::test::write_file(
+        "bright-triangle.ply",
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
     fs::path scene = prism::test::write_file(
         "bright-sky.json",
         R"({"camera": {"position": [0.3, 0.3, 3.0], "target": [0.3, 0.3, 0.0], "up": [0, 1, 0], "fov": 45},
@@ -391,15 +397,16 @@ TEST(Cli, ExrAndHdrKeepRadianceAboveOne) {
             "objects": [{"name": "triangle", "file": "bright-triangle.ply"}]})");
     fs::path dir = prism::test::temp_dir("cli-bright");
     for (const char* name : {"sky.exr", "sky.hdr", "sky.png"}) {
-        prism::test::CommandResult r = run_prism("render --scene '" + scene.string() +
-                                                 "' --backend cpu --width 16 --height 16 --depth 2 -o '" +
-                                                 (dir / name).string() + "'");
+        prism::test::CommandResult r =
+            run_prism("render --scene '" + scene.string() + "' --backend cpu --width 16 --height 16 --depth 2 -o '" +
+                      (dir / name).string() + "'");
         ASSERT_EQ(r.exit_code, 0) << name << ": " << r.output;
     }
     float* exr = nullptr;
     int width = 0, height = 0;
     const char* error = nullptr;
-    ASSERT_EQ(LoadEXR(&exr, &width, &height, (dir / "sky.exr").c_str(), &error), TINYEXR_SUCCESS) << (error ? error : "");
+    ASSERT_EQ(LoadEXR(&exr, &width, &height, (dir / "sky.exr").c_str(), &error), TINYEXR_SUCCESS)
+        << (error ? error : "");
     std::unique_ptr<float, decltype(&std::free)> exr_owned(exr, &std::free);
     // The top-left pixel sees only the sky.
     EXPECT_FLOAT_EQ(exr[0], 6.0f);
@@ -410,7 +417,7 @@ TEST(Cli, ExrAndHdrKeepRadianceAboveOne) {
     std::unique_ptr<float, decltype(&stbi_image_free)> hdr(
         stbi_loadf((dir / "sky.hdr").c_str(), &width, &height, &channels, 3), &stbi_image_free);
     ASSERT_TRUE(hdr);
-    EXPECT_NEAR(hdr.get()[0], 6.0f, 6.0f / 128.0f);   // RGBE: 8 bits of mantissa shared
+    EXPECT_NEAR(hdr.get()[0], 6.0f, 6.0f / 128.0f);  // RGBE: 8 bits of mantissa shared
     EXPECT_NEAR(hdr.get()[1], 3.0f, 6.0f / 128.0f);
 
     std::unique_ptr<uint8_t, decltype(&stbi_image_free)> png(
@@ -418,5 +425,5 @@ TEST(Cli, ExrAndHdrKeepRadianceAboveOne) {
     ASSERT_TRUE(png);
     EXPECT_EQ(png.get()[0], 255);
     EXPECT_EQ(png.get()[1], 255);
-    EXPECT_NEAR(png.get()[2], 188, 1);   // sRGB of 0.5
+    EXPECT_NEAR(png.get()[2], 188, 1);  // sRGB of 0.5
 }

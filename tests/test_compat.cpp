@@ -13,7 +13,7 @@ TEST(Compat, BitCastsRoundTrip) {
     EXPECT_EQ(rt_as_float(0x40000000u), 2.0f);
     EXPECT_EQ(rt_as_int(-2.0f), static_cast<int>(0xc0000000u));
     EXPECT_EQ(rt_int_as_float(0x3f800000), 1.0f);
-    EXPECT_EQ(rt_as_uint(rt_as_float(7u)), 7u);   // small integers survive as denormal bit patterns
+    EXPECT_EQ(rt_as_uint(rt_as_float(7u)), 7u);  // small integers survive as denormal bit patterns
 }
 
 TEST(Compat, VectorHelpers) {
@@ -82,15 +82,16 @@ TEST(Compat, AccumulationIsExactAndOrderIndependent) {
     kg_backward.accum = backward.data();
     std::vector<float> values;
     for (int i = 0; i < 1000; ++i) values.push_back(0.001f * float(i % 97) + 1e-7f * float(i));
-    values.push_back(300.0f);   // crosses 256: exercises the high word
+    values.push_back(300.0f);  // crosses 256: exercises the high word
     values.push_back(255.99f);
     for (float v : values) rt_accumulate(kg_forward, 0, float3{v, v * 0.5f, 0.0f});
-    for (auto it = values.rbegin(); it != values.rend(); ++it) rt_accumulate(kg_backward, 0, float3{*it, *it * 0.5f, 0.0f});
+    for (auto it = values.rbegin(); it != values.rend(); ++it)
+        rt_accumulate(kg_backward, 0, float3{*it, *it * 0.5f, 0.0f});
     EXPECT_EQ(forward, backward);
     double expected = 0.0;
     for (float v : values) expected += v;
     EXPECT_NEAR(rt_accumulated(kg_forward, 0).x, expected, expected * 1e-6);
     EXPECT_EQ(rt_accumulated(kg_forward, 0).z, 0.0f);
-    rt_accumulate(kg_forward, 0, float3{std::numeric_limits<float>::quiet_NaN(), -1.0f, 0.0f});   // ignored
+    rt_accumulate(kg_forward, 0, float3{std::numeric_limits<float>::quiet_NaN(), -1.0f, 0.0f});  // ignored
     EXPECT_NEAR(rt_accumulated(kg_forward, 0).x, expected, expected * 1e-6);
 }

@@ -20,11 +20,11 @@
 
 namespace {
 
-#define REQUIRE_CUDA_DEVICE()                                                                  \
-    do {                                                                                       \
-        std::string reason_;                                                                   \
-        /* probe()'s detail reads "no CUDA device (cudaGetDeviceCount: ...)" */               \
-        if (!prism::test::backend_available("cuda", &reason_)) GTEST_SKIP() << reason_;        \
+#define REQUIRE_CUDA_DEVICE()                                                           \
+    do {                                                                                \
+        std::string reason_;                                                            \
+        /* probe()'s detail reads "no CUDA device (cudaGetDeviceCount: ...)" */         \
+        if (!prism::test::backend_available("cuda", &reason_)) GTEST_SKIP() << reason_; \
     } while (0)
 
 }  // namespace
@@ -65,7 +65,7 @@ TEST(CudaBackend, DeviceSelection) {
     REQUIRE_CUDA_DEVICE();
     EXPECT_NO_THROW(prism::create_backend("cuda:0"));
     std::string name = prism::create_backend("cuda")->info().device;
-    EXPECT_NO_THROW(prism::create_backend("cuda:" + name.substr(0, name.find(' '))));   // e.g. "cuda:NVIDIA"
+    EXPECT_NO_THROW(prism::create_backend("cuda:" + name.substr(0, name.find(' '))));  // e.g. "cuda:NVIDIA"
     try {
         prism::create_backend("cuda:no-such-gpu");
         ADD_FAILURE() << "an unknown device name was accepted";

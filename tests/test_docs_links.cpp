@@ -38,8 +38,8 @@ std::vector<fs::path> markdown_files() {
 
 // Every file of the project that may name a page: sources, shaders, build files, scripts, docs.
 std::vector<fs::path> project_text_files() {
-    const std::set<std::string> extensions = {".md", ".h", ".cpp", ".cu", ".cl", ".comp", ".sh", ".py",
-                                              ".txt", ".cmake", ".json", ".in"};
+    const std::set<std::string> extensions = {".md", ".h",  ".cpp", ".cu",    ".cl",   ".comp",
+                                              ".sh", ".py", ".txt", ".cmake", ".json", ".in"};
     std::vector<fs::path> files;
     for (const char* name : {"README.md", "CMakeLists.txt", "CMakePresets.json"}) files.push_back(kRoot / name);
     for (const char* folder : {".ci", "apps", "backends", "bench", "cmake", "core", "docs", "fuzz", "kernels",
@@ -48,7 +48,7 @@ std::vector<fs::path> project_text_files() {
         for (const auto& entry : fs::recursive_directory_iterator(kRoot / folder)) {
             if (!entry.is_regular_file()) continue;
             const fs::path& path = entry.path();
-            if (path.parent_path().filename() == "results") continue;   // measured data, not prose
+            if (path.parent_path().filename() == "results") continue;  // measured data, not prose
             bool script = path.extension().empty() && path.parent_path().filename() == ".ci";
             if (extensions.count(path.extension().string()) || script) files.push_back(path);
         }
@@ -60,8 +60,10 @@ std::vector<fs::path> project_text_files() {
 std::string anchor_of(const std::string& heading) {
     std::string anchor;
     for (unsigned char c : heading) {
-        if (std::isalnum(c) || c == '-' || c == '_') anchor += static_cast<char>(std::tolower(c));
-        else if (c == ' ') anchor += '-';
+        if (std::isalnum(c) || c == '-' || c == '_')
+            anchor += static_cast<char>(std::tolower(c));
+        else if (c == ' ')
+            anchor += '-';
     }
     return anchor;
 }
@@ -108,8 +110,8 @@ TEST(DocsLinks, RelativeLinksInReadmeAndDocsResolve) {
             std::string anchor = hash == std::string::npos ? "" : target.substr(hash + 1);
             fs::path resolved = path_part.empty() ? file : file.parent_path() / path_part;
             ++checked;
-            ASSERT_TRUE(fs::exists(resolved)) << relative_name(file) << ": link '" << target << "': no "
-                                              << resolved.lexically_normal();
+            ASSERT_TRUE(fs::exists(resolved))
+                << relative_name(file) << ": link '" << target << "': no " << resolved.lexically_normal();
             if (!anchor.empty() && resolved.extension() == ".md") {
                 EXPECT_TRUE(anchors_in(resolved).count(anchor))
                     << relative_name(file) << ": link '" << target << "': no heading with anchor #" << anchor << " in "

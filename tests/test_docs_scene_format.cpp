@@ -1,6 +1,7 @@
 // docs/scene-format.md shows complete scene files; each of its ```json blocks must load with Prism's scene loader
 // as the page says: saved in the repository root, where ../shared/scenes holds the assets. The page must also
-// show every key the loader accepts, so a key added to core/loaders/load_scene_json.cpp without documentation fails here.
+// show every key the loader accepts, so a key added to core/loaders/load_scene_json.cpp without documentation fails
+// here.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -18,7 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct Example {
-    int line = 0;   // where the block starts in the page, for messages
+    int line = 0;  // where the block starts in the page, for messages
     std::string text;
 };
 
@@ -80,20 +81,19 @@ TEST(DocsSceneFormat, EveryJsonExampleLoads) {
     }
 }
 
-// Every key core/loaders/load_scene_json.cpp reads, and every texture mode: each appears in an example and in the page's
-// tables (as `key`).
+// Every key core/loaders/load_scene_json.cpp reads, and every texture mode: each appears in an example and in the
+// page's tables (as `key`).
 TEST(DocsSceneFormat, EveryKeyIsDocumentedAndShown) {
     const std::string page = page_text();
     std::string all_examples;
     for (const Example& example : json_examples(page)) all_examples += example.text;
-    const char* keys[] = {"objects", "materials", "camera", "lights", "ambient", "environment",
-                          "position", "target", "up", "fov",
-                          "type", "direction", "color", "intensity",
-                          "cubemap", "equirect",
-                          "diffuse", "use_vertex_colors", "textures", "specular", "reflectivity", "transmittance",
-                          "ior", "thickness", "fresnel", "bias", "scale", "power", "emissive",
-                          "file", "mode", "env_color", "uv_set",
-                          "material", "transform", "matrix", "name", "translate", "rotate"};
+    const char* keys[] = {"objects",  "materials", "camera",       "lights",        "ambient",   "environment",
+                          "position", "target",    "up",           "fov",           "type",      "direction",
+                          "color",    "intensity", "cubemap",      "equirect",      "diffuse",   "use_vertex_colors",
+                          "textures", "specular",  "reflectivity", "transmittance", "ior",       "thickness",
+                          "fresnel",  "bias",      "scale",        "power",         "emissive",  "file",
+                          "mode",     "env_color", "uv_set",       "material",      "transform", "matrix",
+                          "name",     "translate", "rotate"};
     for (const char* key : keys) {
         EXPECT_NE(all_examples.find("\"" + std::string(key) + "\":"), std::string::npos) << key << " in no example";
         EXPECT_NE(page.find("| `" + std::string(key) + "` |"), std::string::npos) << key << " in no table";

@@ -59,7 +59,7 @@ void check_against_embree(const std::string& model, const std::string& backend, 
     EXPECT_LE(agreement.t_outside_tolerance, total / 10000) << "hits on the same triangle with t off by > 1e-4";
     size_t hits = 0;
     for (const prism::RayHit& h : prism_hits) hits += h.t < INFINITY;
-    EXPECT_GT(hits, total / 10);   // most primary rays hit the model; most diffuse rays leave it
+    EXPECT_GT(hits, total / 10);  // most primary rays hit the model; most diffuse rays leave it
 }
 
 }  // namespace

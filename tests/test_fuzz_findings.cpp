@@ -55,7 +55,7 @@ TEST(FuzzFindings, ControlBytesQuotedFromAFileAreEscaped) {
 
 TEST(FuzzFindings, ErrorMessagesNeverCarryControlCharacters) {
     EXPECT_STREQ(prism::Error(std::string("a\rb\nc\0d\x7f", 8)).what(), "a\\x0db\\x0ac\\x00d\\x7f");
-    EXPECT_STREQ(prism::file_error("f.ply", "caf\xc3\xa9 \t").what(), "f.ply: caf\xc3\xa9 \\x09");   // UTF-8 stays
+    EXPECT_STREQ(prism::file_error("f.ply", "caf\xc3\xa9 \t").what(), "f.ply: caf\xc3\xa9 \\x09");  // UTF-8 stays
 }
 
 // fuzz_scene_json: a number beyond double's range is nlohmann's out_of_range (406), not a parse_error; it escaped
@@ -121,8 +121,9 @@ TEST(FuzzFindings, PngChunkLongerThanTheFileIsRefused) {
 // keep_encoded_image). The callback now checks the view against the buffer.
 TEST(FuzzFindings, GlbImageBufferViewPastItsBufferIsRefused) {
     const fs::path file = finding("glb-image-view-past-buffer.glb");
-    EXPECT_EQ(load_error(file), file.string() + ": image 0: bufferView 0 (offset 8, 100000 bytes) lies outside its "
-                                                "buffer (16 bytes)");
+    EXPECT_EQ(load_error(file), file.string() +
+                                    ": image 0: bufferView 0 (offset 8, 100000 bytes) lies outside its "
+                                    "buffer (16 bytes)");
     prism::test::expect_clean_failure(file.string(), "lies outside its buffer");
 }
 
@@ -151,8 +152,9 @@ TEST(FuzzFindings, ImagesTooShortForTheirDeclaredSizeAreTruncated) {
 // 49-byte environment map hung `prism render`. The guard walks the runs as stb does and stops at the end.
 TEST(FuzzFindings, HdrRunLengthDataEndingInsideAScanlineIsTruncated) {
     const fs::path file = finding("hdr-rle-ends-inside-a-scanline.hdr");
-    EXPECT_EQ(texture_error(file), file.string() + ": truncated HDR (8x1 pixels need at least 12 bytes of pixel "
-                                                   "data; the file has 4)");
+    EXPECT_EQ(texture_error(file), file.string() +
+                                       ": truncated HDR (8x1 pixels need at least 12 bytes of pixel "
+                                       "data; the file has 4)");
     const fs::path folder = prism::test::temp_dir("fuzz-findings");
     fs::copy_file(file, folder / file.filename(), fs::copy_options::overwrite_existing);
     const fs::path scene = folder / "hdr-sky.json";

@@ -31,7 +31,8 @@ std::filesystem::path instanced_grid(const std::string& name) {
     int mesh = gltf.mesh(json::array({{{"attributes", {{"POSITION", positions}}}}}));
     gltf.node({{"mesh", mesh},
                {"translation", {10, 0, 0}},
-               {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", {{"TRANSLATION", translation}, {"SCALE", scale}}}}}}}});
+               {"extensions",
+                {{"EXT_mesh_gpu_instancing", {{"attributes", {{"TRANSLATION", translation}, {"SCALE", scale}}}}}}}});
     gltf.document["extensionsUsed"] = {"EXT_mesh_gpu_instancing"};
     gltf.document["extensionsRequired"] = {"EXT_mesh_gpu_instancing"};
     return gltf.write(name);
@@ -49,12 +50,13 @@ TEST(GltfInstancing, EveryGpuInstanceIsAnInstanceOfOneMesh) {
     // Instance (x, y, z) sits at the node's translation plus its own, scaled by its own scale.
     const Instance& last = scene.instances.back();
     EXPECT_EQ(glm::vec3(last.transform[3]), glm::vec3(14.0f, 4.0f, 4.0f));
-    EXPECT_FLOAT_EQ(last.transform[0][0], 0.5f);   // 4 + 4 + 4 is even: scale 0.5
+    EXPECT_FLOAT_EQ(last.transform[0][0], 0.5f);  // 4 + 4 + 4 is even: scale 0.5
     EXPECT_FLOAT_EQ(scene.instances[1].transform[0][0], 1.0f);
 }
 
 TEST(GltfInstancing, PrismInfoCountsTheInstances) {
-    test::CommandResult info = test::run_prism("info --scene " + instanced_grid("instanced_info.gltf").string() + " --json");
+    test::CommandResult info =
+        test::run_prism("info --scene " + instanced_grid("instanced_info.gltf").string() + " --json");
     ASSERT_EQ(info.exit_code, 0) << info.output;
     json parsed = json::parse(info.output.substr(info.output.find('{')));
     EXPECT_EQ(parsed["scene"]["instances"], 125);
@@ -67,7 +69,8 @@ TEST(GltfInstancing, MismatchedAttributeCountsAreAnError) {
     int translation = gltf.positions({0, 0, 0, 1, 1, 1});
     int scale = gltf.positions({1, 1, 1, 1, 1, 1, 2, 2, 2});
     gltf.node({{"mesh", gltf.mesh(json::array({{{"attributes", {{"POSITION", positions}}}}}))},
-               {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", {{"TRANSLATION", translation}, {"SCALE", scale}}}}}}}});
+               {"extensions",
+                {{"EXT_mesh_gpu_instancing", {{"attributes", {{"TRANSLATION", translation}, {"SCALE", scale}}}}}}}});
     std::filesystem::path file = gltf.write("instancing_counts.gltf");
     std::string message = test::error_message([&] {
         Scene scene;
@@ -82,18 +85,20 @@ TEST(GltfInstancing, SkinsAndMorphTargetsWarnOnceNamingTheFile) {
     int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
     int offsets = gltf.positions({0, 0, 1, 0, 0, 1, 0, 0, 1});
     int skinned = gltf.mesh(json::array({{{"attributes", {{"POSITION", positions}}}}}));
-    int morphing = gltf.mesh(json::array({{{"attributes", {{"POSITION", positions}}}, {"targets", {{{"POSITION", offsets}}}}}}));
+    int morphing =
+        gltf.mesh(json::array({{{"attributes", {{"POSITION", positions}}}, {"targets", {{{"POSITION", offsets}}}}}}));
     int joint = gltf.node({{"name", "joint"}});
     gltf.node({{"mesh", skinned}, {"skin", 0}});
     gltf.node({{"mesh", skinned}, {"skin", 0}, {"translation", {2, 0, 0}}});
     gltf.node({{"mesh", morphing}, {"translation", {4, 0, 0}}});
     std::vector<float> identity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-    int inverse_bind = gltf.accessor({{"bufferView", gltf.view(identity)}, {"componentType", 5126}, {"count", 1}, {"type", "MAT4"}});
+    int inverse_bind =
+        gltf.accessor({{"bufferView", gltf.view(identity)}, {"componentType", 5126}, {"count", 1}, {"type", "MAT4"}});
     gltf.document["skins"] = {{{"joints", {joint}}, {"inverseBindMatrices", inverse_bind}}};
     std::filesystem::path file = gltf.write("animated.gltf");
     Scene scene;
     load_gltf(file, scene);
-    EXPECT_EQ(scene.instances.size(), 3u);   // all drawn, in their rest pose
+    EXPECT_EQ(scene.instances.size(), 3u);  // all drawn, in their rest pose
     int rest_pose_warnings = 0;
     for (const std::string& warning : scene.warnings)
         if (warning.find("rest pose") != std::string::npos) {

@@ -58,7 +58,7 @@ bool is_blue(test::Rgb c) { return c.b > 200 && c.r < 60 && c.g < 60; }
 // A document whose material 0 has the alpha mode and base colour factor of `mode_and_factor` ({"mode", "factor"}),
 // textured (when `textured`) by a 2x2 red image whose left column has alpha 0; no nodes yet.
 GltfBuilder alpha_quad(json mode_and_factor, bool textured) {
-    constexpr uint32_t kClearRed = 0x000000ffu;   // red, alpha 0
+    constexpr uint32_t kClearRed = 0x000000ffu;  // red, alpha 0
     std::string image = test::write_test_png("alpha_cutout.png", 2, 2, {kClearRed, kRed, kClearRed, kRed});
     GltfBuilder gltf;
     add_textures(gltf, {image});
@@ -117,10 +117,10 @@ TEST(GltfMaterialMaps, EmissiveTextureShowsItsColours) {
     EXPECT_GT(bottom_right.b, 200);
 
     // KHR_materials_emissive_strength scales the factor: 0.25 x 4 is the same light.
-    test::ProbeImage strong = test::render_gltf(
-        build("emissive_strength.gltf", {0.25, 0.25, 0.25},
-              {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4.0}}}}),
-        no_light);
+    test::ProbeImage strong =
+        test::render_gltf(build("emissive_strength.gltf", {0.25, 0.25, 0.25},
+                                {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4.0}}}}),
+                          no_light);
     EXPECT_GE(test::psnr_rgba8(plain.frame.image, strong.frame.image), 50.0);
     test::ProbeImage dim = test::render_gltf(build("emissive_dim.gltf", {0.25, 0.25, 0.25}, nullptr), no_light);
     EXPECT_LT(at_world(dim, -0.5f, 0.5f).r, top_left.r - 50);
@@ -133,10 +133,11 @@ TEST(GltfMaterialMaps, MetallicRoughnessTextureDecidesWhatMirrors) {
     std::string image = test::write_test_png("metal_rough.png", 2, 2, {kBlack, kBlue, kBlack, kBlue});
     GltfBuilder gltf;
     add_textures(gltf, {image});
-    gltf.document["materials"] = json::array(
-        {{{"pbrMetallicRoughness",
-           {{"baseColorFactor", {0.5, 0.5, 0.5, 1}}, {"metallicFactor", 1}, {"roughnessFactor", 1},
-            {"metallicRoughnessTexture", {{"index", 0}}}}}}});
+    gltf.document["materials"] = json::array({{{"pbrMetallicRoughness",
+                                                {{"baseColorFactor", {0.5, 0.5, 0.5, 1}},
+                                                 {"metallicFactor", 1},
+                                                 {"roughnessFactor", 1},
+                                                 {"metallicRoughnessTexture", {{"index", 0}}}}}}});
     gltf.node({{"mesh", textured_quad(gltf)}});
     test::ProbeImage image_out = test::render_gltf(gltf.write("metal_rough.gltf"), [](Scene& scene) {
         scene.lights.clear();
@@ -145,9 +146,9 @@ TEST(GltfMaterialMaps, MetallicRoughnessTextureDecidesWhatMirrors) {
         scene.environment.color = glm::vec3(0.0f, 1.0f, 0.0f);
     });
     test::Rgb dielectric = at_world(image_out, -0.5f, 0.0f), metal = at_world(image_out, 0.5f, 0.0f);
-    EXPECT_LT(dielectric.g - dielectric.r, 25);   // grey: the ambient light, and Fresnel's few % of the sky
+    EXPECT_LT(dielectric.g - dielectric.r, 25);  // grey: the ambient light, and Fresnel's few % of the sky
     EXPECT_GT(dielectric.r, 60);
-    EXPECT_LT(metal.r, 20);                        // a mirror of the green sky, tinted by the grey base colour
+    EXPECT_LT(metal.r, 20);  // a mirror of the green sky, tinted by the grey base colour
     EXPECT_GT(metal.g, 150);
 }
 
@@ -157,9 +158,9 @@ TEST(GltfMaterialMaps, OcclusionTextureDarkensTheAmbientTerm) {
     auto build = [&](const std::string& name, double strength) {
         GltfBuilder gltf;
         add_textures(gltf, {image});
-        gltf.document["materials"] = json::array(
-            {{{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}}},
-              {"occlusionTexture", {{"index", 0}, {"strength", strength}}}}});
+        gltf.document["materials"] =
+            json::array({{{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}}},
+                          {"occlusionTexture", {{"index", 0}, {"strength", strength}}}}});
         gltf.node({{"mesh", textured_quad(gltf)}});
         return gltf.write(name);
     };
@@ -169,10 +170,10 @@ TEST(GltfMaterialMaps, OcclusionTextureDarkensTheAmbientTerm) {
         scene.environment.color = glm::vec3(0.0f);
     };
     test::ProbeImage full = test::render_gltf(build("occlusion.gltf", 1.0), ambient_only);
-    EXPECT_LT(at_world(full, -0.5f, 0.0f).r, 30);   // unoccluded: 188
+    EXPECT_LT(at_world(full, -0.5f, 0.0f).r, 30);  // unoccluded: 188
     EXPECT_GT(at_world(full, 0.5f, 0.0f).r, 150);
     test::ProbeImage half = test::render_gltf(build("occlusion_half.gltf", 0.5), ambient_only);
-    EXPECT_GT(at_world(half, -0.5f, 0.0f).r, 100);   // strength 0.5: half the ambient light
+    EXPECT_GT(at_world(half, -0.5f, 0.0f).r, 100);  // strength 0.5: half the ambient light
     EXPECT_LT(at_world(half, -0.5f, 0.0f).r, at_world(full, 0.5f, 0.0f).r - 20);
 }
 
@@ -195,7 +196,7 @@ TEST(GltfMaterialMaps, NormalMapTiltsTheShadingNormal) {
             scene.lights.clear();
             Light light;
             light.type = LightType::Directional;
-            light.direction = glm::normalize(glm::vec3(-side, 0.0f, -0.25f));   // the way the light travels
+            light.direction = glm::normalize(glm::vec3(-side, 0.0f, -0.25f));  // the way the light travels
             scene.lights.push_back(light);
             scene.ambient_light = glm::vec3(0.0f);
             scene.environment.color = glm::vec3(0.0f);
@@ -231,7 +232,7 @@ TEST(GltfMaterialMaps, AlphaMaskCutsOutAndBlendMixes) {
     EXPECT_LT(cut.r, 10);
     EXPECT_GT(cut.g, 240);
     EXPECT_GT(solid.r, 230);
-    EXPECT_LT(solid.g, 60);   // a dielectric: Fresnel reflects a little of the sky even head-on
+    EXPECT_LT(solid.g, 60);  // a dielectric: Fresnel reflects a little of the sky even head-on
     // OPAQUE ignores alpha: both halves are red.
     test::ProbeImage opaque =
         test::render_gltf(build("alpha_opaque.gltf", {{"mode", "OPAQUE"}, {"factor", {1, 1, 1, 1}}}, true), green_sky);
@@ -250,7 +251,7 @@ TEST(GltfMaterialMaps, AlphaMaskCutsOutAndBlendMixes) {
 TEST(GltfMaterialMaps, ShadowRaysPassCutOutsAndBlendedSurfaces) {
     auto build = [](const std::string& name, json mode_and_factor, bool textured) {
         GltfBuilder gltf = alpha_quad(mode_and_factor, textured);
-        gltf.document["materials"].push_back(   // material 1: a white floor that does not mirror
+        gltf.document["materials"].push_back(  // material 1: a white floor that does not mirror
             {{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}}},
              {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0}}}}}});
         gltf.node({{"mesh", textured_quad(gltf)}, {"translation", {0, 0, 0.5}}});
@@ -275,7 +276,7 @@ TEST(GltfMaterialMaps, ShadowRaysPassCutOutsAndBlendedSurfaces) {
     test::Rgb through = at_world(mask, -0.5f, 0.0f);
     EXPECT_GT(through.r, 200) << "the floor behind a cut-out is lit";
     EXPECT_GT(through.g, 200);
-    EXPECT_GT(at_world(mask, 0.5f, 0.0f).r, 200);   // the solid half: red, lit
+    EXPECT_GT(at_world(mask, 0.5f, 0.0f).r, 200);  // the solid half: red, lit
     EXPECT_LT(at_world(mask, 0.5f, 0.0f).g, 60);
     // BLEND at alpha 0.5: half the quad's red over the floor, which gets half the light (sRGB of 0.5 is 188).
     test::ProbeImage blend = test::render_gltf(
@@ -292,7 +293,8 @@ TEST(GltfMaterialMaps, ShadowRaysPassCutOutsAndBlendedSurfaces) {
 TEST(GltfMaterialMaps, OpaqueDielectricsReflectMoreAtGrazingAngles) {
     auto build = [&](const std::string& name, double tilt_degrees, json extensions) {
         GltfBuilder gltf;
-        json material = {{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 0}}}};
+        json material = {{"pbrMetallicRoughness",
+                          {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 0}}}};
         if (!extensions.is_null()) material["extensions"] = extensions;
         gltf.document["materials"] = json::array({material});
         add_tilted_quad(gltf, tilt_degrees);
@@ -300,11 +302,13 @@ TEST(GltfMaterialMaps, OpaqueDielectricsReflectMoreAtGrazingAngles) {
     };
     test::Rgb head_on = test::render_gltf(build("fresnel_head_on.gltf", 0.0, nullptr), white_sky).at_ndc(0.0f, 0.0f);
     test::Rgb grazing = test::render_gltf(build("fresnel_grazing.gltf", -75.0, nullptr), white_sky).at_ndc(0.0f, 0.0f);
-    EXPECT_GT(head_on.r, 30);    // F0 = 0.04: sRGB 56
+    EXPECT_GT(head_on.r, 30);  // F0 = 0.04: sRGB 56
     EXPECT_LT(head_on.r, 80);
     EXPECT_GT(grazing.r, head_on.r + 50);
-    test::Rgb no_specular = test::render_gltf(build("fresnel_off.gltf", -75.0, {{"KHR_materials_specular", {{"specularFactor", 0.0}}}}),
-                                              white_sky).at_ndc(0.0f, 0.0f);
+    test::Rgb no_specular =
+        test::render_gltf(build("fresnel_off.gltf", -75.0, {{"KHR_materials_specular", {{"specularFactor", 0.0}}}}),
+                          white_sky)
+            .at_ndc(0.0f, 0.0f);
     EXPECT_LT(no_specular.r, 10);
 }
 
@@ -322,10 +326,10 @@ test::ProbeImage render_transformed(const std::string& name, json transform, jso
     }
     json texture = {{"index", 0}};
     if (!transform.is_null()) texture["extensions"] = {{"KHR_texture_transform", transform}};
-    gltf.document["materials"] = json::array(
-        {{{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0}}},
-          {"emissiveFactor", {1, 1, 1}},
-          {"emissiveTexture", texture}}});
+    gltf.document["materials"] =
+        json::array({{{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0}}},
+                      {"emissiveFactor", {1, 1, 1}},
+                      {"emissiveTexture", texture}}});
     gltf.node({{"mesh", textured_quad(gltf)}});
     return test::render_gltf(gltf.write(name), no_light, 96);
 }
@@ -349,7 +353,8 @@ TEST(GltfMaterialMaps, TextureTransformRotatesAsTheSampleViewer) {
 TEST(GltfMaterialMaps, SamplerWrapModesAndNearestFilter) {
     json scale = {{"scale", {2.0, 1.0}}};
     auto render = [&](const std::string& name, int wrap) {
-        return render_transformed(name, scale, {{"magFilter", 9728}, {"minFilter", 9728}, {"wrapS", wrap}, {"wrapT", 10497}});
+        return render_transformed(name, scale,
+                                  {{"magFilter", 9728}, {"minFilter", 9728}, {"wrapS", wrap}, {"wrapT", 10497}});
     };
     test::ProbeImage repeat = render("wrap_repeat.gltf", 10497);
     test::ProbeImage clamp = render("wrap_clamp.gltf", 33071);
@@ -377,9 +382,10 @@ TEST(GltfMaterialMaps, SpecularTexturesScaleAndTintTheReflection) {
         add_textures(gltf, {strength, tint});
         json specular = {{"specularTexture", {{"index", 0}}}};
         if (tinted) specular["specularColorTexture"] = {{"index", 1}};
-        gltf.document["materials"] = json::array(
-            {{{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 0}}},
-              {"extensions", {{"KHR_materials_specular", specular}}}}});
+        gltf.document["materials"] =
+            json::array({{{"pbrMetallicRoughness",
+                           {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 0}}},
+                          {"extensions", {{"KHR_materials_specular", specular}}}}});
         add_tilted_quad(gltf, -75.0);
         return gltf.write(name);
     };

@@ -17,17 +17,18 @@ std::filesystem::path glass_cube(const std::string& name, double distance) {
     GltfBuilder gltf;
     int positions = gltf.positions({-0.5f, -0.5f, -0.5f, 0.5f, -0.5f, -0.5f, 0.5f, 0.5f, -0.5f, -0.5f, 0.5f, -0.5f,
                                     -0.5f, -0.5f, 0.5f,  0.5f, -0.5f, 0.5f,  0.5f, 0.5f, 0.5f,  -0.5f, 0.5f, 0.5f});
-    int indices = gltf.indices({4, 5, 6, 4, 6, 7, 0, 2, 1, 0, 3, 2, 1, 2, 6, 1, 6, 5,
-                                0, 4, 7, 0, 7, 3, 3, 7, 6, 3, 6, 2, 0, 1, 5, 0, 5, 4});
+    int indices = gltf.indices(
+        {4, 5, 6, 4, 6, 7, 0, 2, 1, 0, 3, 2, 1, 2, 6, 1, 6, 5, 0, 4, 7, 0, 7, 3, 3, 7, 6, 3, 6, 2, 0, 1, 5, 0, 5, 4});
     json volume = {{"thicknessFactor", 1.0}, {"attenuationColor", {0.5, 0.5, 0.5}}};
     if (distance > 0) volume["attenuationDistance"] = distance;
-    gltf.document["materials"] = json::array(
-        {{{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}}},
-          {"extensions",
-           {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}},
-            {"KHR_materials_ior", {{"ior", 1.0}}},
-            {"KHR_materials_volume", volume}}}}});
-    gltf.node({{"mesh", gltf.mesh(json::array({{{"attributes", {{"POSITION", positions}}}, {"indices", indices}, {"material", 0}}}))}});
+    gltf.document["materials"] =
+        json::array({{{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}}},
+                      {"extensions",
+                       {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}},
+                        {"KHR_materials_ior", {{"ior", 1.0}}},
+                        {"KHR_materials_volume", volume}}}}});
+    gltf.node({{"mesh", gltf.mesh(json::array(
+                            {{{"attributes", {{"POSITION", positions}}}, {"indices", indices}, {"material", 0}}}))}});
     return gltf.write(name);
 }
 
@@ -45,12 +46,12 @@ void white_sky(Scene& scene) {
 TEST(GltfVolume, AttenuationFollowsBeerLambertOverTheDistanceInside) {
     std::vector<int> row;
     for (double distance : {0.25, 0.5, 1.0, 2.0, 4.0}) {
-        test::ProbeImage image = test::render_gltf(glass_cube("cube_" + std::to_string(distance) + ".gltf", distance),
-                                                   white_sky, 48, 6);
+        test::ProbeImage image =
+            test::render_gltf(glass_cube("cube_" + std::to_string(distance) + ".gltf", distance), white_sky, 48, 6);
         row.push_back(image.at_ndc(0.0f, 0.0f).r);
     }
     for (size_t i = 1; i < row.size(); ++i) EXPECT_GT(row[i], row[i - 1] + 5) << "distance index " << i;
-    EXPECT_NEAR(row[2], 188, 6);   // distance 1: linear 0.5
+    EXPECT_NEAR(row[2], 188, 6);  // distance 1: linear 0.5
     test::ProbeImage clear = test::render_gltf(glass_cube("cube_clear.gltf", 0.0), white_sky, 48, 6);
     EXPECT_GT(clear.at_ndc(0.0f, 0.0f).r, 250);
 }

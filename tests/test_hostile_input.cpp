@@ -66,9 +66,10 @@ std::string expect_render_fails(const fs::path& scene, const std::string& must_m
                                 const std::string& launcher = kNoHang) {
     const fs::path out = scene.parent_path() / "out.png";
     fs::remove(out);
-    const CommandResult r = run_prism("render --scene '" + scene.string() + "' --backend cpu --width 32 --height 24 --out '" +
-                                          out.string() + "' " + options,
-                                      launcher);
+    const CommandResult r =
+        run_prism("render --scene '" + scene.string() + "' --backend cpu --width 32 --height 24 --out '" +
+                      out.string() + "' " + options,
+                  launcher);
     EXPECT_EQ(r.exit_code, 1) << r.output;
     EXPECT_EQ(lines_of(r.output), 1u) << r.output;
     EXPECT_EQ(r.output.rfind("prism: error: ", 0), 0u) << r.output;
@@ -84,16 +85,20 @@ std::string triangle_bytes() {
 
 // A one-triangle glTF whose buffer is the file `uri` (36 bytes of positions).
 std::string gltf_with_buffer_uri(const std::string& uri) {
-    nlohmann::json gltf = {
-        {"asset", {{"version", "2.0"}}},
-        {"buffers", {{{"uri", uri}, {"byteLength", 36}}}},
-        {"bufferViews", {{{"buffer", 0}, {"byteLength", 36}}}},
-        {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", 3}, {"type", "VEC3"},
-                        {"min", {0, 0, 0}}, {"max", {1, 1, 0}}}}},
-        {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}}}}}}},
-        {"nodes", {{{"mesh", 0}}}},
-        {"scenes", {{{"nodes", {0}}}}},
-        {"scene", 0}};
+    nlohmann::json gltf = {{"asset", {{"version", "2.0"}}},
+                           {"buffers", {{{"uri", uri}, {"byteLength", 36}}}},
+                           {"bufferViews", {{{"buffer", 0}, {"byteLength", 36}}}},
+                           {"accessors",
+                            {{{"bufferView", 0},
+                              {"componentType", 5126},
+                              {"count", 3},
+                              {"type", "VEC3"},
+                              {"min", {0, 0, 0}},
+                              {"max", {1, 1, 0}}}}},
+                           {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}}}}}}},
+                           {"nodes", {{{"mesh", 0}}}},
+                           {"scenes", {{{"nodes", {0}}}}},
+                           {"scene", 0}};
     return gltf.dump();
 }
 
@@ -109,14 +114,16 @@ TEST(HostileInput, GltfNodeChainOf20000NodesLoads) {
     constexpr int kNodes = 20000;
     for (int i = 0; i < kNodes; ++i) {
         nlohmann::json node = {{"translation", {0.0001, 0.0, 0.0}}};
-        if (i + 1 < kNodes) node["children"] = {i + 1};
-        else node["mesh"] = mesh;
+        if (i + 1 < kNodes)
+            node["children"] = {i + 1};
+        else
+            node["mesh"] = mesh;
         gltf.node(node);
     }
     const fs::path file = gltf.write("node-chain.gltf");
     const prism::Scene scene = prism::load_scene(file.string());
     ASSERT_EQ(scene.instances.size(), 1u);
-    EXPECT_NEAR(scene.instances[0].transform[3][0], 2.0f, 1e-3f);   // every level's translation applied once
+    EXPECT_NEAR(scene.instances[0].transform[3][0], 2.0f, 1e-3f);  // every level's translation applied once
 }
 
 TEST(HostileInput, GltfNodeWithTwoParentsIsRefused) {
@@ -167,9 +174,10 @@ TEST(HostileInput, BvhDepthStaysBoundedOnAdversarialGeometry) {
 
 TEST(HostileInput, GzipPlyInflatingToGigabytesStopsAtWhatItsHeaderNeeds) {
     const fs::path folder = fresh_folder("gzip-bomb");
-    const std::string ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                            "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
-                            "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    const std::string ply =
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+        "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
     // 2 GiB of blanks after a valid 3-vertex mesh, about 2 MB on disk.
     const fs::path bomb = write(folder / "bomb.ply.gz", prism::test::gzip_bomb(ply, ' ', size_t(16) << 20, 128));
     ASSERT_LT(fs::file_size(bomb), size_t(8) << 20);
@@ -189,8 +197,8 @@ TEST(HostileInput, IndexAccessorClaiming2To31ElementsOverTwelveBytesFailsBeforeA
     prism::test::GltfBuilder gltf;
     const int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
     const int view = gltf.view(std::vector<uint32_t>{0, 1, 2});
-    const int indices = gltf.accessor({{"bufferView", view}, {"componentType", 5125}, {"count", 2147483648u},
-                                       {"type", "SCALAR"}});
+    const int indices =
+        gltf.accessor({{"bufferView", view}, {"componentType", 5125}, {"count", 2147483648u}, {"type", "SCALAR"}});
     gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}}}, {"indices", indices}}})}});
     const fs::path file = gltf.write("huge-index-count.gltf");
     EXPECT_NE(load_error(file).find("accessor 1 reads past the end of its buffer"), std::string::npos);
@@ -213,8 +221,8 @@ TEST(HostileInput, TexturesOverTheSceneBudgetAreRefusedBeforeDecoding) {
 
 TEST(HostileInput, HugeFrameOnCpuRefIsRefusedBeforeAllocating) {
     const fs::path out = fresh_folder("huge-frame") / "huge.png";
-    const CommandResult r = run_prism("render --backend cpu-ref --width 16384 --height 16384 --out '" + out.string() + "'",
-                                      kOneGiB);
+    const CommandResult r =
+        run_prism("render --backend cpu-ref --width 16384 --height 16384 --out '" + out.string() + "'", kOneGiB);
     EXPECT_EQ(r.exit_code, 1) << r.output;
     EXPECT_EQ(lines_of(r.output), 1u) << r.output;
     EXPECT_NE(r.output.find("--width 16384 --height 16384 on cpu-ref: needs about"), std::string::npos) << r.output;
@@ -226,7 +234,8 @@ TEST(HostileInput, HugeFrameIsRefusedBeforeLoadingByViewAndBench) {
     const fs::path json = fresh_folder("huge-frame-bench") / "bench.json";
     for (const std::string& command :
          {std::string("view --headless --frames 1 --backend cpu-ref --width 16384 --height 16384"),
-          "bench --backends cpu,cpu-ref --scenes builtin:sphere --width 16384 --height 16384 --json '" + json.string() + "'"}) {
+          "bench --backends cpu,cpu-ref --scenes builtin:sphere --width 16384 --height 16384 --json '" + json.string() +
+              "'"}) {
         const CommandResult r = run_prism(command, kOneGiB);
         EXPECT_EQ(r.exit_code, 1) << command << "\n" << r.output;
         EXPECT_EQ(lines_of(r.output), 1u) << command << "\n" << r.output;
@@ -285,7 +294,7 @@ TEST(HostileInput, GltfUrisOutsideTheSceneFolderAreRefused) {
             << message;
         EXPECT_NE(message.find("a scene reads only files in or below its own folder"), std::string::npos) << message;
         EXPECT_NE(message.find("--allow-any-path"), std::string::npos) << message;
-        EXPECT_EQ(message.find("bytes"), std::string::npos) << message;   // nothing of the file was read
+        EXPECT_EQ(message.find("bytes"), std::string::npos) << message;  // nothing of the file was read
     }
     const fs::path file = write(folder / "scene" / "escape.gltf", gltf_with_buffer_uri("../outside.bin"));
     expect_render_fails(file, "'../outside.bin' lies outside the scene's folder");
@@ -295,8 +304,10 @@ TEST(HostileInput, GltfUrisOutsideTheSceneFolderAreRefused) {
         return options;
     }()));
     const fs::path out = folder / "allowed.png";
-    const CommandResult r = run_prism("render --scene '" + file.string() + "' --allow-any-path --backend cpu --width 16 "
-                                      "--height 16 --out '" + out.string() + "'");
+    const CommandResult r = run_prism("render --scene '" + file.string() +
+                                      "' --allow-any-path --backend cpu --width 16 "
+                                      "--height 16 --out '" +
+                                      out.string() + "'");
     EXPECT_EQ(r.exit_code, 0) << r.output;
     EXPECT_TRUE(fs::exists(out));
 
@@ -311,7 +322,8 @@ TEST(HostileInput, GltfUrisOutsideTheSceneFolderAreRefused) {
     EXPECT_NE(load_error(image).find("'../../../../etc/passwd' lies outside"), std::string::npos) << load_error(image);
     fs::create_symlink("/etc/passwd", folder / "scene" / "link.bin");
     const fs::path link = write(folder / "scene" / "link.gltf", gltf_with_buffer_uri("link.bin"));
-    EXPECT_NE(load_error(link).find("'link.bin' lies outside the scene's folder"), std::string::npos) << load_error(link);
+    EXPECT_NE(load_error(link).find("'link.bin' lies outside the scene's folder"), std::string::npos)
+        << load_error(link);
 }
 
 TEST(HostileInput, ObjLibraryAndTexturePathsOutsideTheFolderAreRefused) {
@@ -358,7 +370,8 @@ TEST(HostileInput, ObjNonFiniteVertexIsRefused) {
 TEST(HostileInput, ObjIndicesMustBeIntegersInRange) {
     const fs::path folder = fresh_folder("obj-indices");
     const fs::path huge = write(folder / "huge.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999\n");
-    EXPECT_EQ(load_error(huge), huge.string() + ":4: vertex index 99999999999999999999 is out of range (3 in the file)");
+    EXPECT_EQ(load_error(huge),
+              huge.string() + ":4: vertex index 99999999999999999999 is out of range (3 in the file)");
     const fs::path fraction = write(folder / "fraction.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3.5e9\n");
     EXPECT_EQ(load_error(fraction), fraction.string() + ":4: vertex index '3.5e9' is not an integer");
     const fs::path big = write(folder / "big.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3500000000\n");
@@ -367,18 +380,20 @@ TEST(HostileInput, ObjIndicesMustBeIntegersInRange) {
 }
 
 TEST(HostileInput, ObjNegativeIndexIsReportedAsWritten) {
-    const fs::path file = write(fresh_folder("obj-negative") / "negative.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -5 -1 -2\n");
+    const fs::path file =
+        write(fresh_folder("obj-negative") / "negative.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -5 -1 -2\n");
     EXPECT_EQ(load_error(file), file.string() + ":4: face references vertex -5 but there are 3 above it");
     // Relative indices that do resolve still work.
-    const fs::path fine = write(fresh_folder("obj-negative-fine") / "fine.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n");
+    const fs::path fine =
+        write(fresh_folder("obj-negative-fine") / "fine.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n");
     EXPECT_EQ(load_error(fine), "(no prism::Error thrown)");
 }
 
 TEST(HostileInput, CpuBackendDeviceOtherThanZeroIsRefused) {
     const fs::path out = fresh_folder("cpu-device") / "out.png";
     for (const char* backend : {"cpu:7", "cpu-ref:1"}) {
-        const CommandResult r = run_prism(std::string("render --backend ") + backend + " --width 16 --height 16 --out '" +
-                                          out.string() + "'");
+        const CommandResult r = run_prism(std::string("render --backend ") + backend +
+                                          " --width 16 --height 16 --out '" + out.string() + "'");
         EXPECT_EQ(r.exit_code, 1) << r.output;
         EXPECT_NE(r.output.find(std::string("--backend ") + backend + ": "), std::string::npos) << r.output;
         EXPECT_FALSE(fs::exists(out));
@@ -395,8 +410,8 @@ TEST(HostileInput, CpuBackendDeviceOtherThanZeroIsRefused) {
 TEST(HostileInput, MinWeightOutsideZeroToOneIsRefused) {
     const fs::path out = fresh_folder("min-weight") / "out.png";
     for (const char* weight : {"nan", "-1", "2"}) {
-        const CommandResult r = run_prism(std::string("render --min-weight ") + weight + " --width 16 --height 16 --out '" +
-                                          out.string() + "'");
+        const CommandResult r = run_prism(std::string("render --min-weight ") + weight +
+                                          " --width 16 --height 16 --out '" + out.string() + "'");
         EXPECT_EQ(r.exit_code, 1) << weight << ": " << r.output;
         EXPECT_NE(r.output.find("--min-weight"), std::string::npos) << r.output;
         EXPECT_NE(r.output.find("expected a number from 0 to 1"), std::string::npos) << r.output;
@@ -410,10 +425,12 @@ TEST(HostileInput, UnwritableOutFailsBeforeAnyWork) {
     const fs::path folder = fresh_folder("unwritable-out");
     const fs::path blocker = write(folder / "not-a-folder", "x");
     // Under a regular file: no one can create it, root included.
-    const CommandResult r = run_prism("render --scene builtin:dragon --data-dir /nonexistent --width 16 --height 16 "
-                                      "--out '" + (blocker / "out.png").string() + "'");
+    const CommandResult r = run_prism(
+        "render --scene builtin:dragon --data-dir /nonexistent --width 16 --height 16 "
+        "--out '" +
+        (blocker / "out.png").string() + "'");
     EXPECT_EQ(r.exit_code, 1) << r.output;
-    EXPECT_EQ(lines_of(r.output), 1u) << r.output;   // nothing loaded: the dragon's folder would be missing
+    EXPECT_EQ(lines_of(r.output), 1u) << r.output;  // nothing loaded: the dragon's folder would be missing
     EXPECT_NE(r.output.find("--out " + (blocker / "out.png").string() + ": cannot write there"), std::string::npos)
         << r.output;
 }
@@ -428,8 +445,8 @@ TEST(HostileInput, FailedStatsWriteLeavesNoImage) {
     EXPECT_NE(r.output.find("--stats"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(out));
     const fs::path stats = folder / "stats.json";
-    const CommandResult ok = run_prism("render --width 16 --height 16 --out '" + out.string() + "' --stats '" +
-                                       stats.string() + "'");
+    const CommandResult ok =
+        run_prism("render --width 16 --height 16 --out '" + out.string() + "' --stats '" + stats.string() + "'");
     EXPECT_EQ(ok.exit_code, 0) << ok.output;
     EXPECT_TRUE(fs::exists(out));
     EXPECT_TRUE(fs::exists(stats));

@@ -1,5 +1,5 @@
-// core/image/image_guard.h beyond the fuzz findings (tests/test_fuzz_findings.cpp): the formats Prism does not offer and
-// the size limit, judged from headers alone so that nothing big is ever decoded.
+// core/image/image_guard.h beyond the fuzz findings (tests/test_fuzz_findings.cpp): the formats Prism does not offer
+// and the size limit, judged from headers alone so that nothing big is ever decoded.
 #include "core/image/image_guard.h"
 
 #include <cstring>
@@ -31,7 +31,7 @@ std::vector<uint8_t> png_header(uint32_t width, uint32_t height) {
     png += "IHDR";
     put_be32(png, width);
     put_be32(png, height);
-    png += std::string("\x08\x06\x00\x00\x00", 5);   // 8-bit RGBA, no interlace
+    png += std::string("\x08\x06\x00\x00\x00", 5);  // 8-bit RGBA, no interlace
     put_be32(png, 0);
     return bytes_of(png);
 }
@@ -54,16 +54,16 @@ TEST(ImageGuard, RefusesFormatsPrismDoesNotOffer) {
 TEST(ImageGuard, RefusesImagesOverTheSizeLimitFromTheHeader) {
     EXPECT_EQ(guard_error(png_header(20000, 1)),
               "/x/t.img: image is 20000x1 pixels; Prism takes textures up to 16384 on a side and 64M pixels");
-    EXPECT_NE(guard_error(png_header(16384, 8192)).find("16384x8192"), std::string::npos);   // 128M pixels
-    EXPECT_EQ(guard_error(png_header(16384, 4096)), "(no prism::Error thrown)");                // 64M: allowed
+    EXPECT_NE(guard_error(png_header(16384, 8192)).find("16384x8192"), std::string::npos);  // 128M pixels
+    EXPECT_EQ(guard_error(png_header(16384, 4096)), "(no prism::Error thrown)");            // 64M: allowed
     EXPECT_EQ(guard_error(png_header(8192, 8192)), "(no prism::Error thrown)");
 }
 
 TEST(ImageGuard, TexturesOverTheLimitFailWithoutDecoding) {
     // 16384x8192 is within stb_image's own limit (2^30 bytes), so it is the guard that stops it.
     const std::vector<uint8_t> claim = png_header(16384, 8192);
-    const std::string message = prism::test::error_message(
-        [&] { (void)prism::load_texture_from_memory(claim, "/x/huge.png"); });
+    const std::string message =
+        prism::test::error_message([&] { (void)prism::load_texture_from_memory(claim, "/x/huge.png"); });
     EXPECT_EQ(message.rfind("/x/huge.png: image is 16384x8192 pixels", 0), 0u) << message;
 }
 

@@ -42,7 +42,7 @@ TEST(ImageIo, RgbePackUnpackWithinOnePercent) {
         color *= scale;
         glm::vec3 back = unpack_rgbe(pack_rgbe(color));
         float largest = std::max(color.x, std::max(color.y, color.z));
-        for (int c = 0; c < 3; ++c) {   // shared exponent: the error is relative to the brightest channel
+        for (int c = 0; c < 3; ++c) {  // shared exponent: the error is relative to the brightest channel
             ASSERT_LE(std::abs(back[c] - color[c]), 0.01f * largest) << "channel " << c << " of " << i;
             ASSERT_LE(std::abs(back[c] - color[c]), largest / 256.0f) << "half a step of the largest mantissa";
         }

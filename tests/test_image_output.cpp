@@ -25,8 +25,8 @@ std::vector<float> gradient(int width, int height) {
     std::vector<float> rgba;
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x)
-            rgba.insert(rgba.end(), {0.25f * float(x), 0.01f * float(y), 1000.0f * float(x + y) / float(width + height),
-                                     1.0f});
+            rgba.insert(rgba.end(),
+                        {0.25f * float(x), 0.01f * float(y), 1000.0f * float(x + y) / float(width + height), 1.0f});
     return rgba;
 }
 
@@ -55,7 +55,8 @@ TEST(ImageOutput, ExrKeepsLinearValuesAboveOneAsHalfFloats) {
         for (size_t c = 0; c < 3; ++c) {
             float expected = rgba[4 * i + c];
             // Half floats: 11 significant bits.
-            ASSERT_NEAR(loaded[4 * i + c], expected, std::abs(expected) / 1024.0f + 1e-6f) << "pixel " << i << " channel " << c;
+            ASSERT_NEAR(loaded[4 * i + c], expected, std::abs(expected) / 1024.0f + 1e-6f)
+                << "pixel " << i << " channel " << c;
             largest = std::max(largest, loaded[4 * i + c]);
         }
     EXPECT_GT(largest, 900.0f) << "values above 1 must survive";
@@ -75,7 +76,7 @@ TEST(ImageOutput, Png16IsSrgbEncodedWithSixteenBitSteps) {
     std::vector<float> rgba;
     for (int i = 0; i < width * height; ++i) {
         float t = float(i) / float(width * height - 1);
-        rgba.insert(rgba.end(), {t, t * t, 4.0f * t, 1.0f});   // blue goes above 1 and clips, as in 8-bit PNG
+        rgba.insert(rgba.end(), {t, t * t, 4.0f * t, 1.0f});  // blue goes above 1 and clips, as in 8-bit PNG
     }
     std::filesystem::path path = test::temp_dir("image_output") / "ramp16.png";
     std::filesystem::remove(path);

@@ -34,7 +34,7 @@ TEST(RayBox, OriginInsideReturnsTmin) {
 
 TEST(RayBox, MissesBesideAndBehind) {
     EXPECT_EQ(box({-1, -1, -1}, {1, 1, 1}, {3, 0, -5}, {0, 0, 1}), inf);
-    EXPECT_EQ(box({-1, -1, -1}, {1, 1, 1}, {0, 0, 5}, {0, 0, 1}), inf);   // box behind the origin
+    EXPECT_EQ(box({-1, -1, -1}, {1, 1, 1}, {0, 0, 5}, {0, 0, 1}), inf);  // box behind the origin
 }
 
 TEST(RayBox, RespectsTmax) {
@@ -56,8 +56,8 @@ TEST(RayBox, FlatBoxOfATriangleInAPlaneIsHit) {
 TEST(RayTriangle, CentreHitGivesBarycentrics) {
     float4 h = rt_intersect_triangle(unit, float3{0.25f, 0.5f, -1}, float3{0, 0, 1}, 0.0f, inf);
     EXPECT_FLOAT_EQ(h.x, 1.0f);
-    EXPECT_FLOAT_EQ(h.y, 0.25f);   // weight of the second vertex
-    EXPECT_FLOAT_EQ(h.z, 0.5f);    // weight of the third vertex
+    EXPECT_FLOAT_EQ(h.y, 0.25f);  // weight of the second vertex
+    EXPECT_FLOAT_EQ(h.z, 0.5f);   // weight of the third vertex
     EXPECT_EQ(h.w, 1.0f);
 }
 
@@ -84,7 +84,7 @@ TEST(RayTriangle, ParallelRayMisses) {
 TEST(RayTriangle, IntervalIsOpen) {
     EXPECT_EQ(rt_intersect_triangle(unit, float3{0.25f, 0.25f, -1}, float3{0, 0, 1}, 0.0f, 1.0f).x, inf);
     EXPECT_EQ(rt_intersect_triangle(unit, float3{0.25f, 0.25f, -1}, float3{0, 0, 1}, 1.0f, inf).x, inf);
-    EXPECT_EQ(rt_intersect_triangle(unit, float3{0.25f, 0.25f, 1}, float3{0, 0, 1}, 0.0f, inf).x, inf);   // behind
+    EXPECT_EQ(rt_intersect_triangle(unit, float3{0.25f, 0.25f, 1}, float3{0, 0, 1}, 0.0f, inf).x, inf);  // behind
 }
 
 TEST(RayTriangle, DegenerateTriangleNeverHits) {

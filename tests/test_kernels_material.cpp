@@ -20,9 +20,9 @@ void expect_near3(float3 a, float3 b, float eps = 1e-6f) {
 // Eq. 6.3: R_f = clamp(bias + scale * (1 + I.N)^power, 0, 1).
 TEST(SeedMaterial, FresnelReflectionEquation63) {
     float4 schlick{0.04f, 0.96f, 5.0f, 0.0f};
-    EXPECT_NEAR(rt_fresnel_reflection(schlick, -1.0f), 0.04f, 1e-7f);     // head-on: F0
-    EXPECT_NEAR(rt_fresnel_reflection(schlick, -0.5f), 0.07f, 1e-6f);     // 0.04 + 0.96 * 0.5^5
-    EXPECT_NEAR(rt_fresnel_reflection(schlick, 0.0f), 1.0f, 1e-7f);       // grazing
+    EXPECT_NEAR(rt_fresnel_reflection(schlick, -1.0f), 0.04f, 1e-7f);             // head-on: F0
+    EXPECT_NEAR(rt_fresnel_reflection(schlick, -0.5f), 0.07f, 1e-6f);             // 0.04 + 0.96 * 0.5^5
+    EXPECT_NEAR(rt_fresnel_reflection(schlick, 0.0f), 1.0f, 1e-7f);               // grazing
     EXPECT_EQ(rt_fresnel_reflection(float4{0.9f, 0.5f, 1.0f, 0}, 0.0f), 1.0f);    // clamped above (eq. 6.4)
     EXPECT_EQ(rt_fresnel_reflection(float4{-0.5f, 0.1f, 1.0f, 0}, -1.0f), 0.0f);  // clamped below
 }
@@ -63,7 +63,7 @@ TEST(SeedMaterial, RefractionEquation630) {
 TEST(SeedMaterial, SrgbTransferIsExactAtKnownPoints) {
     EXPECT_NEAR(rt_srgb_to_linear(0.5f), 0.2140411f, 1e-6f);
     EXPECT_NEAR(rt_linear_to_srgb(0.2140411f), 0.5f, 1e-6f);
-    EXPECT_NEAR(rt_linear_to_srgb(2.0f), 1.0f, 1e-6f);   // clamped
+    EXPECT_NEAR(rt_linear_to_srgb(2.0f), 1.0f, 1e-6f);  // clamped
 }
 
 namespace {
@@ -119,10 +119,10 @@ prism::Material glass() {
 TEST(SeedMaterial, ShadeWeightsFollowEquation67) {
     OneTriangle scene(glass());
     ShadeResult s = scene.shade_head_on(float3{1, 1, 1}, RT_CHANNEL_ALL);
-    float base = 0.5f * (0.1f * (1 - 0.3f) + 0.9f * (1 - 0.6f));   // C (R_f (1-r) + T_f (1-t)) = 0.215
+    float base = 0.5f * (0.1f * (1 - 0.3f) + 0.9f * (1 - 0.6f));  // C (R_f (1-r) + T_f (1-t)) = 0.215
     expect_near3(rt_xyz(s.light_weight), {base, base, base});
     expect_near3(rt_xyz(s.emitted), {base * 0.1f, base * 0.1f, base * 0.1f});
-    ASSERT_EQ(s.counts.x, 4u);   // reflection + three dispersed refractions (thesis 6.3.5)
+    ASSERT_EQ(s.counts.x, 4u);  // reflection + three dispersed refractions (thesis 6.3.5)
     expect_near3(rt_xyz(s.children[0].weight), {0.1f * 0.3f * 1.0f, 0.1f * 0.3f * 0.5f, 0.1f * 0.3f * 0.25f});
     expect_near3(rt_xyz(s.children[0].direction), {0, 0, 1});
     expect_near3(rt_xyz(s.children[1].weight), {0.9f * 0.6f * 0.2f, 0, 0});
@@ -131,9 +131,9 @@ TEST(SeedMaterial, ShadeWeightsFollowEquation67) {
     EXPECT_EQ(s.children[1].info.y, 1u);
     EXPECT_EQ(s.children[2].info.y, 2u);
     EXPECT_EQ(s.children[3].info.y, 4u);
-    EXPECT_EQ(s.children[1].info.z, 1u);   // depth + 1
-    EXPECT_LT(s.children[1].origin.z, 0.0f);   // refracted rays start below the surface
-    EXPECT_GT(s.children[0].origin.z, 0.0f);   // reflected rays above it
+    EXPECT_EQ(s.children[1].info.z, 1u);      // depth + 1
+    EXPECT_LT(s.children[1].origin.z, 0.0f);  // refracted rays start below the surface
+    EXPECT_GT(s.children[0].origin.z, 0.0f);  // reflected rays above it
 }
 
 TEST(SeedMaterial, SingleChannelRaySpawnsOneRefraction) {
@@ -152,7 +152,7 @@ TEST(SeedMaterial, ThinShellOffsetsAndKeepsDirection) {
     ShadeResult s = scene.shade_head_on(float3{1, 1, 1}, RT_CHANNEL_ALL);
     ASSERT_EQ(s.counts.x, 2u);
     expect_near3(rt_xyz(s.children[1].direction), {0, 0, -1});
-    EXPECT_NEAR(s.children[1].origin.z, -0.5f, 1e-4f);   // plus the few-ulp self-intersection offset
+    EXPECT_NEAR(s.children[1].origin.z, -0.5f, 1e-4f);  // plus the few-ulp self-intersection offset
 }
 
 TEST(SeedMaterial, NoChildrenAtMaximumDepth) {

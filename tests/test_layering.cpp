@@ -89,7 +89,8 @@ TEST(Layering, PrismVariablesAreReadOnlyThroughTheSettingsTable) {
     std::string listed((std::istreambuf_iterator<char>(doc)), std::istreambuf_iterator<char>());
     ASSERT_FALSE(listed.empty()) << "docs/environment.md is missing";
     for (const prism::SettingInfo& info : prism::settings())
-        EXPECT_NE(listed.find(std::string("`") + info.name + "`"), std::string::npos) << info.name << " is not documented";
+        EXPECT_NE(listed.find(std::string("`") + info.name + "`"), std::string::npos)
+            << info.name << " is not documented";
 }
 
 }  // namespace

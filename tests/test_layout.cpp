@@ -24,6 +24,6 @@ TEST(Layout, EveryDeviceArrayStructIsInTheTable) {
 #define RT_DATA_ARRAY(slot, type, name, access, role) structs += sizeof(type) % 16 == 0 && sizeof(type) >= 16;
 #include "kernels/data_arrays.h"
 #undef RT_DATA_ARRAY
-    EXPECT_GE(listed, structs - 1);   // radiance is a bare float4, not a struct
+    EXPECT_GE(listed, structs - 1);  // radiance is a bare float4, not a struct
     EXPECT_EQ(listed, 15);
 }

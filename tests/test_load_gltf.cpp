@@ -75,11 +75,12 @@ TEST(LoadGltf, EverySampleModelLoads) {
         EXPECT_FALSE(scene.materials.empty());
         for (const Mesh& mesh : scene.meshes) {
             ASSERT_EQ(mesh.triangle_materials.size(), mesh.triangles.size());
-            for (const glm::uvec3& t : mesh.triangles) ASSERT_LT(glm::max(t.x, glm::max(t.y, t.z)), mesh.positions.size());
+            for (const glm::uvec3& t : mesh.triangles)
+                ASSERT_LT(glm::max(t.x, glm::max(t.y, t.z)), mesh.positions.size());
         }
         ++files;
     }
-    EXPECT_GE(files, 24);   // 22 folders, some with a gltf-separate/ variant too
+    EXPECT_GE(files, 24);  // 22 folders, some with a gltf-separate/ variant too
 }
 
 TEST(LoadGltf, BoxHasTwelveTriangles) { EXPECT_EQ(load(test::scene("gltf/Box/Box.glb")).triangle_count(), 12u); }
@@ -87,10 +88,10 @@ TEST(LoadGltf, BoxHasTwelveTriangles) { EXPECT_EQ(load(test::scene("gltf/Box/Box
 TEST(LoadGltf, DamagedHelmetCountsAndTextureMatchInBothForms) {
     Scene binary = load(test::scene("gltf/DamagedHelmet/DamagedHelmet.glb"));
     Scene separate = load(test::scene("gltf/DamagedHelmet/gltf-separate/DamagedHelmet.gltf"));
-    EXPECT_EQ(binary.triangle_count(), 15452u);   // its one index accessor holds 46,356 indices
+    EXPECT_EQ(binary.triangle_count(), 15452u);  // its one index accessor holds 46,356 indices
     EXPECT_EQ(separate.triangle_count(), 15452u);
     ASSERT_EQ(binary.materials.size(), 1u);
-    ASSERT_EQ(binary.materials[0].textures.size(), 1u);   // the base colour stack; the other maps have their slots
+    ASSERT_EQ(binary.materials[0].textures.size(), 1u);  // the base colour stack; the other maps have their slots
     EXPECT_TRUE(binary.materials[0].emissive_map && binary.materials[0].metal_rough_map &&
                 binary.materials[0].normal_map && binary.materials[0].occlusion_map);
     const Texture& albedo = binary.textures[binary.materials[0].textures[0].texture];
@@ -105,7 +106,7 @@ TEST(LoadGltf, MetalRoughSpheresOneInstancePerPrimitive) {
     std::filesystem::path path = test::scene("gltf/MetalRoughSpheresNoTextures/MetalRoughSpheresNoTextures.glb");
     Scene scene = load(path);
     json file = glb_json(path);
-    size_t placed_primitives = 0;   // 119 nodes, 102 of them with a mesh, 123 primitives among those meshes
+    size_t placed_primitives = 0;  // 119 nodes, 102 of them with a mesh, 123 primitives among those meshes
     for (const json& node : file["nodes"])
         if (node.contains("mesh")) placed_primitives += file["meshes"][node["mesh"].get<int>()]["primitives"].size();
     EXPECT_EQ(scene.instances.size(), placed_primitives);
@@ -136,7 +137,8 @@ TEST(LoadGltf, OrientationTestWorldTransformsMatchTheFile) {
         } else {
             glm::vec3 t(0.0f), s(1.0f);
             glm::quat r(1.0f, 0.0f, 0.0f, 0.0f);
-            if (node.contains("translation")) t = {node["translation"][0], node["translation"][1], node["translation"][2]};
+            if (node.contains("translation"))
+                t = {node["translation"][0], node["translation"][1], node["translation"][2]};
             if (node.contains("scale")) s = {node["scale"][0], node["scale"][1], node["scale"][2]};
             if (node.contains("rotation"))
                 r = glm::quat(node["rotation"][3].get<float>(), node["rotation"][0].get<float>(),
@@ -165,7 +167,7 @@ TEST(LoadGltf, CamerasFileGivesThePerspectiveCamera) {
     EXPECT_NEAR(scene.camera.vertical_fov_degrees, glm::degrees(0.7f), 1e-4f);
     EXPECT_NEAR(scene.camera.position.z, 3.0f, 1e-6f);
     EXPECT_NEAR(scene.camera.position.x, 0.5f, 1e-6f);
-    EXPECT_NEAR(scene.camera.target.z, 2.0f, 1e-5f);   // looks down -Z
+    EXPECT_NEAR(scene.camera.target.z, 2.0f, 1e-5f);  // looks down -Z
     EXPECT_EQ(scene.triangle_count(), 2u);
 }
 
@@ -182,7 +184,7 @@ TEST(LoadGltf, TextureTransformRowsFollowTheExtension) {
     const TextureLayer& rotation = material("Rotation").textures.at(0);
     float angle = 0.39269908169872414f;
     EXPECT_NEAR(rotation.uv_row0.x, std::cos(angle), 1e-6f);
-    EXPECT_NEAR(rotation.uv_row0.y, std::sin(angle), 1e-6f);   // the sample viewer's direction
+    EXPECT_NEAR(rotation.uv_row0.y, std::sin(angle), 1e-6f);  // the sample viewer's direction
     EXPECT_NEAR(rotation.uv_row1.x, -std::sin(angle), 1e-6f);
     const TextureLayer& scale = material("Scale").textures.at(0);
     EXPECT_EQ(scale.uv_row0, glm::vec3(1.5f, 0.0f, 0.0f));
@@ -198,7 +200,7 @@ TEST(LoadGltf, TransmissiveSamplesGetTransmittance) {
         for (const Material& material : scene.materials) {
             if (material.transmittance <= 0.0f) continue;
             transmissive = true;
-            EXPECT_LT(material.fresnel_bias, 0.2f);   // Schlick F0 of a dielectric, not the opaque R_f = 1
+            EXPECT_LT(material.fresnel_bias, 0.2f);  // Schlick F0 of a dielectric, not the opaque R_f = 1
             EXPECT_NEAR(material.fresnel_bias + material.fresnel_scale, 1.0f, 1e-6f);
         }
         EXPECT_TRUE(transmissive);
@@ -236,7 +238,7 @@ TEST(LoadGltf, VertexColoursArePresent) {
 TEST(LoadGltf, SparseAccessorSubstitutesValues) {
     GltfBuilder gltf;
     int base = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
-    int sparse_indices = gltf.view(std::vector<uint8_t>{1, 0, 0, 0});   // one UNSIGNED_BYTE index, padded
+    int sparse_indices = gltf.view(std::vector<uint8_t>{1, 0, 0, 0});  // one UNSIGNED_BYTE index, padded
     int sparse_values = gltf.view(std::vector<float>{5, 6, 7});
     json accessor = gltf.document["accessors"][base];
     accessor["sparse"] = {{"count", 1},
@@ -268,12 +270,16 @@ TEST(LoadGltf, StridedNormalizedAttributes) {
     GltfBuilder gltf;
     int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
     // COLOR_0 as normalized UNSIGNED_BYTE VEC4 interleaved with 4 padding bytes per element (byteStride 8).
-    int colors_view = gltf.view(std::vector<uint8_t>{255, 0, 0, 255, 9, 9, 9, 9, 0, 255, 0, 255, 9, 9, 9, 9, 0, 0, 255, 128, 9, 9, 9, 9}, 8);
-    int colors = gltf.accessor({{"bufferView", colors_view}, {"componentType", 5121}, {"normalized", true}, {"count", 3}, {"type", "VEC4"}});
+    int colors_view = gltf.view(
+        std::vector<uint8_t>{255, 0, 0, 255, 9, 9, 9, 9, 0, 255, 0, 255, 9, 9, 9, 9, 0, 0, 255, 128, 9, 9, 9, 9}, 8);
+    int colors = gltf.accessor(
+        {{"bufferView", colors_view}, {"componentType", 5121}, {"normalized", true}, {"count", 3}, {"type", "VEC4"}});
     // TEXCOORD_0 as normalized UNSIGNED_SHORT.
     int uv_view = gltf.view(std::vector<uint16_t>{0, 65535, 65535, 0, 32768, 32768});
-    int uv = gltf.accessor({{"bufferView", uv_view}, {"componentType", 5123}, {"normalized", true}, {"count", 3}, {"type", "VEC2"}});
-    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}, {"COLOR_0", colors}, {"TEXCOORD_0", uv}}}}})}});
+    int uv = gltf.accessor(
+        {{"bufferView", uv_view}, {"componentType", 5123}, {"normalized", true}, {"count", 3}, {"type", "VEC2"}});
+    gltf.node(
+        {{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}, {"COLOR_0", colors}, {"TEXCOORD_0", uv}}}}})}});
     Scene scene = load(gltf.write("strided.gltf"));
     const Mesh& mesh = scene.meshes.at(0);
     ASSERT_EQ(mesh.colors.size(), 3u);
@@ -290,8 +296,10 @@ TEST(LoadGltf, TriangleStripAndFanKeepFrontFaces) {
     int strip_positions = gltf.positions({0, 0, 0, 0, 1, 0, 1, 0, 0, 1, 1, 0, 2, 0, 0});
     int strip_indices = gltf.indices({1, 0, 3, 2, 4});
     int fan_positions = gltf.positions({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, -1, 1, 0});
-    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", strip_positions}}}, {"indices", strip_indices}, {"mode", 5}}})},
-               {"name", "strip"}});
+    gltf.node(
+        {{"mesh",
+          gltf.mesh({{{"attributes", {{"POSITION", strip_positions}}}, {"indices", strip_indices}, {"mode", 5}}})},
+         {"name", "strip"}});
     gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", fan_positions}}}, {"mode", 6}}})}, {"name", "fan"}});
     Scene scene = load(gltf.write("strip_fan.gltf"));
     for (const char* name : {"strip", "fan"}) {
@@ -306,7 +314,7 @@ TEST(LoadGltf, TriangleStripAndFanKeepFrontFaces) {
 
 TEST(LoadGltf, MirroredNodeGetsReversedWinding) {
     GltfBuilder gltf;
-    int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});   // faces +Z
+    int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});  // faces +Z
     int mesh = gltf.mesh({{{"attributes", {{"POSITION", positions}}}}});
     gltf.node({{"mesh", mesh}, {"name", "plain"}, {"scale", {2, 1, 1}}});
     gltf.node({{"mesh", mesh}, {"name", "plain again"}, {"translation", {0, 0, 5}}});
@@ -319,9 +327,9 @@ TEST(LoadGltf, MirroredNodeGetsReversedWinding) {
     const Instance* mirrored = find_instance(scene, "mirrored");
     const Instance* mirrored_child = find_instance(scene, "mirrored child");
     ASSERT_TRUE(plain && mirrored && mirrored_child);
-    EXPECT_EQ(plain->mesh, find_instance(scene, "plain again")->mesh);   // one Mesh for every use of a glTF mesh
-    EXPECT_NE(plain->mesh, mirrored->mesh);            // except a mirrored copy...
-    EXPECT_EQ(mirrored->mesh, mirrored_child->mesh);   // ...made once and shared
+    EXPECT_EQ(plain->mesh, find_instance(scene, "plain again")->mesh);  // one Mesh for every use of a glTF mesh
+    EXPECT_NE(plain->mesh, mirrored->mesh);                             // except a mirrored copy...
+    EXPECT_EQ(mirrored->mesh, mirrored_child->mesh);                    // ...made once and shared
     EXPECT_EQ(scene.meshes.size(), 2u);
     EXPECT_GT(world_geometric_normal(scene, *plain, 0).z, 0.99f);
     EXPECT_GT(world_geometric_normal(scene, *mirrored, 0).z, 0.99f);
@@ -338,7 +346,8 @@ TEST(LoadGltf, PointsAndLinesGiveOneWarning) {
     Scene scene = load(gltf.write("points.gltf"));
     EXPECT_EQ(scene.triangle_count(), 1u);
     int point_warnings = 0;
-    for (const std::string& warning : scene.warnings) point_warnings += warning.find("points and lines") != std::string::npos;
+    for (const std::string& warning : scene.warnings)
+        point_warnings += warning.find("points and lines") != std::string::npos;
     EXPECT_EQ(point_warnings, 1);
 }
 
@@ -346,7 +355,9 @@ TEST(LoadGltf, MaterialExtensionsMapOntoTheSeedModel) {
     GltfBuilder gltf;
     int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
     gltf.document["materials"] = json::array(
-        {{{"name", "metal"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.9, 0.6, 0.2, 1}}, {"metallicFactor", 1}, {"roughnessFactor", 0}}}},
+        {{{"name", "metal"},
+          {"pbrMetallicRoughness",
+           {{"baseColorFactor", {0.9, 0.6, 0.2, 1}}, {"metallicFactor", 1}, {"roughnessFactor", 0}}}},
          {{"name", "glass"},
           {"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}}},
           {"extensions",
@@ -355,12 +366,18 @@ TEST(LoadGltf, MaterialExtensionsMapOntoTheSeedModel) {
             {"KHR_materials_volume", {{"thicknessFactor", 0.5}, {"attenuationColor", {0.5, 0.8, 1.0}}}},
             {"KHR_materials_dispersion", {{"dispersion", 1.0}}},
             {"KHR_materials_specular", {{"specularFactor", 0.5}, {"specularColorFactor", {1.0, 0.5, 0.5}}}}}}},
-         {{"name", "thin"}, {"pbrMetallicRoughness", {{"metallicFactor", 0}}}, {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 0.5}}}}}},
-         {{"name", "blend"}, {"alphaMode", "BLEND"}, {"pbrMetallicRoughness", {{"baseColorFactor", {1, 0, 0, 0.25}}, {"metallicFactor", 0}}}},
-         {{"name", "lamp"}, {"emissiveFactor", {1, 0.5, 0}}, {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}}});
+         {{"name", "thin"},
+          {"pbrMetallicRoughness", {{"metallicFactor", 0}}},
+          {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 0.5}}}}}},
+         {{"name", "blend"},
+          {"alphaMode", "BLEND"},
+          {"pbrMetallicRoughness", {{"baseColorFactor", {1, 0, 0, 0.25}}, {"metallicFactor", 0}}}},
+         {{"name", "lamp"},
+          {"emissiveFactor", {1, 0.5, 0}},
+          {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}}});
     json primitives = json::array();
     for (int m = 0; m < 5; ++m) primitives.push_back({{"attributes", {{"POSITION", positions}}}, {"material", m}});
-    primitives.push_back({{"attributes", {{"POSITION", positions}}}});   // no material: Prism's default
+    primitives.push_back({{"attributes", {{"POSITION", positions}}}});  // no material: Prism's default
     gltf.node({{"mesh", gltf.mesh(primitives)}});
     Scene scene = load(gltf.write("materials.gltf"));
     ASSERT_EQ(scene.materials.size(), 6u);
@@ -383,7 +400,7 @@ TEST(LoadGltf, MaterialExtensionsMapOntoTheSeedModel) {
 
     const Material& glass = by_name("glass");
     EXPECT_EQ(glass.transmittance, 1.0f);
-    float f0 = std::pow((1.7f - 1.0f) / (1.7f + 1.0f), 2.0f);   // KHR_materials_specular scales the whole term
+    float f0 = std::pow((1.7f - 1.0f) / (1.7f + 1.0f), 2.0f);  // KHR_materials_specular scales the whole term
     EXPECT_NEAR(glass.fresnel_bias, f0 * 0.5f, 1e-6f);
     EXPECT_NEAR(glass.fresnel_scale, (1.0f - f0) * 0.5f, 1e-6f);
     EXPECT_EQ(glass.fresnel_power, 5.0f);
@@ -391,7 +408,7 @@ TEST(LoadGltf, MaterialExtensionsMapOntoTheSeedModel) {
     // No attenuationDistance: infinite, so the solid volume absorbs nothing (glTF's default).
     EXPECT_EQ(glass.ambient, glm::vec3(1.0f));
     EXPECT_EQ(glass.absorption, glm::vec3(0.0f));
-    EXPECT_EQ(glass.thickness, 0.0f);   // a volume: solid glass
+    EXPECT_EQ(glass.thickness, 0.0f);  // a volume: solid glass
     EXPECT_LT(glass.ior.x, glass.ior.y);
     EXPECT_LT(glass.ior.y, glass.ior.z);
     EXPECT_NEAR(glass.ior.y, 1.7f, 0.01f);
@@ -405,7 +422,7 @@ TEST(LoadGltf, MaterialExtensionsMapOntoTheSeedModel) {
     EXPECT_EQ(thin.thickness, gltf::kThinWalledThickness);
 
     const Material& blend = by_name("blend");
-    EXPECT_EQ(blend.alpha_mode, AlphaMode::Blend);   // the kernel lets 1 - alpha pass straight through
+    EXPECT_EQ(blend.alpha_mode, AlphaMode::Blend);  // the kernel lets 1 - alpha pass straight through
     EXPECT_FLOAT_EQ(blend.alpha, 0.25f);
     EXPECT_EQ(blend.transmittance, 0.0f);
 
@@ -431,9 +448,10 @@ TEST(LoadGltf, PunctualLightsAndSecondCameraIgnored) {
     int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
     gltf.document["extensionsUsed"] = {"KHR_lights_punctual"};
     gltf.document["extensions"] = {{"KHR_lights_punctual",
-                                    {{"lights", {{{"type", "point"}, {"color", {1, 0.5, 0.25}}, {"intensity", 20}},
-                                                 {{"type", "directional"}, {"intensity", 3}},
-                                                 {{"type", "spot"}, {"spot", json::object()}}}}}}};
+                                    {{"lights",
+                                      {{{"type", "point"}, {"color", {1, 0.5, 0.25}}, {"intensity", 20}},
+                                       {{"type", "directional"}, {"intensity", 3}},
+                                       {{"type", "spot"}, {"spot", json::object()}}}}}}};
     gltf.document["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}},
                                 {{"type", "perspective"}, {"perspective", {{"yfov", 1.0}, {"znear", 0.1}}}}};
     gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}}}}})}});
@@ -452,7 +470,7 @@ TEST(LoadGltf, PunctualLightsAndSecondCameraIgnored) {
     EXPECT_EQ(scene.lights[0].intensity, 20.0f);
     EXPECT_EQ(scene.lights[1].type, LightType::Directional);
     EXPECT_NEAR(scene.lights[1].direction.y, -1.0f, 1e-5f);
-    EXPECT_EQ(scene.lights[2].type, LightType::Point);   // spot traced as a point light, with a warning
+    EXPECT_EQ(scene.lights[2].type, LightType::Point);  // spot traced as a point light, with a warning
     EXPECT_FALSE(scene.warnings.empty());
     ASSERT_TRUE(scene.has_camera);
     EXPECT_NEAR(scene.camera.vertical_fov_degrees, glm::degrees(0.5f), 1e-4f);

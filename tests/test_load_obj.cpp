@@ -216,10 +216,9 @@ TEST(LoadObj, AppendsToAnExistingScene) {
 TEST(LoadObjErrors, MissingTextureNamesMtlMaterialAndFile) {
     const std::filesystem::path directory = test::temp_dir("obj_missing_texture");
     const std::filesystem::path mtl = write_in(directory, "broken.mtl", "newmtl brick\nKd 1 1 1\nmap_Kd brick.png\n");
-    const std::filesystem::path obj = write_in(directory, "broken.obj",
-                                               "mtllib broken.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl brick\nf 1 2 3\n");
-    EXPECT_EQ(error_message([&] { load(obj); }),
-              mtl.string() + ": material 'brick': texture 'brick.png' not found");
+    const std::filesystem::path obj =
+        write_in(directory, "broken.obj", "mtllib broken.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl brick\nf 1 2 3\n");
+    EXPECT_EQ(error_message([&] { load(obj); }), mtl.string() + ": material 'brick': texture 'brick.png' not found");
 }
 
 TEST(LoadObjErrors, BadIndicesAndRandomBytes) {

@@ -35,8 +35,8 @@ void write_gzip(const std::filesystem::path& path, const std::string& bytes) {
 
 struct PlyProperty {
     std::string name;
-    std::string type;               // "float", "uchar", "int16", ...
-    std::string count_type = "";    // non-empty: a list with this count type
+    std::string type;             // "float", "uchar", "int16", ...
+    std::string count_type = "";  // non-empty: a list with this count type
 };
 struct PlyElement {
     std::string name;
@@ -55,15 +55,24 @@ void append_binary(std::string& out, double value, bool big_endian) {
 }
 
 void append_scalar(std::string& out, const std::string& type, double value, bool big_endian) {
-    if (type == "char" || type == "int8") append_binary<int8_t>(out, value, big_endian);
-    else if (type == "uchar" || type == "uint8") append_binary<uint8_t>(out, value, big_endian);
-    else if (type == "short" || type == "int16") append_binary<int16_t>(out, value, big_endian);
-    else if (type == "ushort" || type == "uint16") append_binary<uint16_t>(out, value, big_endian);
-    else if (type == "int" || type == "int32") append_binary<int32_t>(out, value, big_endian);
-    else if (type == "uint" || type == "uint32") append_binary<uint32_t>(out, value, big_endian);
-    else if (type == "float" || type == "float32") append_binary<float>(out, value, big_endian);
-    else if (type == "double" || type == "float64") append_binary<double>(out, value, big_endian);
-    else throw std::logic_error("test writer: unknown type " + type);
+    if (type == "char" || type == "int8")
+        append_binary<int8_t>(out, value, big_endian);
+    else if (type == "uchar" || type == "uint8")
+        append_binary<uint8_t>(out, value, big_endian);
+    else if (type == "short" || type == "int16")
+        append_binary<int16_t>(out, value, big_endian);
+    else if (type == "ushort" || type == "uint16")
+        append_binary<uint16_t>(out, value, big_endian);
+    else if (type == "int" || type == "int32")
+        append_binary<int32_t>(out, value, big_endian);
+    else if (type == "uint" || type == "uint32")
+        append_binary<uint32_t>(out, value, big_endian);
+    else if (type == "float" || type == "float32")
+        append_binary<float>(out, value, big_endian);
+    else if (type == "double" || type == "float64")
+        append_binary<double>(out, value, big_endian);
+    else
+        throw std::logic_error("test writer: unknown type " + type);
 }
 
 std::string write_ply(const std::string& format, const std::vector<PlyElement>& elements) {
@@ -72,9 +81,11 @@ std::string write_ply(const std::string& format, const std::vector<PlyElement>& 
     for (const PlyElement& element : elements) {
         header << "element " << element.name << " " << element.rows.size() << "\n";
         for (const PlyProperty& property : element.properties) {
-            if (property.count_type.empty()) header << "property " << property.type << " " << property.name << "\n";
-            else header << "property list " << property.count_type << " " << property.type << " " << property.name
-                        << "\n";
+            if (property.count_type.empty())
+                header << "property " << property.type << " " << property.name << "\n";
+            else
+                header << "property list " << property.count_type << " " << property.type << " " << property.name
+                       << "\n";
         }
     }
     header << "end_header\n";
@@ -90,13 +101,17 @@ std::string write_ply(const std::string& format, const std::vector<PlyElement>& 
                 size_t values = 1;
                 if (!property.count_type.empty()) {
                     values = static_cast<size_t>(row.at(column));
-                    if (ascii) line << row[column] << " ";
-                    else append_scalar(out, property.count_type, row[column], big_endian);
+                    if (ascii)
+                        line << row[column] << " ";
+                    else
+                        append_scalar(out, property.count_type, row[column], big_endian);
                     ++column;
                 }
                 for (size_t i = 0; i < values; ++i, ++column) {
-                    if (ascii) line << row.at(column) << " ";
-                    else append_scalar(out, property.type, row.at(column), big_endian);
+                    if (ascii)
+                        line << row.at(column) << " ";
+                    else
+                        append_scalar(out, property.type, row.at(column), big_endian);
                 }
             }
             if (ascii) out += line.str() + "\n";
@@ -108,14 +123,10 @@ std::string write_ply(const std::string& format, const std::vector<PlyElement>& 
 // A mesh in the layout the issue asks for: faces before vertices, an unknown element with lists in between,
 // vertex properties shuffled with extras, face properties before and after the index list, a quad and a pentagon.
 std::vector<PlyElement> awkward_mesh() {
-    PlyElement faces{"face",
-                     {{"flags", "uchar"},
-                      {"vertex_indices", "int32", "uint8"},
-                      {"quality", "double"},
-                      {"extra", "short", "int"}},
-                     {{7, 3, 0, 1, 2, 0.5, 2, -4, 5},
-                      {1, 4, 0, 2, 3, 4, 0.25, 0},
-                      {2, 5, 0, 1, 2, 3, 4, 1.0, 1, 9}}};
+    PlyElement faces{
+        "face",
+        {{"flags", "uchar"}, {"vertex_indices", "int32", "uint8"}, {"quality", "double"}, {"extra", "short", "int"}},
+        {{7, 3, 0, 1, 2, 0.5, 2, -4, 5}, {1, 4, 0, 2, 3, 4, 0.25, 0}, {2, 5, 0, 1, 2, 3, 4, 1.0, 1, 9}}};
     PlyElement material{"material", {{"name", "uchar", "uchar"}, {"shininess", "float"}}, {{3, 65, 66, 67, 0.5}}};
     PlyElement vertices{"vertex",
                         {{"y", "float"},
@@ -144,9 +155,9 @@ void expect_awkward_mesh(const Mesh& mesh) {
     ASSERT_EQ(mesh.positions.size(), 5u);
     ASSERT_EQ(mesh.triangles.size(), 1u + 2u + 3u);
     EXPECT_EQ(mesh.triangles[0], glm::uvec3(0, 1, 2));
-    EXPECT_EQ(mesh.triangles[1], glm::uvec3(0, 2, 3));   // the quad, fanned
+    EXPECT_EQ(mesh.triangles[1], glm::uvec3(0, 2, 3));  // the quad, fanned
     EXPECT_EQ(mesh.triangles[2], glm::uvec3(0, 3, 4));
-    EXPECT_EQ(mesh.triangles[5], glm::uvec3(0, 3, 4));   // the pentagon's last fan triangle
+    EXPECT_EQ(mesh.triangles[5], glm::uvec3(0, 3, 4));  // the pentagon's last fan triangle
     EXPECT_EQ(mesh.triangle_materials, std::vector<uint32_t>(6, 0u));
     for (int i = 0; i < 5; ++i) {
         EXPECT_EQ(mesh.positions[i], glm::vec3(i + 0.5f, 2.0f * i, -1.0f * i)) << i;
@@ -166,8 +177,8 @@ void expect_awkward_mesh(const Mesh& mesh) {
 TEST(LoadPly, AwkwardLayoutInAllThreeEncodings) {
     for (const char* format : {"ascii", "binary_little_endian", "binary_big_endian"}) {
         SCOPED_TRACE(format);
-        std::filesystem::path path = test::write_file(std::string("awkward_") + format + ".ply",
-                                                      write_ply(format, awkward_mesh()));
+        std::filesystem::path path =
+            test::write_file(std::string("awkward_") + format + ".ply", write_ply(format, awkward_mesh()));
         expect_awkward_mesh(load_ply(path));
     }
 }
@@ -182,8 +193,13 @@ TEST(LoadPly, GzipOfASmallFile) {
 
 TEST(LoadPly, FloatColoursKeptAndAlphaRead) {
     PlyElement vertices{"vertex",
-                        {{"x", "float32"}, {"y", "float32"}, {"z", "float32"}, {"red", "float32"},
-                         {"green", "float32"}, {"blue", "float32"}, {"alpha", "uint8"}},
+                        {{"x", "float32"},
+                         {"y", "float32"},
+                         {"z", "float32"},
+                         {"red", "float32"},
+                         {"green", "float32"},
+                         {"blue", "float32"},
+                         {"alpha", "uint8"}},
                         {{0, 0, 0, 0.25, 0.5, 2.0, 0}, {1, 0, 0, 0, 0, 0, 255}, {0, 1, 0, 0, 0, 0, 51}}};
     PlyElement faces{"face", {{"vertex_index", "uint32", "uint16"}}, {{3, 0, 1, 2}}};
     Mesh mesh = load_ply(test::write_file("float_colours.ply", write_ply("ascii", {vertices, faces})));
@@ -191,7 +207,7 @@ TEST(LoadPly, FloatColoursKeptAndAlphaRead) {
     EXPECT_EQ(mesh.colors[0], glm::vec4(0.25f, 0.5f, 2.0f, 0.0f));
     EXPECT_EQ(mesh.colors[1].w, 1.0f);
     EXPECT_NEAR(mesh.colors[2].w, 0.2f, 1e-6f);
-    ASSERT_EQ(mesh.normals.size(), 3u);   // computed: the file has none
+    ASSERT_EQ(mesh.normals.size(), 3u);  // computed: the file has none
     EXPECT_NEAR(glm::length(mesh.normals[0]), 1.0f, 1e-6f);
     EXPECT_TRUE(mesh.uv0.empty());
 }
@@ -210,8 +226,8 @@ TEST(LoadPly, BigEndianRoundTripOfARealScan) {
     EXPECT_EQ(original.triangles.size(), 11102u);
     for (const char* format : {"binary_big_endian", "binary_little_endian"}) {
         SCOPED_TRACE(format);
-        Mesh copy = load_ply(test::write_file(std::string("dragon_res4_") + format + ".ply",
-                                              as_binary(original, format)));
+        Mesh copy =
+            load_ply(test::write_file(std::string("dragon_res4_") + format + ".ply", as_binary(original, format)));
         EXPECT_EQ(copy.positions, original.positions);
         EXPECT_EQ(copy.triangles, original.triangles);
     }
@@ -222,10 +238,10 @@ TEST(LoadPly, StanfordScansHaveTheirPublishedSizes) {
         const char* file;
         size_t triangles;
     };
-    for (Expected expected : {Expected{"stanford/bunny.ply", 69451}, Expected{"stanford/bunny_res2.ply", 16301},
-                              Expected{"stanford/dragon_res2.ply.gz", 202520},
-                              Expected{"stanford/dragon_res3.ply.gz", 47794},
-                              Expected{"stanford/dragon.ply.gz", 871414}}) {
+    for (Expected expected :
+         {Expected{"stanford/bunny.ply", 69451}, Expected{"stanford/bunny_res2.ply", 16301},
+          Expected{"stanford/dragon_res2.ply.gz", 202520}, Expected{"stanford/dragon_res3.ply.gz", 47794},
+          Expected{"stanford/dragon.ply.gz", 871414}}) {
         SCOPED_TRACE(expected.file);
         Mesh mesh = load_ply(test::scene(expected.file));
         EXPECT_EQ(mesh.triangles.size(), expected.triangles);
@@ -311,8 +327,9 @@ TEST(LoadPlyErrors, RandomBytes) {
 }
 
 TEST(LoadPlyErrors, HeaderOnly) {
-    const std::string header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                               "property float z\nelement face 1\nproperty list uchar int vertex_indices\n";
+    const std::string header =
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 1\nproperty list uchar int vertex_indices\n";
     expect_error_naming(test::write_file("header_only.ply", header + "end_header\n"), "truncated: vertex 0 of 3");
     expect_error_naming(test::write_file("no_end_header.ply", header), "no end_header");
     expect_error_naming(test::write_file("empty_mesh.ply",
@@ -326,32 +343,30 @@ TEST(LoadPlyErrors, MalformedHeaderAndBody) {
     const std::string xyz = "property float x\nproperty float y\nproperty float z\n";
     const std::string face = "element face 1\nproperty list uchar int vertex_indices\n";
     auto ply = [](const std::string& body) { return "ply\n" + body; };
-    EXPECT_EQ(error_message([&] {
-                  load_ply(test::write_file("bad_format.ply", ply("format binary_middle_endian 1.0\nend_header\n")));
-              }),
-              (test::temp_dir("files") / "bad_format.ply").string() +
-                  ":2: unsupported PLY format 'binary_middle_endian'");
+    EXPECT_EQ(
+        error_message([&] {
+            load_ply(test::write_file("bad_format.ply", ply("format binary_middle_endian 1.0\nend_header\n")));
+        }),
+        (test::temp_dir("files") / "bad_format.ply").string() + ":2: unsupported PLY format 'binary_middle_endian'");
     expect_error_naming(test::write_file("bad_version.ply", ply("format ascii 2.0\nend_header\n")), ":2: ");
     expect_error_naming(test::write_file("bad_type.ply", ply("format ascii 1.0\nelement vertex 1\n"
                                                              "property float128 x\nend_header\n")),
                         ":4: unknown property type 'float128'");
     expect_error_naming(test::write_file("no_x.ply", ply("format ascii 1.0\nelement vertex 1\nproperty float y\n"
-                                                         "property float z\n" + face + "end_header\n0 0\n3 0 0 0\n")),
+                                                         "property float z\n" +
+                                                         face + "end_header\n0 0\n3 0 0 0\n")),
                         "vertex element has no 'x' property");
     expect_error_naming(test::write_file("no_vertex.ply", ply("format ascii 1.0\n" + face + "end_header\n3 0 0 0\n")),
                         "no vertex element");
     // Body errors in ASCII name the line.
-    expect_error_naming(test::write_file("bad_number.ply",
-                                         ply("format ascii 1.0\nelement vertex 3\n" + xyz + face +
-                                             "end_header\n0 0 0\n1 zero 0\n0 1 0\n3 0 1 2\n")),
+    expect_error_naming(test::write_file("bad_number.ply", ply("format ascii 1.0\nelement vertex 3\n" + xyz + face +
+                                                               "end_header\n0 0 0\n1 zero 0\n0 1 0\n3 0 1 2\n")),
                         ":11: vertex 1 expected a number, found 'zero'");
-    expect_error_naming(test::write_file("two_sided_face.ply",
-                                         ply("format ascii 1.0\nelement vertex 3\n" + xyz + face +
-                                             "end_header\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n")),
+    expect_error_naming(test::write_file("two_sided_face.ply", ply("format ascii 1.0\nelement vertex 3\n" + xyz + face +
+                                                                   "end_header\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n")),
                         ":13: face 0 has 2 vertices (a polygon needs at least 3)");
-    expect_error_naming(test::write_file("negative_index.ply",
-                                         ply("format ascii 1.0\nelement vertex 3\n" + xyz + face +
-                                             "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n")),
+    expect_error_naming(test::write_file("negative_index.ply", ply("format ascii 1.0\nelement vertex 3\n" + xyz + face +
+                                                                   "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n")),
                         "face 0 has vertex index -1");
 }
 

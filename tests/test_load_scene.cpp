@@ -28,7 +28,8 @@ TEST(LoadScene, MissingAndUnsupportedFiles) {
 
 TEST(LoadScene, ExtensionsAreCaseInsensitive) {
     std::filesystem::path upper = test::temp_dir("load_scene") / "BOX.GLB";
-    std::filesystem::copy_file(test::scene("gltf/Box/Box.glb"), upper, std::filesystem::copy_options::overwrite_existing);
+    std::filesystem::copy_file(test::scene("gltf/Box/Box.glb"), upper,
+                               std::filesystem::copy_options::overwrite_existing);
     EXPECT_EQ(load_scene(upper.string()).triangle_count(), 12u);
 }
 
@@ -43,9 +44,9 @@ TEST(LoadScene, BareModelGetsMaterialLightsSkyAndCamera) {
     ASSERT_EQ(scene.lights.size(), 2u);
     EXPECT_EQ(scene.lights[0].type, LightType::Directional);
     EXPECT_EQ(scene.lights[1].type, LightType::Point);
-    EXPECT_EQ(scene.environment.kind, EnvironmentKind::CubeMap);   // the Miramar sky is in data_dir
+    EXPECT_EQ(scene.environment.kind, EnvironmentKind::CubeMap);  // the Miramar sky is in data_dir
     EXPECT_EQ(scene.ambient_light, glm::vec3(0.1f));
-    EXPECT_FALSE(scene.has_camera);   // placed by frame_scene, not by the file
+    EXPECT_FALSE(scene.has_camera);  // placed by frame_scene, not by the file
 
     // Without the data directory the sky is a constant colour.
     options.data_dir = test::temp_dir("no_sky");
@@ -61,11 +62,12 @@ TEST(LoadScene, FrameSceneFitsTheBoundingSphere) {
     mesh.triangle_materials = {0};
     scene.meshes.push_back(mesh);
     Instance instance;
-    instance.transform = glm::translate(glm::mat4(1.0f), glm::vec3(10, 0, 0)) * glm::scale(glm::mat4(1.0f), glm::vec3(2));
+    instance.transform =
+        glm::translate(glm::mat4(1.0f), glm::vec3(10, 0, 0)) * glm::scale(glm::mat4(1.0f), glm::vec3(2));
     scene.instances.push_back(instance);
     frame_scene(scene);
     EXPECT_EQ(scene.camera.target, glm::vec3(10, 0, 0));
-    float radius = std::sqrt(3.0f * 4.0f * 4.0f) * 0.5f;   // half the diagonal of the 4x4x4 world box
+    float radius = std::sqrt(3.0f * 4.0f * 4.0f) * 0.5f;  // half the diagonal of the 4x4x4 world box
     float half_fov = glm::radians(scene.camera.vertical_fov_degrees) * 0.5f;
     float distance = glm::length(scene.camera.position - scene.camera.target);
     EXPECT_NEAR(distance, radius / std::sin(half_fov), 1e-3f);

@@ -26,9 +26,9 @@ namespace {
 
 const char* kPocl = "pocl";
 
-#define REQUIRE_POCL()                                                                         \
-    do {                                                                                       \
-        std::string reason_;                                                                   \
+#define REQUIRE_POCL()                                                                       \
+    do {                                                                                     \
+        std::string reason_;                                                                 \
         if (!pocl_available(&reason_)) GTEST_SKIP() << "no OpenCL test device: " << reason_; \
     } while (0)
 
@@ -72,11 +72,13 @@ TEST(OpenclProgram, BuildFailureReportsTheCompilerLog) {
     ScopedEnv no_cache("PRISM_CACHE_DIR", "");
     std::string message = prism::test::error_message([] {
         prism::opencl_internal::build_source(
-            kPocl, "#line 1 \"kernels/broken.h\"\n__kernel void broken(__global uint* out) { out[0] = undeclared_name; }\n");
+            kPocl,
+            "#line 1 \"kernels/broken.h\"\n__kernel void broken(__global uint* out) { out[0] = undeclared_name; }\n");
     });
     EXPECT_NE(message.find("opencl: kernel build failed on "), std::string::npos) << message;
     EXPECT_NE(message.find("undeclared_name"), std::string::npos) << message;
-    EXPECT_NE(message.find("kernels/broken.h:1"), std::string::npos) << "the #line file names should survive: " << message;
+    EXPECT_NE(message.find("kernels/broken.h:1"), std::string::npos)
+        << "the #line file names should survive: " << message;
     EXPECT_EQ(message.find('\n'), std::string::npos) << "errors are one line: " << message;
 }
 
@@ -128,7 +130,7 @@ TEST(OpenclDevices, FiltersAreCaseInsensitiveSubstrings) {
     REQUIRE_POCL();
     EXPECT_NE(prism::create_backend("opencl:POCL")->info().device, "");
     EXPECT_NE(prism::create_backend("opencl:portable computing")->info().device, "");
-    auto backend = prism::create_backend("opencl");   // the default: a GPU if any, else the first device
+    auto backend = prism::create_backend("opencl");  // the default: a GPU if any, else the first device
     prism::BackendInfo info = backend->info();
     EXPECT_EQ(info.name, "opencl");
     EXPECT_NE(info.api_version.find("OpenCL"), std::string::npos) << info.api_version;
@@ -171,7 +173,8 @@ TEST(OpenclBackend, OversizedBuffersAreRefusedWithTheLimit) {
     REQUIRE_POCL();
     auto backend = prism::create_backend(prism::test::test_device("opencl"));
     prism::BackendInfo info = backend->info();
-    std::string message = prism::test::error_message([&] { backend->allocate(prism::DeviceArray::rays, info.max_buffer + 1); });
+    std::string message =
+        prism::test::error_message([&] { backend->allocate(prism::DeviceArray::rays, info.max_buffer + 1); });
     EXPECT_NE(message.find("buffer 'rays'"), std::string::npos) << message;
     EXPECT_NE(message.find("CL_DEVICE_MAX_MEM_ALLOC_SIZE"), std::string::npos) << message;
 }
@@ -181,7 +184,7 @@ TEST(OpenclBackend, OversizedBuffersAreRefusedWithTheLimit) {
 TEST(OpenclBackend, GenerateAndResolveRunTheSharedKernels) {
     REQUIRE_POCL();
     auto backend = prism::create_backend(prism::test::test_device("opencl"));
-    const uint32_t width = 37, height = 23, pixels = width * height;   // not a multiple of the work-group size
+    const uint32_t width = 37, height = 23, pixels = width * height;  // not a multiple of the work-group size
     FrameParams frame{};
     frame.camera_position = float4{1.0f, 2.0f, 3.0f, 0.5f};
     frame.camera_forward = float4{0.0f, 0.0f, -1.0f, float(width) / float(height)};

@@ -22,8 +22,8 @@ namespace fs = std::filesystem;
 
 fs::path committed(const std::string& relative) { return fs::path(PRISM_SOURCE_DIR) / "bench/results" / relative; }
 
-#define SKIP_WITHOUT_MATPLOTLIB()                                                                       \
-    if (prism::bench::plot_python().empty())                                                           \
+#define SKIP_WITHOUT_MATPLOTLIB()            \
+    if (prism::bench::plot_python().empty()) \
     GTEST_SKIP() << "no Python 3 with matplotlib (Debian: python3-matplotlib): plot_bench.py not run"
 
 void expect_png(const fs::path& path) {
@@ -73,11 +73,13 @@ TEST(PlotBench, AFileItCannotDrawIsNamedAndNothingIsWritten) {
 // "workers"; a split one has "ranks", "workers" and "tile_size"/"tiles" (a frame) or "frames"/"sequence_ms".
 std::string render_stats(double frame_ms, const std::string& backend, const std::string& split = "") {
     return R"({"api_version": "", "backend": ")" + backend + R"(", "bvh": {"layout": "stack", "method": "sah"},
-      "commit": "0123456789ab", "device": "test", "driver": "", "frame_ms": )" + std::to_string(frame_ms) + R"(,
+      "commit": "0123456789ab", "device": "test", "driver": "", "frame_ms": )" +
+           std::to_string(frame_ms) + R"(,
       "height": 180, "host_ms": {"device_wait": 0.0, "enqueue": 0.0, "readback": 0.0}, "max_depth": 8,
       "mrays_per_second": 3.4, "queue_capacity": 0, "queue_regrows": 0, "rays_per_depth": [57600, 40000],
       "scene": "builtin:sphere", "shadow_rays_per_depth": [50000, 30000], "stage_ms": {}, "stages": [],
-      "total_rays": 463550, "width": 320)" + split + "}";
+      "total_rays": 463550, "width": 320)" +
+           split + "}";
 }
 
 std::string worker(int rank, int index, const std::string& backend, const std::string& device, const char* item,
@@ -92,26 +94,28 @@ TEST(PlotBench, DrawsTheScalingOfSplitRenders) {
     const std::string gpu = "NVIDIA H100 80GB HBM3", host = "AMD EPYC (16 threads, avx2)";
     fs::path frame = prism::test::write_file("scale-cuda.json", render_stats(80.0, "cuda"));
     fs::path sequence = prism::test::write_file(
-        "scale-turntable-cuda.json",
-        render_stats(960.0, "cuda", R"(, "frames": {"first": 0, "last": 11, "pattern": "t/f%04d.png"},
+        "scale-turntable-cuda.json", render_stats(960.0, "cuda",
+                                                  R"(, "frames": {"first": 0, "last": 11, "pattern": "t/f%04d.png"},
           "ranks": 1, "sequence_ms": 960.0, "wall_ms": 1100.0, "workers": [)" +
-                                        worker(0, 0, "cuda", gpu, "frames", 12, 959.0) + "]"));
+                                                      worker(0, 0, "cuda", gpu, "frames", 12, 959.0) + "]"));
     fs::path cuda_cpu = prism::test::write_file(
         "scale-cuda-cpu.json",
-        render_stats(72.0, "cuda,cpu", R"(, "ranks": 1, "tile_size": 64, "tiles": 15, "wall_ms": 90.0, "workers": [)" +
-                                           worker(0, 0, "cuda", gpu, "tiles", 13, 70.0) + ", " +
-                                           worker(0, 1, "cpu", host, "tiles", 2, 71.0) + "]"));
+        render_stats(72.0, "cuda,cpu",
+                     R"(, "ranks": 1, "tile_size": 64, "tiles": 15, "wall_ms": 90.0, "workers": [)" +
+                         worker(0, 0, "cuda", gpu, "tiles", 13, 70.0) + ", " +
+                         worker(0, 1, "cpu", host, "tiles", 2, 71.0) + "]"));
     fs::path all = prism::test::write_file(
         "scale-cuda-all.json",
-        render_stats(42.0, "cuda:all", R"(, "ranks": 1, "tile_size": 64, "tiles": 15, "wall_ms": 60.0, "workers": [)" +
-                                           worker(0, 0, "cuda:0", gpu, "tiles", 8, 41.0) + ", " +
-                                           worker(0, 1, "cuda:1", gpu, "tiles", 7, 40.0) + "]"));
+        render_stats(42.0, "cuda:all",
+                     R"(, "ranks": 1, "tile_size": 64, "tiles": 15, "wall_ms": 60.0, "workers": [)" +
+                         worker(0, 0, "cuda:0", gpu, "tiles", 8, 41.0) + ", " +
+                         worker(0, 1, "cuda:1", gpu, "tiles", 7, 40.0) + "]"));
     fs::path turntable = prism::test::write_file(
-        "scale-turntable-cuda-cpu.json",
-        render_stats(900.0, "cuda,cpu", R"(, "frames": {"first": 0, "last": 11, "pattern": "t/f%04d.png"},
+        "scale-turntable-cuda-cpu.json", render_stats(900.0, "cuda,cpu",
+                                                      R"(, "frames": {"first": 0, "last": 11, "pattern": "t/f%04d.png"},
           "ranks": 1, "sequence_ms": 900.0, "wall_ms": 1000.0, "workers": [)" +
-                                            worker(0, 0, "cuda", gpu, "frames", 11, 880.0) + ", " +
-                                            worker(0, 1, "cpu", host, "frames", 1, 890.0) + "]"));
+                                                          worker(0, 0, "cuda", gpu, "frames", 11, 880.0) + ", " +
+                                                          worker(0, 1, "cpu", host, "frames", 1, 890.0) + "]"));
     fs::path out = prism::test::temp_dir("plot-bench") / "scale.png";
     fs::remove(out);
     EXPECT_NO_THROW(prism::bench::run_plot_script({cuda_cpu, all, turntable}, out, "test", {frame, sequence}));
@@ -119,8 +123,8 @@ TEST(PlotBench, DrawsTheScalingOfSplitRenders) {
 
     // A split render of another kind than any --baseline, and a worker without its backend: one line, no PNG.
     fs::remove(out);
-    std::string message = prism::test::error_message(
-        [&] { prism::bench::run_plot_script({turntable}, out, "test", {frame}); });
+    std::string message =
+        prism::test::error_message([&] { prism::bench::run_plot_script({turntable}, out, "test", {frame}); });
     EXPECT_NE(message.find(turntable.string()), std::string::npos) << message;
     EXPECT_NE(message.find("--baseline"), std::string::npos) << message;
     EXPECT_EQ(message.find('\n'), std::string::npos) << message;

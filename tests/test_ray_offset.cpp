@@ -66,8 +66,8 @@ struct Floor {
                 ShadeResult shade = rt_shade(kg, ray, hit);
                 ShadowRay shadow = rt_shadow_ray(kg, shade, 0u, 0u);
                 if (shadow.contribution.w == 0.0f) continue;
-                Hit occluder = rt_trace(kg, rt_xyz(shadow.origin), rt_xyz(shadow.direction), 0.0f,
-                                        shadow.direction.w, true);
+                Hit occluder =
+                    rt_trace(kg, rt_xyz(shadow.origin), rt_xyz(shadow.direction), 0.0f, shadow.direction.w, true);
                 blocked += occluder.tuv.x < RT_INFINITY;
             }
         return {hits, blocked};

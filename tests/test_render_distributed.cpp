@@ -77,9 +77,8 @@ nlohmann::json split_render(const fs::path& dir, const std::string& backends, co
                             const fs::path& expected, const std::string& launcher = "",
                             CommandResult* command = nullptr) {
     fs::path out = dir / (name + ".png"), stats = dir / (name + ".json");
-    CommandResult r = run_prism("render --backend " + backends + kFrame + " --out " + quoted(out) + " --stats " +
-                                    quoted(stats),
-                                launcher);
+    CommandResult r = run_prism(
+        "render --backend " + backends + kFrame + " --out " + quoted(out) + " --stats " + quoted(stats), launcher);
     if (command) *command = r;
     EXPECT_EQ(r.exit_code, 0) << r.output;
     if (r.exit_code != 0) return nullptr;
@@ -93,7 +92,7 @@ TEST(SplitRender, DevicesInOneProcessMatchOneDeviceBitForBit) {
     ASSERT_FALSE(json.is_null());
     EXPECT_EQ(json.at("ranks"), 1);
     EXPECT_EQ(json.at("workers").size(), 2u);
-    EXPECT_EQ(items_done(json, "tiles"), 12u);   // 96x64 in tiles of 24: 4 x 3
+    EXPECT_EQ(items_done(json, "tiles"), 12u);  // 96x64 in tiles of 24: 4 x 3
 }
 
 // "<api>:all": one worker per device of the API (PoCL's one CPU device here), numbered as `prism info` lists them.
@@ -204,10 +203,10 @@ std::vector<std::string> frame_files(const fs::path& dir) {
 }
 
 void expect_sequence(const fs::path& dir, const nlohmann::json& stats) {
-    EXPECT_EQ(frame_files(dir), (std::vector<std::string>{"out_03.png", "out_04.png", "out_05.png", "out_06.png",
-                                                          "out_07.png"}));
-    EXPECT_EQ(items_done(stats, "frames"), 5u);   // each frame rendered (and written) once
-    EXPECT_NE(read_bytes(dir / "out_03.png"), read_bytes(dir / "out_04.png"));   // the camera turned
+    EXPECT_EQ(frame_files(dir),
+              (std::vector<std::string>{"out_03.png", "out_04.png", "out_05.png", "out_06.png", "out_07.png"}));
+    EXPECT_EQ(items_done(stats, "frames"), 5u);  // each frame rendered (and written) once
+    EXPECT_NE(read_bytes(dir / "out_03.png"), read_bytes(dir / "out_04.png"));  // the camera turned
 }
 
 TEST(Sequence, OneProcessWritesEveryFrameOnceAndFrameZeroIsTheSceneCamera) {
@@ -256,7 +255,8 @@ TEST(Sequence, SpinningObjectsOfASceneFileTurnOverTheFrames) {
     fs::create_directories(dir);
     fs::path scene = dir / "spin.json";
     std::ofstream(scene) << R"({ "camera": { "position": [0, 0.2, 0.45], "target": [0, 0.08, 0] },
-        "objects": [ { "file": ")" << prism::test::scene("stanford/bunny_res2.ply").string() << R"(",
+        "objects": [ { "file": ")"
+                         << prism::test::scene("stanford/bunny_res2.ply").string() << R"(",
                        "transform": { "translate": [0.02, 0, 0] }, "spin": { "seconds": 1 } } ] })";
     for (const char* backend : {"cpu,cpu", "cpu,cpu --bvh-layout stack"}) {
         CommandResult r = run_prism("render --backend " + std::string(backend) + " --scene " + quoted(scene) +
@@ -265,21 +265,22 @@ TEST(Sequence, SpinningObjectsOfASceneFileTurnOverTheFrames) {
         ASSERT_EQ(r.exit_code, 0) << r.output;
         EXPECT_EQ(frame_files(dir).size(), 5u);
         std::string first = read_bytes(dir / "out_00.png");
-        EXPECT_NE(read_bytes(dir / "out_01.png"), first) << backend;   // a quarter turn
+        EXPECT_NE(read_bytes(dir / "out_01.png"), first) << backend;  // a quarter turn
         EXPECT_NE(read_bytes(dir / "out_02.png"), read_bytes(dir / "out_01.png")) << backend;
-        EXPECT_EQ(read_bytes(dir / "out_04.png"), first) << backend;   // a whole turn
+        EXPECT_EQ(read_bytes(dir / "out_04.png"), first) << backend;  // a whole turn
         // Frame 0 is the still render of the scene.
         fs::path still = dir / "still.png";
-        r = run_prism("render --backend cpu --allow-any-path --scene " + quoted(scene) + " --width 64 --height 48 --depth 2 --out " +
-                      quoted(still) + (std::string(backend).find("stack") != std::string::npos ? " --bvh-layout stack" : ""));
+        r = run_prism("render --backend cpu --allow-any-path --scene " + quoted(scene) +
+                      " --width 64 --height 48 --depth 2 --out " + quoted(still) +
+                      (std::string(backend).find("stack") != std::string::npos ? " --bvh-layout stack" : ""));
         ASSERT_EQ(r.exit_code, 0) << r.output;
         EXPECT_EQ(read_bytes(still), first) << backend;
     }
     std::ofstream(dir / "bad.json") << R"({ "objects": [ { "file": ")"
                                     << prism::test::scene("stanford/bunny_res2.ply").string()
                                     << R"(", "spin": { "axis": [0, 0, 0], "seconds": 1 } } ] })";
-    CommandResult r = run_prism("render --backend cpu --allow-any-path --scene " + quoted(dir / "bad.json") + " --frames 0 --out " +
-                                quoted(dir / "bad_%d.png"));
+    CommandResult r = run_prism("render --backend cpu --allow-any-path --scene " + quoted(dir / "bad.json") +
+                                " --frames 0 --out " + quoted(dir / "bad_%d.png"));
     EXPECT_EQ(r.exit_code, 1) << r.output;
     EXPECT_NE(r.output.find("objects[0].spin.axis"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("must not be zero"), std::string::npos) << r.output;
@@ -290,8 +291,9 @@ TEST(Sequence, SpinningObjectsOfASceneFileTurnOverTheFrames) {
 TEST(Sequence, AFrameThatCannotBeWrittenFailsTheRunNamingIt) {
     fs::path dir = prism::test::temp_dir("sequence-unwritable");
     fs::remove_all(dir);
-    fs::create_directories(dir / "out_05.png");   // a folder where frame 5 goes
-    CommandResult r = run_prism("render -q --backend cpu" + kFrame + " --frames 3-7 --out " + quoted(dir / "out_%02d.png"));
+    fs::create_directories(dir / "out_05.png");  // a folder where frame 5 goes
+    CommandResult r =
+        run_prism("render -q --backend cpu" + kFrame + " --frames 3-7 --out " + quoted(dir / "out_%02d.png"));
     EXPECT_EQ(r.exit_code, 1) << r.output;
     EXPECT_NE(r.output.find("out_05.png"), std::string::npos) << r.output;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;

@@ -52,13 +52,18 @@ json composed_scene() {
         {"camera", {{"position", {0, 1, 5}}, {"target", {0, 0.5, 0}}, {"fov", 40}}},
         {"environment", {{"cubemap", scenes + "/env/cubemap-miramar"}, {"intensity", 0.5}}},
         {"ambient", {0.2, 0.2, 0.2}},
-        {"lights", {{{"type", "point"}, {"position", {1, 4, 2}}, {"intensity", 10}},
-                    {{"type", "directional"}, {"direction", {0, -2, 0}}, {"color", {1, 0.9, 0.8}}}}},
+        {"lights",
+         {{{"type", "point"}, {"position", {1, 4, 2}}, {"intensity", 10}},
+          {{"type", "directional"}, {"direction", {0, -2, 0}}, {"color", {1, 0.9, 0.8}}}}},
         {"materials",
          {{"chrome", {{"diffuse", 0.7}, {"reflectivity", 0.8}}},
           {"glass", {{"transmittance", 0.9}, {"reflectivity", 1}, {"ior", {1.5, 1.52, 1.54}}, {"thickness", 0.01}}},
-          {"logo", {{"textures", {{{"file", scenes + "/gltf/BoxTextured/gltf-separate/CesiumLogoFlat.png"},
-                                    {"mode", "decal"}, {"env_color", {1, 0, 0}}, {"uv_set", 1}}}}}}}},
+          {"logo",
+           {{"textures",
+             {{{"file", scenes + "/gltf/BoxTextured/gltf-separate/CesiumLogoFlat.png"},
+               {"mode", "decal"},
+               {"env_color", {1, 0, 0}},
+               {"uv_set", 1}}}}}}}},
         {"objects",
          {{{"file", scenes + "/stanford/bunny_res2.ply"},
            {"name", "bunny"},
@@ -113,7 +118,7 @@ TEST(SceneJson, ComposesPlyAndGltfWithTransformsAndMaterials) {
     EXPECT_EQ(glass.name, "glass");
     EXPECT_EQ(glass.ior, glm::vec3(1.5f, 1.52f, 1.54f));
     EXPECT_EQ(glass.thickness, 0.01f);
-    EXPECT_NEAR(glass.fresnel_bias, std::pow(0.52f / 2.52f, 2.0f), 1e-6f);   // Schlick default
+    EXPECT_NEAR(glass.fresnel_bias, std::pow(0.52f / 2.52f, 2.0f), 1e-6f);  // Schlick default
     EXPECT_NE(scene.materials[scene.meshes[box->mesh].triangle_materials[0]].name, "chrome");
 
     const Material* logo = nullptr;
@@ -130,7 +135,7 @@ TEST(SceneJson, ComposesPlyAndGltfWithTransformsAndMaterials) {
 
 TEST(SceneJson, SameFileAndMaterialIsInstancedNotCopied) {
     json document = composed_scene();
-    document["objects"][1]["material"] = "chrome";   // now both bunnies are (file, chrome)
+    document["objects"][1]["material"] = "chrome";  // now both bunnies are (file, chrome)
     Scene scene = load_anywhere(write_scene("instanced.json", document));
     EXPECT_EQ(find_instance(scene, "bunny")->mesh, find_instance(scene, "glass bunny")->mesh);
 }
@@ -139,9 +144,9 @@ TEST(SceneJson, PathsAreRelativeToTheSceneFile) {
     std::filesystem::path folder = test::temp_dir("relative_scene");
     std::filesystem::create_directories(folder / "models");
     std::ofstream(folder / "models" / "tri.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
-                                                  "property float y\nproperty float z\nelement face 1\n"
-                                                  "property list uchar int vertex_indices\nend_header\n"
-                                                  "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+                                                    "property float y\nproperty float z\nelement face 1\n"
+                                                    "property list uchar int vertex_indices\nend_header\n"
+                                                    "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
     json document = {{"objects", {{{"file", "models/tri.ply"}}}}, {"environment", {{"color", {0.1, 0.2, 0.3}}}}};
     std::ofstream(folder / "scene.json") << document.dump();
     Scene scene = load_scene_json(folder / "scene.json");
@@ -155,7 +160,7 @@ TEST(SceneJson, PathsAreRelativeToTheSceneFile) {
 TEST(SceneJson, ExampleSceneInDocsLoads) {
     std::filesystem::path example = std::filesystem::path(PRISM_SOURCE_DIR) / "docs/examples/bunny-and-helmet.json";
     LoadOptions options;
-    options.allow_any_path = true;   // the example reads the shared scenes beside the repository
+    options.allow_any_path = true;  // the example reads the shared scenes beside the repository
     Scene scene = load_scene(example.string(), options);
     EXPECT_EQ(scene.instances.size(), 4u);
     EXPECT_EQ(scene.triangle_count(), 2 + 2 * 69451u + 15452u);
@@ -172,7 +177,10 @@ struct BrokenCase {
 
 const BrokenCase kBrokenCases[] = {
     {"unknown_top", [](json& d) { d["objcts"] = json::array(); }, "objcts: unknown key"},
-    {"unknown_nested", [](json& d) { d["objects"][0]["transform"]["translation"] = {0, 0, 0}; },
+    {"unknown_nested",
+     [](json& d) {
+         d["objects"][0]["transform"]["translation"] = {0, 0, 0};
+     },
      "objects[0].transform.translation: unknown key"},
     {"unknown_material_field", [](json& d) { d["materials"]["chrome"]["roughness"] = 0.5; },
      "materials.chrome.roughness: unknown key"},
@@ -182,11 +190,18 @@ const BrokenCase kBrokenCases[] = {
          d["objects"][2]["transform"] = {{"scale", "big"}};
      },
      "objects[2].transform.scale: expected a number or 3 numbers"},
-    {"scale_length", [](json& d) { d["objects"][0]["transform"]["scale"] = {1, 2}; },
+    {"scale_length",
+     [](json& d) {
+         d["objects"][0]["transform"]["scale"] = {1, 2};
+     },
      "objects[0].transform.scale: expected a number or 3 numbers"},
     {"translate_type", [](json& d) { d["objects"][1]["transform"]["translate"] = 3; },
      "objects[1].transform.translate: expected 3 numbers"},
-    {"matrix_length", [](json& d) { d["objects"][2]["matrix"] = {1, 0, 0}; }, "objects[2].matrix: expected 16 numbers"},
+    {"matrix_length",
+     [](json& d) {
+         d["objects"][2]["matrix"] = {1, 0, 0};
+     },
+     "objects[2].matrix: expected 16 numbers"},
     {"both_transforms", [](json& d) { d["objects"][2]["transform"] = json::object(); },
      "objects[2]: give either transform or matrix"},
     {"camera_fov", [](json& d) { d["camera"]["fov"] = "wide"; }, "camera.fov: expected a number"},
@@ -240,7 +255,8 @@ TEST(SceneJson, InvalidJsonReportsWhere) {
 }
 
 TEST(SceneJson, ErrorsInsideAModelFileNameThatFile) {
-    std::filesystem::path broken_model = test::write_file("broken_model.ply", "ply\nformat ascii 1.0\nelement vertex 3\n");
+    std::filesystem::path broken_model =
+        test::write_file("broken_model.ply", "ply\nformat ascii 1.0\nelement vertex 3\n");
     json document = {{"objects", {{{"file", broken_model.string()}}}}};
     std::filesystem::path path = write_scene("broken_model_scene.json", document);
     EXPECT_EQ(error_message(path).rfind(broken_model.string() + ":", 0), 0u) << error_message(path);
@@ -270,11 +286,11 @@ TEST(SceneJson, MaterialOverridesShareTheMeshOnTheDevice) {
     EXPECT_EQ(device.triangles.size(), 1u);
     std::vector<uint32_t> materials;
     for (const ::Instance& instance : device.instances) {
-        EXPECT_EQ(instance.info.x, device.instances[0].info.x);   // one BVH root
+        EXPECT_EQ(instance.info.x, device.instances[0].info.x);  // one BVH root
         materials.push_back(device.triangle_shading.at(instance.info.z).vertices.w);
     }
     EXPECT_EQ(materials, (std::vector<uint32_t>{0, 1, 2, 1}));
-    EXPECT_EQ(device.instances[1].info.z, device.instances[3].info.z);   // one copy per (mesh, material)
+    EXPECT_EQ(device.instances[1].info.z, device.instances[3].info.z);  // one copy per (mesh, material)
 }
 
 }  // namespace prism

@@ -39,11 +39,11 @@ Scene quad_scene() {
     return scene;
 }
 
-std::string validation_error(const Scene& scene) { return error_message([&] { validate_scene(scene); }); }
-
-TEST(SceneValidate, AcceptsAValidScene) {
-    EXPECT_NO_THROW(validate_scene(quad_scene()));
+std::string validation_error(const Scene& scene) {
+    return error_message([&] { validate_scene(scene); });
 }
+
+TEST(SceneValidate, AcceptsAValidScene) { EXPECT_NO_THROW(validate_scene(quad_scene())); }
 
 TEST(SceneValidate, DegenerateTrianglesAreAllowed) {
     Scene scene = quad_scene();
@@ -139,9 +139,10 @@ TEST(SceneValidate, LoadedAssetsPass) {
 }
 
 TEST(SceneValidate, NanVertexFromAPlyFile) {
-    const std::string ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                            "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
-                            "0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n";
+    const std::string ply =
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+        "0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n";
     const std::filesystem::path path = test::write_file("nan_vertex.ply", ply);
     Scene scene;
     scene.source = path.string();

@@ -72,8 +72,8 @@ void expect_ray_counts_near(const prism::FrameStats& expected, const prism::Fram
 double psnr_rgba8(const std::vector<uint32_t>& a, const std::vector<uint32_t>& b);
 
 struct CommandResult {
-    int exit_code = -1;   // the process exit status; 128 + signal when killed by a signal
-    std::string output;   // stdout and stderr together
+    int exit_code = -1;  // the process exit status; 128 + signal when killed by a signal
+    std::string output;  // stdout and stderr together
 };
 // Runs the prism binary with the given arguments (a shell-quoted string), after `launcher` when one is given
 // (e.g. "xvfb-run -a" for the viewer, "env -u DISPLAY").
@@ -91,8 +91,10 @@ public:
         setenv(name, value.c_str(), 1);
     }
     ~ScopedEnv() {
-        if (old_) setenv(name_, old_->c_str(), 1);
-        else unsetenv(name_);
+        if (old_)
+            setenv(name_, old_->c_str(), 1);
+        else
+            unsetenv(name_);
     }
     ScopedEnv(const ScopedEnv&) = delete;
     ScopedEnv& operator=(const ScopedEnv&) = delete;

@@ -62,7 +62,8 @@ TEST_P(TileAgreement, AssembledTilesEqualTheWholeFrame) {
         ASSERT_EQ(piece.width, tile.width);
         ASSERT_EQ(piece.image.size(), tile.pixels());
         prism::place_region(std::span<uint32_t>(image), settings.width, tile, std::span<const uint32_t>(piece.image));
-        prism::place_region(std::span<float>(radiance), settings.width, tile, std::span<const float>(piece.radiance), 4);
+        prism::place_region(std::span<float>(radiance), settings.width, tile, std::span<const float>(piece.radiance),
+                            4);
         rays += piece.stats.total_rays();
     }
     EXPECT_EQ(image, whole.image);

@@ -51,13 +51,13 @@ test::Rgb render_rule(const std::string& name, const char* rule) {
 
 TEST(VertexColorRule, MultiplyIsTheDefaultAndReplaceIsTheSeedsRule) {
     test::Rgb multiplied = render_rule("rule_default", nullptr);
-    EXPECT_GT(multiplied.r, 100);   // red x (0.2, 0.2, 1) = (0.2, 0, 0)
+    EXPECT_GT(multiplied.r, 100);  // red x (0.2, 0.2, 1) = (0.2, 0, 0)
     EXPECT_LT(multiplied.r, 150);
     EXPECT_LT(multiplied.b, 10);
     test::Rgb explicit_multiply = render_rule("rule_multiply", "multiply");
     EXPECT_EQ(explicit_multiply.r, multiplied.r);
     test::Rgb replaced = render_rule("rule_replace", "replace");
-    EXPECT_GT(replaced.r, 240);     // the vertex colour alone
+    EXPECT_GT(replaced.r, 240);  // the vertex colour alone
     EXPECT_LT(replaced.b, 10);
 }
 
@@ -69,7 +69,8 @@ TEST(VertexColorRule, ReplaceKeepsTheMaterialColourWhereTheMeshHasNoColours) {
     std::filesystem::path model = gltf.write("uncoloured_quad.gltf");
     json document = {{"materials", {{"seed", {{"diffuse", {0.0, 1.0, 0.0}}, {"vertex_colors", "replace"}}}}},
                      {"objects", {{{"file", model.filename().string()}, {"material", "seed"}}}}};
-    test::Rgb pixel = centre_in_white_ambient_light(load_scene_json(test::write_file("uncoloured.json", document.dump())));
+    test::Rgb pixel =
+        centre_in_white_ambient_light(load_scene_json(test::write_file("uncoloured.json", document.dump())));
     EXPECT_GT(pixel.g, 240);
     EXPECT_LT(pixel.r, 10);
 }

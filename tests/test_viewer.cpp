@@ -34,7 +34,7 @@ TEST(ViewerKeys, ParsesScriptSortedByFrame) {
     EXPECT_EQ(script[0].action, Action::ToggleMoving);
     EXPECT_EQ(script[1].action, Action::DepthUp);
     EXPECT_EQ(script[2].action, Action::DepthDown);
-    EXPECT_EQ(script[3].action, Action::Backend2);   // same frame: order kept
+    EXPECT_EQ(script[3].action, Action::Backend2);  // same frame: order kept
     EXPECT_EQ(script[4].action, Action::Screenshot);
     EXPECT_EQ(script[5].action, Action::Quit);
     EXPECT_TRUE(prism::viewer::parse_key_script("").empty());
@@ -67,15 +67,15 @@ TEST(ViewerCamera, OrbitKeepsDistanceAndTarget) {
     const prism::Camera& c = controls.camera();
     EXPECT_NEAR(glm::length(c.position - c.target), 5.0f, 1e-4f);
     EXPECT_NEAR(c.target.x, 0.0f, 1e-6f);
-    EXPECT_NEAR(c.position.y, 1.0f, 1e-4f);   // a pure yaw stays at the same height
+    EXPECT_NEAR(c.position.y, 1.0f, 1e-4f);  // a pure yaw stays at the same height
     EXPECT_NEAR(std::abs(c.position.x), 5.0f, 1e-4f);
-    controls.orbit(0.0f, glm::radians(30.0f));   // the eye rises: 5 * sin(30°) above the target
+    controls.orbit(0.0f, glm::radians(30.0f));  // the eye rises: 5 * sin(30°) above the target
     EXPECT_NEAR(glm::length(controls.camera().position - c.target), 5.0f, 1e-4f);
     EXPECT_NEAR(controls.camera().position.y, 1.0f + 2.5f, 1e-3f);
 }
 
 TEST(ViewerCamera, DraggingRightMovesTheEyeLeft) {
-    prism::viewer::CameraControls controls(test_camera());   // eye on +z looking at -z: left is -x
+    prism::viewer::CameraControls controls(test_camera());  // eye on +z looking at -z: left is -x
     controls.orbit(0.1f, 0.0f);
     EXPECT_LT(controls.camera().position.x, 0.0f);
 }
@@ -86,20 +86,20 @@ TEST(ViewerCamera, PitchStopsShortOfThePoles) {
         for (int i = 0; i < 100; ++i) controls.orbit(0.0f, pitch);
         glm::vec3 direction = glm::normalize(controls.camera().position - controls.camera().target);
         EXPECT_NEAR(std::abs(glm::dot(direction, glm::vec3(0.0f, 1.0f, 0.0f))), std::cos(glm::radians(5.0f)), 1e-4f);
-        EXPECT_GT(pitch * direction.y, 0.0f);   // stopped at the pole it was heading for
+        EXPECT_GT(pitch * direction.y, 0.0f);  // stopped at the pole it was heading for
     }
 }
 
 TEST(ViewerCamera, FlyMovesEyeAndTargetTogetherAndZoomApproaches) {
     prism::viewer::CameraControls controls(test_camera());
-    controls.fly({0.0f, 0.0f, 0.5f});   // forward: -z here, 0.5 world units
+    controls.fly({0.0f, 0.0f, 0.5f});  // forward: -z here, 0.5 world units
     EXPECT_NEAR(controls.camera().position.z, 4.5f, 1e-4f);
     EXPECT_NEAR(controls.camera().target.z, -0.5f, 1e-4f);
-    controls.fly({1.0f, 0.0f, 0.0f});   // right: +x
+    controls.fly({1.0f, 0.0f, 0.0f});  // right: +x
     EXPECT_NEAR(controls.camera().position.x, 1.0f, 1e-4f);
     controls.zoom(1.0f);
     EXPECT_NEAR(glm::length(controls.camera().position - controls.camera().target), 4.5f, 1e-4f);
-    for (int i = 0; i < 1000; ++i) controls.zoom(1.0f);   // never reaches the target
+    for (int i = 0; i < 1000; ++i) controls.zoom(1.0f);  // never reaches the target
     EXPECT_GT(glm::length(controls.camera().position - controls.camera().target), 0.0f);
     controls.reset();
     EXPECT_EQ(controls.camera().position, test_camera().position);
@@ -113,8 +113,8 @@ using prism::test::read_png;
 using prism::test::view;
 
 TEST(Viewer, WithoutDisplayFailsInOneLine) {
-    prism::test::CommandResult result = prism::test::run_prism(
-        "view " + kScene + " --frames 1", "env -u DISPLAY -u WAYLAND_DISPLAY");
+    prism::test::CommandResult result =
+        prism::test::run_prism("view " + kScene + " --frames 1", "env -u DISPLAY -u WAYLAND_DISPLAY");
     EXPECT_EQ(result.exit_code, 1) << result.output;
     EXPECT_EQ(result.output, "prism: error: view: cannot open a window (no DISPLAY; run under xvfb-run -a)\n");
 }
@@ -146,12 +146,12 @@ TEST(Viewer, SecondsMustNotBeNegative) {
 }
 
 struct ViewerBackend {
-    std::string spec;     // as given to --backend
+    std::string spec;  // as given to --backend
     std::string api;
-    std::string device;   // substring of the device name that must be present, lower case
+    std::string device;  // substring of the device name that must be present, lower case
 };
 
-void PrintTo(const ViewerBackend& backend, std::ostream* out) { *out << backend.spec; }   // readable ctest names
+void PrintTo(const ViewerBackend& backend, std::ostream* out) { *out << backend.spec; }  // readable ctest names
 
 class ViewerOnBackend : public testing::TestWithParam<ViewerBackend> {
 protected:
@@ -181,7 +181,8 @@ TEST_P(ViewerOnBackend, WindowReadBackEqualsRender) {
 TEST_P(ViewerOnBackend, MovingObjectChangesTheImage) {
     auto dir = prism::test::temp_dir("viewer-moving-" + GetParam().api);
     std::filesystem::path still = dir / "still.png", moving = dir / "moving.png";
-    prism::test::CommandResult a = view("--backend " + GetParam().spec + " --frames 4 --screenshot '" + still.string() + "'");
+    prism::test::CommandResult a =
+        view("--backend " + GetParam().spec + " --frames 4 --screenshot '" + still.string() + "'");
     prism::test::CommandResult b =
         view("--backend " + GetParam().spec + " --frames 4 --keys 0:M --screenshot '" + moving.string() + "'");
     ASSERT_EQ(a.exit_code, 0) << a.output;
@@ -208,7 +209,7 @@ TEST(Viewer, SwitchesBackendLiveAndKeepsTheCamera) {
         view("--backend cpu --frames 4 --keys 2:1 --screenshot '" + shot.string() + "'");
     ASSERT_EQ(result.exit_code, 0) << result.output;
     EXPECT_NE(result.output.find("switched to cpu-ref"), std::string::npos) << result.output;
-    EXPECT_NE(result.output.find("last frame (cpu-ref ["), std::string::npos) << result.output;   // the final HUD line
+    EXPECT_NE(result.output.find("last frame (cpu-ref ["), std::string::npos) << result.output;  // the final HUD line
     EXPECT_GE(psnr_against_render(shot, "cpu-ref"), 45.0);
 }
 
@@ -239,14 +240,15 @@ TEST(Viewer, ScriptedCameraAndDepthKeysChangeTheFrame) {
     REQUIRE_XVFB();
     auto dir = prism::test::temp_dir("viewer-keys");
     std::filesystem::path moved = dir / "moved.png", reset = dir / "reset.png";
-    prism::test::CommandResult a = view("--backend cpu --frames 2 --keys 0:W,0:D,0:- --screenshot '" + moved.string() + "'");
+    prism::test::CommandResult a =
+        view("--backend cpu --frames 2 --keys 0:W,0:D,0:- --screenshot '" + moved.string() + "'");
     prism::test::CommandResult b =
         view("--backend cpu --frames 2 --keys 0:W,0:+,1:R,1:- --screenshot '" + reset.string() + "'");
     ASSERT_EQ(a.exit_code, 0) << a.output;
     ASSERT_EQ(b.exit_code, 0) << b.output;
     EXPECT_NE(a.output.find("depth 7"), std::string::npos) << a.output;
-    EXPECT_LT(psnr_against_render(moved, "cpu"), 30.0);   // the camera flew
-    EXPECT_GE(psnr_against_render(reset, "cpu"), 45.0);   // R: back home, depth back to 8
+    EXPECT_LT(psnr_against_render(moved, "cpu"), 30.0);  // the camera flew
+    EXPECT_GE(psnr_against_render(reset, "cpu"), 45.0);  // R: back home, depth back to 8
 }
 
 }  // namespace

@@ -46,8 +46,9 @@ TEST(ViewerHeadless, LavapipeSharesItsFrameWithEglGl) {
     REQUIRE_BACKEND("vulkan", "llvmpipe");
     auto dir = prism::test::temp_dir("viewer-headless-vulkan");
     std::filesystem::path shot = dir / "vulkan-gl.png", stats = dir / "stats.json";
-    prism::test::CommandResult result = headless("--backend vulkan:llvmpipe --frames 3 --display interop --screenshot '" +
-                                                 shot.string() + "' --stats '" + stats.string() + "'");
+    prism::test::CommandResult result =
+        headless("--backend vulkan:llvmpipe --frames 3 --display interop --screenshot '" + shot.string() +
+                 "' --stats '" + stats.string() + "'");
     SKIP_IF_MESA_CANNOT_SHARE(result);
     ASSERT_EQ(result.exit_code, 0) << result.output;
     nlohmann::json json = read_json(stats);
@@ -89,20 +90,20 @@ TEST(ViewerHeadless, ScriptedKeysStillApply) {
     auto a = prism::test::read_png(still, &w1, &h1);
     auto b = prism::test::read_png(moved, &w2, &h2);
     ASSERT_EQ(a.size(), b.size());
-    EXPECT_LT(prism::test::psnr_rgba8(a, b), 40.0);   // the object moved
+    EXPECT_LT(prism::test::psnr_rgba8(a, b), 40.0);  // the object moved
 }
 
 // PRISM_VIEW_ABLATE (bench/view_gpu.sh's split of the interop cost) is refused in one line where it cannot apply.
 TEST(ViewerHeadless, AblationNeedsAnInteropWithoutSemaphores) {
-    prism::test::CommandResult host = prism::test::run_prism(
-        "view " + kScene + " --headless --backend cpu --frames 1", "env -u DISPLAY PRISM_VIEW_ABLATE=gl");
+    prism::test::CommandResult host = prism::test::run_prism("view " + kScene + " --headless --backend cpu --frames 1",
+                                                             "env -u DISPLAY PRISM_VIEW_ABLATE=gl");
     EXPECT_EQ(host.exit_code, 1) << host.output;
     EXPECT_NE(host.output.find("prism: error: view: PRISM_VIEW_ABLATE needs an interop display without shared "
                                "semaphores (this one: interop: host copy (the frame is already in host memory))\n"),
               std::string::npos)
         << host.output;
-    prism::test::CommandResult bad = prism::test::run_prism(
-        "view " + kScene + " --headless --backend cpu --frames 1", "env -u DISPLAY PRISM_VIEW_ABLATE=draw");
+    prism::test::CommandResult bad = prism::test::run_prism("view " + kScene + " --headless --backend cpu --frames 1",
+                                                            "env -u DISPLAY PRISM_VIEW_ABLATE=draw");
     EXPECT_EQ(bad.exit_code, 1) << bad.output;
     EXPECT_NE(bad.output.find("PRISM_VIEW_ABLATE='draw' is not one of copy, gl"), std::string::npos) << bad.output;
 }
@@ -110,7 +111,8 @@ TEST(ViewerHeadless, AblationNeedsAnInteropWithoutSemaphores) {
 TEST(ViewerHeadless, NeedsAnEnd) {
     prism::test::CommandResult result = headless("--backend cpu");
     EXPECT_EQ(result.exit_code, 1) << result.output;
-    EXPECT_EQ(result.output, "prism: error: view: --headless needs --frames or --seconds (there is no window to close)\n");
+    EXPECT_EQ(result.output,
+              "prism: error: view: --headless needs --frames or --seconds (there is no window to close)\n");
 }
 
 }  // namespace

@@ -32,7 +32,7 @@ TEST(ViewerHeldKeys, HeldTimeIsCountedBetweenUpdatesWhateverTheFrameRate) {
     EXPECT_NEAR(keys.collect(10.51).z, 0.01f, 1e-6f);
     EXPECT_NEAR(keys.collect(11.0).z, 0.49f, 1e-6f);
     keys.release(FlyKey::Forward, 11.2);
-    EXPECT_NEAR(keys.collect(12.0).z, 0.2f, 1e-6f);   // only until the release
+    EXPECT_NEAR(keys.collect(12.0).z, 0.2f, 1e-6f);  // only until the release
     EXPECT_EQ(keys.collect(13.0), glm::vec3(0.0f));
     EXPECT_FALSE(keys.any_down());
 }
@@ -40,13 +40,13 @@ TEST(ViewerHeldKeys, HeldTimeIsCountedBetweenUpdatesWhateverTheFrameRate) {
 TEST(ViewerHeldKeys, TapsBetweenUpdatesCountAndRepeatsDoNot) {
     HeldKeys keys;
     keys.press(FlyKey::Left, 1.0);
-    keys.press(FlyKey::Left, 1.05);   // key repeat: ignored
+    keys.press(FlyKey::Left, 1.05);  // key repeat: ignored
     keys.release(FlyKey::Left, 1.1);
     keys.press(FlyKey::Left, 1.3);
     keys.release(FlyKey::Left, 1.4);
-    keys.release(FlyKey::Up, 1.4);    // a release of a key that is up: ignored
+    keys.release(FlyKey::Up, 1.4);  // a release of a key that is up: ignored
     glm::vec3 held = keys.collect(2.0);
-    EXPECT_NEAR(held.x, -0.2f, 1e-6f);   // left is -x
+    EXPECT_NEAR(held.x, -0.2f, 1e-6f);  // left is -x
     EXPECT_EQ(held.y, 0.0f);
 }
 
@@ -107,14 +107,14 @@ prism::Aabb box(glm::vec3 lower, glm::vec3 upper) {
 
 TEST(ViewerCamera, FlySpeedIsATenthOfTheSceneDiagonalPerSecond) {
     prism::viewer::CameraControls controls(camera_at({0, 0, 10}, {0, 0, 0}));
-    controls.set_scene_bounds(box({0, 0, 0}, {3, 4, 0}));   // diagonal 5
+    controls.set_scene_bounds(box({0, 0, 0}, {3, 4, 0}));  // diagonal 5
     EXPECT_NEAR(controls.fly_speed(), 0.5f, 1e-6f);
-    controls.fly_for({0.0f, 0.0f, 2.0f});   // 2 s forward (-z)
+    controls.fly_for({0.0f, 0.0f, 2.0f});  // 2 s forward (-z)
     EXPECT_NEAR(controls.camera().position.z, 9.0f, 1e-5f);
     EXPECT_NEAR(controls.camera().target.z, -1.0f, 1e-5f);
-    controls.set_scene_bounds(box({0, 0, 0}, {30, 40, 0}));   // ten times the scene: ten times the speed
+    controls.set_scene_bounds(box({0, 0, 0}, {30, 40, 0}));  // ten times the scene: ten times the speed
     EXPECT_NEAR(controls.fly_speed(), 5.0f, 1e-5f);
-    controls.set_scene_bounds(prism::Aabb{});   // no geometry: a speed still
+    controls.set_scene_bounds(prism::Aabb{});  // no geometry: a speed still
     EXPECT_GT(controls.fly_speed(), 0.0f);
 }
 
@@ -122,10 +122,10 @@ TEST(ViewerCamera, PanKeepsThePointAtTheTargetDepthUnderThePointer) {
     prism::viewer::CameraControls controls(camera_at({0, 0, 10}, {0, 0, 0}));
     // 60 degrees over 100 pixels at distance 10: the view is 2 * 10 * tan(30°) units high.
     float per_pixel = 2.0f * 10.0f * std::tan(glm::radians(30.0f)) / 100.0f;
-    controls.pan({10.0f, 0.0f}, 100);   // dragging right: the scene follows, the eye goes left (-x)
+    controls.pan({10.0f, 0.0f}, 100);  // dragging right: the scene follows, the eye goes left (-x)
     EXPECT_NEAR(controls.camera().position.x, -10.0f * per_pixel, 1e-4f);
     EXPECT_NEAR(controls.camera().target.x, -10.0f * per_pixel, 1e-4f);
-    controls.pan({0.0f, 20.0f}, 100);   // dragging down: the eye goes up
+    controls.pan({0.0f, 20.0f}, 100);  // dragging down: the eye goes up
     EXPECT_NEAR(controls.camera().position.y, 20.0f * per_pixel, 1e-4f);
     EXPECT_NEAR(glm::length(controls.camera().position - controls.camera().target), 10.0f, 1e-4f);
 }
@@ -133,15 +133,16 @@ TEST(ViewerCamera, PanKeepsThePointAtTheTargetDepthUnderThePointer) {
 TEST(ViewerCamera, FrameSceneLooksAtTheBoundsFromWhereTheyFit) {
     prism::viewer::CameraControls controls(camera_at({0, 0, 1}, {0, 0, 0}));
     controls.set_scene_bounds(box({10, 10, 10}, {12, 12, 12}));
-    controls.frame_scene(2.0f);   // wide: the vertical field of view is the narrower
+    controls.frame_scene(2.0f);  // wide: the vertical field of view is the narrower
     const prism::Camera& c = controls.camera();
     EXPECT_NEAR(glm::length(c.target - glm::vec3(11, 11, 11)), 0.0f, 1e-4f);
     float radius = std::sqrt(3.0f);
     EXPECT_NEAR(glm::length(c.position - c.target), radius / std::sin(glm::radians(30.0f)), 1e-3f);
-    EXPECT_NEAR(c.position.x, 11.0f, 1e-4f);   // the viewing direction kept (-z)
+    EXPECT_NEAR(c.position.x, 11.0f, 1e-4f);  // the viewing direction kept (-z)
     EXPECT_GT(c.position.z, c.target.z);
-    controls.frame_scene(0.5f);   // tall: the horizontal field of view is narrower, so farther away
-    EXPECT_GT(glm::length(controls.camera().position - controls.camera().target), radius / std::sin(glm::radians(30.0f)));
+    controls.frame_scene(0.5f);  // tall: the horizontal field of view is narrower, so farther away
+    EXPECT_GT(glm::length(controls.camera().position - controls.camera().target),
+              radius / std::sin(glm::radians(30.0f)));
 }
 
 TEST(ViewerInteractiveScale, FixedAndAutomatic) {
@@ -150,20 +151,20 @@ TEST(ViewerInteractiveScale, FixedAndAutomatic) {
     EXPECT_DOUBLE_EQ(fixed.moving_scale(), 0.25);
     EXPECT_FALSE(fixed.automatic());
 
-    prism::viewer::InteractiveScale automatic("auto", 25.0);   // 40 ms a frame
+    prism::viewer::InteractiveScale automatic("auto", 25.0);  // 40 ms a frame
     EXPECT_DOUBLE_EQ(automatic.moving_scale(), 1.0);
-    automatic.record(200, 100, 160.0);   // four times too slow at full size: half the resolution per axis
+    automatic.record(200, 100, 160.0);  // four times too slow at full size: half the resolution per axis
     EXPECT_DOUBLE_EQ(automatic.moving_scale(), 0.5);
-    automatic.record(100, 50, 30.0);     // between half the target and the target: kept
+    automatic.record(100, 50, 30.0);  // between half the target and the target: kept
     EXPECT_DOUBLE_EQ(automatic.moving_scale(), 0.5);
-    automatic.record(100, 50, 2.5);      // far faster than needed: back up, at most to full size
+    automatic.record(100, 50, 2.5);  // far faster than needed: back up, at most to full size
     EXPECT_DOUBLE_EQ(automatic.moving_scale(), 1.0);
-    automatic.record(200, 100, 100000.0);   // never below 1/8
+    automatic.record(200, 100, 100000.0);  // never below 1/8
     EXPECT_DOUBLE_EQ(automatic.moving_scale(), 0.125);
 
     EXPECT_EQ(prism::viewer::InteractiveScale::scaled(1920, 0.5), 960u);
-    EXPECT_EQ(prism::viewer::InteractiveScale::scaled(40, 0.125), 8u);   // at least 8 pixels
-    EXPECT_EQ(prism::viewer::InteractiveScale::scaled(4, 0.5), 4u);       // never above full size
+    EXPECT_EQ(prism::viewer::InteractiveScale::scaled(40, 0.125), 8u);  // at least 8 pixels
+    EXPECT_EQ(prism::viewer::InteractiveScale::scaled(4, 0.5), 4u);     // never above full size
 }
 
 TEST(ViewerInteractiveScale, BadSettingsNameTheOption) {

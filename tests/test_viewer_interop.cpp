@@ -21,11 +21,11 @@
 
 namespace {
 
-using prism::viewer::DisplayMode;
-using prism::viewer::DisplayPath;
 using prism::test::psnr_against_render;
 using prism::test::read_json;
 using prism::test::view;
+using prism::viewer::DisplayMode;
+using prism::viewer::DisplayPath;
 
 // --- units -------------------------------------------------------------------------------------------------
 
@@ -48,10 +48,10 @@ TEST(ViewerDisplayPath, AutoTakesTheInteropTheBackendOffers) {
     EXPECT_STREQ(path.kind_name(), "interop");
     prism::RenderSettings settings;
     prism::viewer::set_read_back(path, settings);
-    EXPECT_FALSE(settings.read_image);   // the frame's own submission copies the device's image into GL's buffer
+    EXPECT_FALSE(settings.read_image);  // the frame's own submission copies the device's image into GL's buffer
     EXPECT_TRUE(settings.copy_to_gl);
     EXPECT_FALSE(settings.read_radiance);
-    prism::viewer::set_read_back(path, settings, false);   // a frame only rendered (--alternate-display)
+    prism::viewer::set_read_back(path, settings, false);  // a frame only rendered (--alternate-display)
     EXPECT_FALSE(settings.copy_to_gl);
     EXPECT_FALSE(settings.read_image);
 }
@@ -78,7 +78,7 @@ TEST(ViewerDisplayPath, HostCopyAndNoneAreForcedEvenWithInterop) {
     EXPECT_EQ(none.kind, DisplayPath::Kind::None);
     prism::RenderSettings settings;
     prism::viewer::set_read_back(none, settings);
-    EXPECT_FALSE(settings.read_image);   // render alone: nothing leaves the device
+    EXPECT_FALSE(settings.read_image);  // render alone: nothing leaves the device
     EXPECT_FALSE(settings.copy_to_gl);
 }
 
@@ -86,8 +86,9 @@ TEST(ViewerDisplayPath, ForcedInteropWithoutOneIsAnError) {
     std::string message = prism::test::error_message([] {
         prism::viewer::choose_display_path(DisplayMode::Interop, kPocl, {nullptr, "no cl_khr_gl_sharing"});
     });
-    EXPECT_EQ(message, "view: --display interop: no GL interop for opencl [pthread-haswell-AMD EPYC] "
-                       "(no cl_khr_gl_sharing)");
+    EXPECT_EQ(message,
+              "view: --display interop: no GL interop for opencl [pthread-haswell-AMD EPYC] "
+              "(no cl_khr_gl_sharing)");
 }
 
 TEST(ViewerDisplayPath, ParsesTheModes) {
@@ -116,7 +117,7 @@ TEST(ViewerFrameTimings, MediansSkipTheWarmUp) {
     EXPECT_EQ(json["per_frame"]["frame_ms"].size(), 20u);
     EXPECT_EQ(json["warmup_frames"], 5);
 
-    prism::viewer::FrameTimings two;   // short runs keep most frames: 1 of 4 is warm-up
+    prism::viewer::FrameTimings two;  // short runs keep most frames: 1 of 4 is warm-up
     for (double ms : {50.0, 4.0, 6.0, 8.0}) two.add({ms, 0.0, 0.0, ms});
     EXPECT_EQ(two.warmup(), 1u);
     EXPECT_DOUBLE_EQ(two.summary().frame_ms, 6.0);
@@ -136,8 +137,8 @@ TEST(ViewerFrameTimings, AlternatingBlocksCompareShownWithHiddenFrames) {
         timings.add(t);
     }
     prism::viewer::FrameTimings::Summary s = timings.summary();
-    EXPECT_EQ(s.shown, 6u);    // frames 7 8, 13 14, 19 20
-    EXPECT_EQ(s.hidden, 7u);   // frames 5 (4 is warm-up), 10 11, 16 17, 22 23
+    EXPECT_EQ(s.shown, 6u);   // frames 7 8, 13 14, 19 20
+    EXPECT_EQ(s.hidden, 7u);  // frames 5 (4 is warm-up), 10 11, 16 17, 22 23
     EXPECT_DOUBLE_EQ(s.shown_frame_ms, 10.3);
     EXPECT_DOUBLE_EQ(s.hidden_frame_ms, 10.0);
     EXPECT_NEAR(s.added_ms, 0.3, 1e-12);
@@ -146,7 +147,7 @@ TEST(ViewerFrameTimings, AlternatingBlocksCompareShownWithHiddenFrames) {
     EXPECT_EQ(json["per_frame"]["shown"][3], false);
     EXPECT_NE(timings.summary_line().find("showing adds 0.300 ms"), std::string::npos) << timings.summary_line();
 
-    prism::viewer::FrameTimings plain;   // without --alternate-display there is no comparison
+    prism::viewer::FrameTimings plain;  // without --alternate-display there is no comparison
     for (int i = 0; i < 8; ++i) plain.add({10.0, 0.1, 0.1, 10.2});
     EXPECT_EQ(plain.summary().shown, 0u);
     EXPECT_TRUE(plain.json()["alternating"].is_null());
@@ -177,7 +178,7 @@ TEST(ViewerInterop, CpuShowsItsHostFrameAndReportsTimings) {
     EXPECT_GT(render, 0.0);
     EXPECT_GT(display, 0.0);
     EXPECT_GT(double(json["median_present_ms"]), 0.0);
-    EXPECT_GE(frame, render);   // a frame holds its render and its display
+    EXPECT_GE(frame, render);  // a frame holds its render and its display
     EXPECT_NEAR(double(json["fps"]), 1000.0 / frame, 1e-6);
     EXPECT_EQ(json["width"], 320);
 }
@@ -187,8 +188,8 @@ TEST(ViewerInterop, PoclFallsBackToHostCopy) {
     REQUIRE_BACKEND("opencl", "portable computing language");
     auto dir = prism::test::temp_dir("viewer-interop-pocl");
     std::filesystem::path stats = dir / "stats.json", shot = dir / "pocl.png";
-    prism::test::CommandResult result = view("--backend opencl:pocl --frames 2 --screenshot '" + shot.string() +
-                                             "' --stats '" + stats.string() + "'");
+    prism::test::CommandResult result =
+        view("--backend opencl:pocl --frames 2 --screenshot '" + shot.string() + "' --stats '" + stats.string() + "'");
     ASSERT_EQ(result.exit_code, 0) << result.output;
     EXPECT_NE(result.output.find("interop: host copy (Portable Computing Language has no cl_khr_gl_sharing)"),
               std::string::npos)
@@ -232,7 +233,7 @@ TEST(ViewerInterop, DisplayNoneRendersWithoutShowing) {
     nlohmann::json json = read_json(stats);
     EXPECT_EQ(json["display"]["path"], "none");
     EXPECT_GT(double(json["median_render_ms"]), 0.0);
-    EXPECT_LT(double(json["median_display_ms"]), 1.0);   // no upload, no draw, no swap: nothing but a clock read
+    EXPECT_LT(double(json["median_display_ms"]), 1.0);  // no upload, no draw, no swap: nothing but a clock read
     EXPECT_LT(double(json["median_present_ms"]), 1.0);
 }
 
@@ -268,9 +269,10 @@ TEST(ViewerInterop, AlternatingDisplayKeepsTheInteropInStep) {
     REQUIRE_BACKEND("vulkan", "llvmpipe");
     auto dir = prism::test::temp_dir("viewer-interop-alternate");
     std::filesystem::path stats = dir / "stats.json", shot = dir / "alternate.png";
-    prism::test::CommandResult result =
-        view("--backend vulkan:llvmpipe --frames 7 --alternate-display 2 --keys 0:M --interactive-scale 1 "
-             "--display interop --screenshot '" + shot.string() + "' --stats '" + stats.string() + "'");
+    prism::test::CommandResult result = view(
+        "--backend vulkan:llvmpipe --frames 7 --alternate-display 2 --keys 0:M --interactive-scale 1 "
+        "--display interop --screenshot '" +
+        shot.string() + "' --stats '" + stats.string() + "'");
     SKIP_IF_MESA_CANNOT_SHARE(result);
     ASSERT_EQ(result.exit_code, 0) << result.output;
     EXPECT_NE(result.output.find("; alternating: shown "), std::string::npos) << result.output;
@@ -283,12 +285,14 @@ TEST(ViewerInterop, AlternatingDisplayKeepsTheInteropInStep) {
     EXPECT_EQ(shown[0], true);
     EXPECT_EQ(shown[2], false);
     EXPECT_EQ(shown[4], true);
-    EXPECT_TRUE(shown[6].is_null());   // the last frame, shown for the screenshot, is in neither median
+    EXPECT_TRUE(shown[6].is_null());  // the last frame, shown for the screenshot, is in neither median
     // The screenshot is the last frame with the object moved 7 times: `prism render` cannot pose it, so compare
     // with the same run fully shown.
     std::filesystem::path every = dir / "every.png";
-    prism::test::CommandResult reference = view("--backend vulkan:llvmpipe --frames 7 --keys 0:M --interactive-scale 1 "
-                                                "--display interop --screenshot '" + every.string() + "'");
+    prism::test::CommandResult reference = view(
+        "--backend vulkan:llvmpipe --frames 7 --keys 0:M --interactive-scale 1 "
+        "--display interop --screenshot '" +
+        every.string() + "'");
     ASSERT_EQ(reference.exit_code, 0) << reference.output;
     int width = 0, height = 0, every_width = 0, every_height = 0;
     std::vector<uint32_t> alternated = prism::test::read_png(shot, &width, &height);

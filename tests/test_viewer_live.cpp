@@ -27,10 +27,10 @@ const std::string kSmall = "--scene builtin:sphere --backend cpu --width 160 --h
 
 bool have_xdotool() { return std::system("command -v xdotool >/dev/null 2>&1") == 0; }
 
-#define REQUIRE_XDOTOOL()                                                                              \
-    do {                                                                                               \
-        REQUIRE_XVFB();                                                                                \
-        if (!have_xdotool()) GTEST_SKIP() << "xdotool is not installed (apt-get install xdotool)";     \
+#define REQUIRE_XDOTOOL()                                                                          \
+    do {                                                                                           \
+        REQUIRE_XVFB();                                                                            \
+        if (!have_xdotool()) GTEST_SKIP() << "xdotool is not installed (apt-get install xdotool)"; \
     } while (0)
 
 // Runs `prism view ARGUMENTS` under Xvfb; once its window is mapped and has shown its first frame, runs the
@@ -44,8 +44,9 @@ CommandResult view_with_input(const std::string& arguments, const std::string& i
                              "sleep 1.5\n"
                              "xdotool windowfocus --sync \"$win\"\n"
                              "xdotool mousemove --window \"$win\" 150 80\n"
-                          << input << "\n"
-                                      "wait $viewer\n";
+                          << input
+                          << "\n"
+                             "wait $viewer\n";
     return prism::test::run_prism("view " + arguments, "xvfb-run -a sh '" + script.string() + "'");
 }
 
@@ -63,15 +64,15 @@ TEST(ViewerLive, HeldKeyMovesTheCameraByTheTimeItIsHeld) {
     ASSERT_EQ(result.exit_code, 0) << result.output;
     nlohmann::json json = read_json(stats);
     ASSERT_TRUE(json.is_object()) << result.output;
-    glm::vec3 start{0.0f, 2.2f, 5.5f}, target{0.0f, 0.8f, 0.0f};   // builtin:sphere's camera
+    glm::vec3 start{0.0f, 2.2f, 5.5f}, target{0.0f, 0.8f, 0.0f};  // builtin:sphere's camera
     glm::vec3 end = json_vec3(json["camera"]["position"]);
     float speed = json["camera"]["fly_speed"];
     float moved = glm::length(end - start);
     // One second of the fly speed; the tolerance covers when the X server and the viewer see the press and the
     // release (a frame, about 30 ms here, at each end), not a step that depends on the frame rate.
     EXPECT_NEAR(moved, speed * 1.0f, 0.2f * speed) << result.output;
-    EXPECT_GT(glm::dot(end - start, glm::normalize(target - start)), 0.95f * moved);   // forward
-    EXPECT_GT(json["frames_rendered"].get<int>(), 2);   // frames rendered while the key was down
+    EXPECT_GT(glm::dot(end - start, glm::normalize(target - start)), 0.95f * moved);  // forward
+    EXPECT_GT(json["frames_rendered"].get<int>(), 2);  // frames rendered while the key was down
 }
 
 // The script goes through the same held-key path: W held for 1.5 s moves the camera by exactly 1.5 s of speed.
@@ -107,7 +108,7 @@ TEST(ViewerLive, XdndDropLoadsTheFile) {
         "xdnd");
     ASSERT_EQ(result.exit_code, 0) << result.output;
     EXPECT_NE(result.output.find("cannot load: " + bad.string() + ": not a scene"), std::string::npos)
-        << result.output;   // the space in the name survived the URI's encoding
+        << result.output;  // the space in the name survived the URI's encoding
     nlohmann::json json = read_json(stats);
     EXPECT_EQ(json["scene"], model.string()) << result.output;
     EXPECT_EQ(json["files_loaded"], 1);
@@ -123,13 +124,12 @@ TEST(ViewerLive, DropLoadsTheFileAndABadOneOnlySaysWhy) {
     std::filesystem::path dir = prism::test::temp_dir("viewer-live");
     std::filesystem::path bad = dir / "notes.txt", stats = dir / "drop.json", shot = dir / "drop.png";
     std::ofstream(bad) << "not a scene";
-    CommandResult result = prism::test::run_prism(
-        "view " + kSmall + " --frames 4 --drop '1:" + bad.string() + "' --drop '2:" + model.string() +
-            "' --stats '" + stats.string() + "' --screenshot '" + shot.string() + "'",
-        "xvfb-run -a");
-    ASSERT_EQ(result.exit_code, 0) << result.output;   // the bad file did not end the session
-    EXPECT_NE(result.output.find("cannot load: " + bad.string() + ": not a scene"), std::string::npos)
-        << result.output;
+    CommandResult result = prism::test::run_prism("view " + kSmall + " --frames 4 --drop '1:" + bad.string() +
+                                                      "' --drop '2:" + model.string() + "' --stats '" + stats.string() +
+                                                      "' --screenshot '" + shot.string() + "'",
+                                                  "xvfb-run -a");
+    ASSERT_EQ(result.exit_code, 0) << result.output;  // the bad file did not end the session
+    EXPECT_NE(result.output.find("cannot load: " + bad.string() + ": not a scene"), std::string::npos) << result.output;
     nlohmann::json json = read_json(stats);
     EXPECT_EQ(json["scene"], model.string());
     EXPECT_EQ(json["files_loaded"], 1);
@@ -149,7 +149,7 @@ TEST(ViewerLive, FrameAndReloadKeys) {
     EXPECT_EQ(json["files_loaded"], 1) << result.output;
     EXPECT_EQ(json["load_errors"], 0) << result.output;
     glm::vec3 target = json_vec3(json["camera"]["target"]);
-    EXPECT_GT(glm::length(target - glm::vec3(0.0f, 0.8f, 0.0f)), 1e-3f);   // no longer the scene's own target
+    EXPECT_GT(glm::length(target - glm::vec3(0.0f, 0.8f, 0.0f)), 1e-3f);  // no longer the scene's own target
     EXPECT_EQ(json["scene"], "builtin:sphere");
 }
 
@@ -160,8 +160,9 @@ TEST(ViewerLive, ScreenshotsGetNumberedNamesAndNeverOverwrite) {
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     std::ofstream(dir / "prism-view-0001.png") << "an earlier screenshot";
-    CommandResult result = prism::test::run_prism("view " + kSmall + " --no-panel --frames 3 --keys 0:P,1:P",
-                                                  "xvfb-run -a sh -c 'cd \"$0\" && exec \"$@\"' '" + dir.string() + "'");
+    CommandResult result =
+        prism::test::run_prism("view " + kSmall + " --no-panel --frames 3 --keys 0:P,1:P",
+                               "xvfb-run -a sh -c 'cd \"$0\" && exec \"$@\"' '" + dir.string() + "'");
     ASSERT_EQ(result.exit_code, 0) << result.output;
     std::ifstream earlier(dir / "prism-view-0001.png");
     std::string text((std::istreambuf_iterator<char>(earlier)), std::istreambuf_iterator<char>());
@@ -180,8 +181,8 @@ TEST(ViewerLive, PanelIsDrawnOverTheFrame) {
     std::filesystem::path with = dir / "panel.png", without = dir / "no-panel.png";
     const std::string size = "--scene builtin:sphere --backend cpu --width 480 --height 270 --frames 1";
     CommandResult a = prism::test::run_prism("view " + size + " --screenshot '" + with.string() + "'", "xvfb-run -a");
-    CommandResult b = prism::test::run_prism("view " + size + " --no-panel --screenshot '" + without.string() + "'",
-                                             "xvfb-run -a");
+    CommandResult b =
+        prism::test::run_prism("view " + size + " --no-panel --screenshot '" + without.string() + "'", "xvfb-run -a");
     ASSERT_EQ(a.exit_code, 0) << a.output;
     ASSERT_EQ(b.exit_code, 0) << b.output;
     int w1 = 0, h1 = 0, w2 = 0, h2 = 0;
@@ -195,8 +196,8 @@ TEST(ViewerLive, PanelIsDrawnOverTheFrame) {
             for (int x = x0; x < x1; ++x) count += panel[size_t(y) * w1 + x] != frame[size_t(y) * w1 + x];
         return double(count) / double((x1 - x0) * (y1 - y0));
     };
-    EXPECT_GT(differing(10, 10, 200, 60), 0.5);   // the panel's title and first lines
-    EXPECT_EQ(differing(400, 240, 480, 270), 0.0);   // the bottom-right corner, far from it
+    EXPECT_GT(differing(10, 10, 200, 60), 0.5);     // the panel's title and first lines
+    EXPECT_EQ(differing(400, 240, 480, 270), 0.0);  // the bottom-right corner, far from it
 }
 
 // A left drag orbits (the target stays, the direction turns), a middle drag pans (the target moves, the direction
@@ -222,7 +223,7 @@ TEST(ViewerLive, DragsAndResizeFollowRealInput) {
         << "the left drag did not orbit";
     EXPECT_EQ(json["window"]["width"], 200) << result.output;
     EXPECT_EQ(json["window"]["height"], 120);
-    EXPECT_EQ(json["width"], 200);   // the last frame: full size once the moves ended
+    EXPECT_EQ(json["width"], 200);  // the last frame: full size once the moves ended
 }
 
 // Still: one frame, then nothing until an event. A pointer moving over the window without a button changes
@@ -253,13 +254,13 @@ TEST(ViewerLive, MovingRendersSmallerThenRefines) {
     std::filesystem::path dir = prism::test::temp_dir("viewer-live");
     for (int frames : {1, 2}) {
         std::filesystem::path stats = dir / ("scale-" + std::to_string(frames) + ".json");
-        CommandResult result = prism::test::run_prism(
-            "view " + kSmall + " --no-panel --interactive-scale 0.25 --keys 0:D:0.5 --frames " +
-                std::to_string(frames) + " --stats '" + stats.string() + "'",
-            "xvfb-run -a");
+        CommandResult result =
+            prism::test::run_prism("view " + kSmall + " --no-panel --interactive-scale 0.25 --keys 0:D:0.5 --frames " +
+                                       std::to_string(frames) + " --stats '" + stats.string() + "'",
+                                   "xvfb-run -a");
         ASSERT_EQ(result.exit_code, 0) << result.output;
         nlohmann::json json = read_json(stats);
-        EXPECT_EQ(json["width"], frames == 1 ? 40 : 160) << result.output;   // the last frame's size
+        EXPECT_EQ(json["width"], frames == 1 ? 40 : 160) << result.output;  // the last frame's size
         EXPECT_EQ(json["height"], frames == 1 ? 23 : 90);
         EXPECT_EQ(json["window"]["width"], 160);
     }

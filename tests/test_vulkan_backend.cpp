@@ -88,42 +88,45 @@ TEST_F(Vulkan, Std430LayoutMatchesTheLayoutTable) {
     std::vector<Member> members;
     std::map<std::string, uint32_t> sizes;
 #define RT_LAYOUT_STRUCT(name, size) sizes[#name] = size;
-#define RT_LAYOUT_MEMBER(name, member, offset, kind) members.push_back({#name, #member, offset, std::strcmp(#kind, "f4") == 0});
+#define RT_LAYOUT_MEMBER(name, member, offset, kind) \
+    members.push_back({#name, #member, offset, std::strcmp(#kind, "f4") == 0});
 #include "kernels/layout_table.h"
 #undef RT_LAYOUT_STRUCT
 #undef RT_LAYOUT_MEMBER
 
     int structs_checked = 0, members_checked = 0;
-#define RT_DATA_ARRAY(slot, type, name, access, role) {                                                                 \
-        std::vector<uint8_t> bytes(2 * sizeof(type));                                                            \
-        backend->read(prism::DeviceArray::name, bytes.data(), bytes.size());                                      \
-        auto word = [&](uint32_t element, uint32_t byte_offset, bool as_float) {                                 \
-            uint32_t u;                                                                                           \
-            std::memcpy(&u, bytes.data() + element * sizeof(type) + byte_offset, 4);                              \
-            float f;                                                                                              \
-            std::memcpy(&f, &u, 4);                                                                               \
-            return as_float ? double(f) : double(u);                                                              \
-        };                                                                                                        \
-        if (sizes.count(#type)) {                                                                                 \
-            ++structs_checked;                                                                                    \
-            EXPECT_EQ(sizes[#type], sizeof(type)) << #type;                                                       \
-            for (const Member& m : members) {                                                                     \
-                if (std::string(m.structure) != #type) continue;                                                  \
-                ++members_checked;                                                                                \
-                for (uint32_t e = 0; e < 2; ++e)                                                                  \
-                    for (uint32_t c = 0; c < 4; ++c)                                                              \
-                        EXPECT_EQ(word(e, m.offset + 4 * c, m.is_float), double(slot * 1000 + e * 500 + m.offset / 4 + c)) \
-                            << #type "." << m.member << " element " << e << " component " << c                   \
-                            << " (array '" #name "', binding " << slot << ")";                                  \
-            }                                                                                                     \
-        } else if (sizeof(type) == 4) {                                                                           \
-            EXPECT_EQ(word(0, 0, false), double(slot * 1000)) << #name;                                           \
-            EXPECT_EQ(word(1, 0, false), double(slot * 1000 + 500)) << #name " stride";                           \
-        } else {                                                                                                  \
-            for (uint32_t e = 0; e < 2; ++e)                                                                      \
-                for (uint32_t c = 0; c < 4; ++c)                                                                  \
-                    EXPECT_EQ(word(e, 4 * c, true), double(slot * 1000 + e * 500 + c)) << #name;                  \
-        }                                                                                                         \
+#define RT_DATA_ARRAY(slot, type, name, access, role)                                            \
+    {                                                                                            \
+        std::vector<uint8_t> bytes(2 * sizeof(type));                                            \
+        backend->read(prism::DeviceArray::name, bytes.data(), bytes.size());                     \
+        auto word = [&](uint32_t element, uint32_t byte_offset, bool as_float) {                 \
+            uint32_t u;                                                                          \
+            std::memcpy(&u, bytes.data() + element * sizeof(type) + byte_offset, 4);             \
+            float f;                                                                             \
+            std::memcpy(&f, &u, 4);                                                              \
+            return as_float ? double(f) : double(u);                                             \
+        };                                                                                       \
+        if (sizes.count(#type)) {                                                                \
+            ++structs_checked;                                                                   \
+            EXPECT_EQ(sizes[#type], sizeof(type)) << #type;                                      \
+            for (const Member& m : members) {                                                    \
+                if (std::string(m.structure) != #type) continue;                                 \
+                ++members_checked;                                                               \
+                for (uint32_t e = 0; e < 2; ++e)                                                 \
+                    for (uint32_t c = 0; c < 4; ++c)                                             \
+                        EXPECT_EQ(word(e, m.offset + 4 * c, m.is_float),                         \
+                                  double(slot * 1000 + e * 500 + m.offset / 4 + c))              \
+                            << #type "." << m.member << " element " << e << " component " << c   \
+                            << " (array '" #name "', binding " << slot << ")";                   \
+            }                                                                                    \
+        } else if (sizeof(type) == 4) {                                                          \
+            EXPECT_EQ(word(0, 0, false), double(slot * 1000)) << #name;                          \
+            EXPECT_EQ(word(1, 0, false), double(slot * 1000 + 500)) << #name " stride";          \
+        } else {                                                                                 \
+            for (uint32_t e = 0; e < 2; ++e)                                                     \
+                for (uint32_t c = 0; c < 4; ++c)                                                 \
+                    EXPECT_EQ(word(e, 4 * c, true), double(slot * 1000 + e * 500 + c)) << #name; \
+        }                                                                                        \
     }
 #include "kernels/data_arrays.h"
 #undef RT_DATA_ARRAY
@@ -143,7 +146,7 @@ TEST_F(Vulkan, ValidationMessagesAreRecorded) {
     std::vector<std::string> messages = prism::vulkan_debug_messages();
     ASSERT_FALSE(messages.empty()) << "the validation layer is not active";
     EXPECT_NE(messages.front().find("groupCountX"), std::string::npos) << messages.front();
-    prism::vulkan_clear_debug_messages();   // expected ones
+    prism::vulkan_clear_debug_messages();  // expected ones
 }
 
 // ---- Addressing and indirect launches ----------------------------------------------------------------------------
@@ -164,7 +167,7 @@ TEST_F(Vulkan, QueueAboveMaxStorageBufferRangeRendersThroughAddresses) {
     prism::Scene scene;
     prism::DeviceScene device = load("builtin:sphere", &scene);
     prism::RenderSettings settings = prism::test::small_settings(128, 96, 3);
-    settings.queue_factor = 96.0f;   // 1.2 M rays: 151 MiB of ray queue, the largest array
+    settings.queue_factor = 96.0f;  // 1.2 M rays: 151 MiB of ray queue, the largest array
     prism::VulkanLaunchMode mode;
     prism::FrameResult actual = render_with(kDevice, device, scene.camera, settings, &mode);
     prism::FrameResult expected = prism::RenderEngine("cpu-ref", device).render(scene.camera, settings);
@@ -227,7 +230,10 @@ TEST_F(Vulkan, UnknownLaunchSettingIsAnErrorNamingTheVariable) {
         prism::create_backend(kDevice);
         FAIL() << "an unknown PRISM_VULKAN_ADDRESSING should throw";
     } catch (const prism::Error& e) {
-        EXPECT_NE(std::string(e.what()).find("vulkan: PRISM_VULKAN_ADDRESSING='pointers' is not one of auto, descriptors, addresses"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(
+                      "vulkan: PRISM_VULKAN_ADDRESSING='pointers' is not one of auto, descriptors, addresses"),
+                  std::string::npos)
+            << e.what();
     }
 }
 

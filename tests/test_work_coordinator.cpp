@@ -15,7 +15,7 @@ using prism::app::WorkMessage;
 
 struct Simulated {
     double ms_per_item;
-    double busy_until = 0.0;   // virtual clock
+    double busy_until = 0.0;  // virtual clock
     int32_t item = -1;
     bool done = false;
 };
@@ -50,8 +50,10 @@ double run(WorkCoordinator& coordinator, std::vector<Simulated>& workers, std::m
         rendered.insert(next->item);
         last = std::max(last, next->busy_until);
         next->item = coordinator.handle(0, result)->item;
-        if (next->item < 0) next->done = true;
-        else next->busy_until += next->ms_per_item;
+        if (next->item < 0)
+            next->done = true;
+        else
+            next->busy_until += next->ms_per_item;
     }
 }
 

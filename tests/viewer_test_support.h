@@ -21,8 +21,8 @@ namespace prism::test {
 
 inline bool have_xvfb_run() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 0; }
 
-#define REQUIRE_XVFB()                                                                          \
-    do {                                                                                        \
+#define REQUIRE_XVFB()                                                                                               \
+    do {                                                                                                             \
         if (!prism::test::have_xvfb_run()) GTEST_SKIP() << "xvfb-run is not installed (apt-get install xvfb xauth)"; \
     } while (0)
 
@@ -41,20 +41,20 @@ inline bool backend_device_available(const std::string& api, const std::string& 
     return false;
 }
 
-#define REQUIRE_BACKEND(api, device)                                                   \
-    do {                                                                               \
-        std::string reason;                                                            \
-        if (!prism::test::backend_device_available(api, device, &reason))              \
-            GTEST_SKIP() << api << " on '" << device << "' unavailable: " << reason;   \
+#define REQUIRE_BACKEND(api, device)                                                 \
+    do {                                                                             \
+        std::string reason;                                                          \
+        if (!prism::test::backend_device_available(api, device, &reason))            \
+            GTEST_SKIP() << api << " on '" << device << "' unavailable: " << reason; \
     } while (0)
 
 // Skips a Vulkan-GL test whose `prism view` run (`result`) found this Mesa unable to share lavapipe memory with
 // llvmpipe's GL; any other failure stays a failure.
-#define SKIP_IF_MESA_CANNOT_SHARE(result)                                                                  \
-    do {                                                                                                   \
-        for (const char* missing : {"has no GL_EXT_memory_object_fd", "has no VK_KHR_external_memory_fd",  \
-                                    "runs on another device or driver"})                                   \
-            if ((result).exit_code == 1 && (result).output.find(missing) != std::string::npos)             \
+#define SKIP_IF_MESA_CANNOT_SHARE(result)                                                                    \
+    do {                                                                                                     \
+        for (const char* missing : {"has no GL_EXT_memory_object_fd", "has no VK_KHR_external_memory_fd",    \
+                                    "runs on another device or driver"})                                     \
+            if ((result).exit_code == 1 && (result).output.find(missing) != std::string::npos)               \
                 GTEST_SKIP() << "this Mesa cannot share lavapipe memory with llvmpipe: " << (result).output; \
     } while (0)
 

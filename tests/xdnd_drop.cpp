@@ -43,7 +43,8 @@ void send_client_message(Display* display, Window target, Atom type, long l0, lo
 std::string file_uri(const std::string& path) {
     std::string uri = "file://";
     for (unsigned char c : path) {
-        if (std::isalnum(c) || std::strchr("/-_.~", c)) uri += char(c);
+        if (std::isalnum(c) || std::strchr("/-_.~", c))
+            uri += char(c);
         else {
             char escaped[4];
             std::snprintf(escaped, sizeof escaped, "%%%02X", c);
@@ -66,8 +67,8 @@ int main(int argc, char** argv) {
     Atom aware = XInternAtom(display, "XdndAware", False), enter = XInternAtom(display, "XdndEnter", False),
          position = XInternAtom(display, "XdndPosition", False), status = XInternAtom(display, "XdndStatus", False),
          drop = XInternAtom(display, "XdndDrop", False), finished = XInternAtom(display, "XdndFinished", False),
-         selection = XInternAtom(display, "XdndSelection", False),
-         copy = XInternAtom(display, "XdndActionCopy", False), uri_type = XInternAtom(display, "text/uri-list", False);
+         selection = XInternAtom(display, "XdndSelection", False), copy = XInternAtom(display, "XdndActionCopy", False),
+         uri_type = XInternAtom(display, "text/uri-list", False);
 
     // The target must say it takes drops, and which protocol version.
     Atom type;
@@ -75,7 +76,8 @@ int main(int argc, char** argv) {
     unsigned long count, after;
     unsigned char* data = nullptr;
     if (XGetWindowProperty(display, target, aware, 0, 1, False, XA_ATOM, &type, &format, &count, &after, &data) !=
-            Success || count == 0)
+            Success ||
+        count == 0)
         return fail("window " + std::string(argv[1]) + " is not XdndAware");
     long version = std::min(5L, long(*reinterpret_cast<Atom*>(data)));
     XFree(data);
@@ -91,7 +93,9 @@ int main(int argc, char** argv) {
     auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
     while (std::chrono::steady_clock::now() < deadline) {
         if (!XPending(display)) {
-            struct timespec pause {0, 10 * 1000 * 1000};
+            struct timespec pause {
+                0, 10 * 1000 * 1000
+            };
             nanosleep(&pause, nullptr);
             continue;
         }

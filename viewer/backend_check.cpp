@@ -9,8 +9,7 @@ namespace prism::viewer {
 namespace {
 
 std::string lower(std::string text) {
-    std::transform(text.begin(), text.end(), text.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
+    std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     return text;
 }
 
@@ -18,7 +17,7 @@ std::string lower(std::string text) {
 
 std::string why_backend_unavailable(const std::string& spec) {
     BackendSpec parsed = parse_backend_spec(spec);
-    if (parsed.api == "cpu-ref") return "";   // the reference renderer always runs
+    if (parsed.api == "cpu-ref") return "";  // the reference renderer always runs
     for (const BackendFactory& factory : registered_backends()) {
         if (factory.name != parsed.api) continue;
         BackendAvailability availability = factory.probe();

@@ -73,15 +73,15 @@ void CameraControls::pan(const glm::vec2& pixels, int viewport_height) {
     float span = 2.0f * axes.distance * std::tan(glm::radians(camera_.vertical_fov_degrees) * 0.5f);
     float per_pixel = span / float(viewport_height);
     // Dragging right brings the scene right: the eye moves left.
-    glm::vec3 move = (-axes.right * pixels.x + glm::normalize(glm::cross(axes.right, axes.forward)) * pixels.y) *
-                     per_pixel;
+    glm::vec3 move =
+        (-axes.right * pixels.x + glm::normalize(glm::cross(axes.right, axes.forward)) * pixels.y) * per_pixel;
     camera_.position += move;
     camera_.target += move;
 }
 
 void CameraControls::frame_scene(float aspect) {
     glm::vec3 extent = bounds_.upper - bounds_.lower;
-    if (!glm::all(glm::greaterThanEqual(extent, glm::vec3(0.0f)))) return;   // no bounds: nothing to frame
+    if (!glm::all(glm::greaterThanEqual(extent, glm::vec3(0.0f)))) return;  // no bounds: nothing to frame
     float radius = std::max(0.5f * glm::length(extent), 1e-3f);
     float vertical = glm::radians(camera_.vertical_fov_degrees);
     float horizontal = 2.0f * std::atan(std::tan(vertical * 0.5f) * std::max(aspect, 1e-3f));
@@ -96,7 +96,7 @@ void CameraControls::zoom(float notches) {
     glm::vec3 offset = camera_.position - camera_.target;
     float factor = std::pow(0.9f, notches);
     glm::vec3 next = offset * factor;
-    if (glm::length(next) < 1e-4f) return;   // never reach the target: the basis would degenerate
+    if (glm::length(next) < 1e-4f) return;  // never reach the target: the basis would degenerate
     camera_.position = camera_.target + next;
 }
 

@@ -94,8 +94,8 @@ DisplayPath choose_display_path(DisplayMode mode, const BackendInfo& backend, co
     return {Kind::HostCopy, "host copy", "?"};
 }
 
-std::unique_ptr<FrameDisplay> open_frame_display(DisplayMode mode, DisplayPath path, GlInterop* interop,
-                                                 uint32_t width, uint32_t height) {
+std::unique_ptr<FrameDisplay> open_frame_display(DisplayMode mode, DisplayPath path, GlInterop* interop, uint32_t width,
+                                                 uint32_t height) {
     switch (path.kind) {
         case DisplayPath::Kind::None: return std::make_unique<NoDisplay>(std::move(path));
         case DisplayPath::Kind::HostCopy: return std::make_unique<HostCopyDisplay>(std::move(path));
@@ -113,7 +113,7 @@ std::unique_ptr<FrameDisplay> open_frame_display(DisplayMode mode, DisplayPath p
 void set_read_back(const DisplayPath& path, RenderSettings& settings, bool shown) {
     settings.read_image = shown && path.kind == DisplayPath::Kind::HostCopy;
     settings.copy_to_gl = shown && path.kind == DisplayPath::Kind::Interop;
-    settings.read_radiance = false;   // the viewer shows the tone-mapped image only
+    settings.read_radiance = false;  // the viewer shows the tone-mapped image only
 }
 
 }  // namespace prism::viewer

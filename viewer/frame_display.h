@@ -20,18 +20,18 @@ namespace prism::viewer {
 // --display: auto (interop where the backend and GL offer it, else host copy), interop (required), host-copy
 // (forced, e.g. to measure against interop), none (render only, not shown).
 enum class DisplayMode { Auto, Interop, HostCopy, None };
-DisplayMode parse_display_mode(const std::string& text);   // throws prism::Error naming the choices
-const char* display_mode_name(DisplayMode mode);            // "auto", "interop", "host-copy", "none"
+DisplayMode parse_display_mode(const std::string& text);  // throws prism::Error naming the choices
+const char* display_mode_name(DisplayMode mode);          // "auto", "interop", "host-copy", "none"
 
 struct DisplayPath {
     enum class Kind { HostCopy, Interop, None };
     Kind kind = Kind::HostCopy;
-    std::string name;     // "host copy", "CUDA-GL", "OpenCL-GL", "Vulkan-GL", "none"
-    std::string detail;   // host copy: why not interop; interop: how device and GL are synchronised; none: why
+    std::string name;    // "host copy", "CUDA-GL", "OpenCL-GL", "Vulkan-GL", "none"
+    std::string detail;  // host copy: why not interop; interop: how device and GL are synchronised; none: why
     // What the HUD and the console show: "interop: host copy (PoCL has no cl_khr_gl_sharing)",
     // "interop: CUDA-GL (sync: map/unmap on the CUDA stream ...)", "display: none (--display none: render only)".
     std::string describe() const;
-    const char* kind_name() const;   // "host-copy", "interop", "none" (the --stats JSON)
+    const char* kind_name() const;  // "host-copy", "interop", "none" (the --stats JSON)
 };
 
 // Throws prism::Error for DisplayMode::Interop when `offer` has no interop ("view: --display interop: ...").
@@ -52,8 +52,8 @@ public:
 // When an interop path cannot be set up (the driver refuses to share the buffer), DisplayMode::Auto falls back
 // to the host copy, its reason naming the failure; DisplayMode::Interop throws prism::Error.
 // Needs a current GL 3.3+ core context.
-std::unique_ptr<FrameDisplay> open_frame_display(DisplayMode mode, DisplayPath path, GlInterop* interop,
-                                                 uint32_t width, uint32_t height);
+std::unique_ptr<FrameDisplay> open_frame_display(DisplayMode mode, DisplayPath path, GlInterop* interop, uint32_t width,
+                                                 uint32_t height);
 
 // The RenderSettings::read_image / read_radiance / copy_to_gl a path needs: the image read back for the host copy,
 // the copy into GL's buffer for interop, nothing for none. `shown` false: this frame is only rendered (nothing).

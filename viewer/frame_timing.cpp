@@ -28,7 +28,7 @@ FrameTimings::Summary FrameTimings::summary() const {
         beyond_render.push_back(frames_[i].frame_ms - frames_[i].render_ms);
         render.push_back(frames_[i].render_ms);
         frame.push_back(frames_[i].frame_ms);
-        if (frames_[i].block == FrameTiming::Block::Hidden) continue;   // the display's medians: shown frames only
+        if (frames_[i].block == FrameTiming::Block::Hidden) continue;  // the display's medians: shown frames only
         if (frames_[i].gpu_display_ms >= 0.0) gpu_display.push_back(frames_[i].gpu_display_ms);
         display.push_back(frames_[i].display_ms);
         present.push_back(frames_[i].present_ms);
@@ -73,7 +73,8 @@ std::string FrameTimings::summary_line() const {
                   s.measured, warmup(), s.render_ms, s.display_ms, gpu, s.present_ms, s.frame_ms, s.fps);
     if (s.shown == 0 || s.hidden == 0) return line;
     char ab[200];
-    std::snprintf(ab, sizeof ab, "; alternating: shown %.3f ms (%zu frames), not shown %.3f ms (%zu), showing adds %.3f ms",
+    std::snprintf(ab, sizeof ab,
+                  "; alternating: shown %.3f ms (%zu frames), not shown %.3f ms (%zu), showing adds %.3f ms",
                   s.shown_frame_ms, s.shown, s.hidden_frame_ms, s.hidden, s.added_ms);
     return std::string(line) + ab;
 }
@@ -92,8 +93,9 @@ nlohmann::json FrameTimings::json() const {
     }
     nlohmann::json shown = nlohmann::json::array();
     for (const FrameTiming& t : frames_)
-        shown.push_back(t.block == FrameTiming::Block::None ? nlohmann::json() : nlohmann::json(t.block == FrameTiming::Block::Shown));
-    nlohmann::json alternating;   // null without --alternate-display
+        shown.push_back(t.block == FrameTiming::Block::None ? nlohmann::json()
+                                                            : nlohmann::json(t.block == FrameTiming::Block::Shown));
+    nlohmann::json alternating;  // null without --alternate-display
     if (s.shown != 0 && s.hidden != 0)
         alternating = {{"shown_frames", s.shown},
                        {"hidden_frames", s.hidden},
@@ -114,8 +116,12 @@ nlohmann::json FrameTimings::json() const {
             {"fps", s.fps},
             {"alternating", alternating},
             {"per_frame",
-             {{"render_ms", render}, {"display_ms", display}, {"present_ms", present}, {"frame_ms", frame},
-              {"gpu_display_ms", gpu_display}, {"shown", shown}}}};
+             {{"render_ms", render},
+              {"display_ms", display},
+              {"present_ms", present},
+              {"frame_ms", frame},
+              {"gpu_display_ms", gpu_display},
+              {"shown", shown}}}};
 }
 
 }  // namespace prism::viewer

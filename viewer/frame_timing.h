@@ -11,13 +11,13 @@
 namespace prism::viewer {
 
 struct FrameTiming {
-    double render_ms = 0.0;    // RenderEngine::render: the frame on the device, plus its read-back for a host copy
-    double display_ms = 0.0;   // host time of the display update (texture upload from host memory; for interop
-                               // only GL's side: the frame copied itself) + draw, as issued: GL runs them
-                               // asynchronously
-    double present_ms = 0.0;   // the buffer swap (offscreen: glFlush)
-    double frame_ms = 0.0;     // from the previous frame's present to this one's: what fps is made of
-    double gpu_display_ms = -1.0;   // GL's GPU time for the display commands (GL_TIME_ELAPSED); < 0: not known
+    double render_ms = 0.0;        // RenderEngine::render: the frame on the device, plus its read-back for a host copy
+    double display_ms = 0.0;       // host time of the display update (texture upload from host memory; for interop
+                                   // only GL's side: the frame copied itself) + draw, as issued: GL runs them
+                                   // asynchronously
+    double present_ms = 0.0;       // the buffer swap (offscreen: glFlush)
+    double frame_ms = 0.0;         // from the previous frame's present to this one's: what fps is made of
+    double gpu_display_ms = -1.0;  // GL's GPU time for the display commands (GL_TIME_ELAPSED); < 0: not known
     // --alternate-display: whether this frame was shown (its copy, upload, draw and swap done) or only rendered,
     // and whether it is the first of its block (left out of the A/B medians: it carries what the block before it
     // left running on the GPU).
@@ -43,7 +43,7 @@ public:
         double render_ms = 0.0, display_ms = 0.0, present_ms = 0.0, frame_ms = 0.0;
         double gpu_display_ms = -1.0;   // median of the frames whose GPU time is known; < 0: none
         double beyond_render_ms = 0.0;  // median of frame_ms - render_ms: what the viewer adds to each frame's time
-        double fps = 0.0;                                             // 1000 / median frame_ms
+        double fps = 0.0;               // 1000 / median frame_ms
         // --alternate-display: median frame and render time of the shown and of the hidden frames (after warm-up,
         // first frames of blocks left out), and what showing adds to a frame: shown - hidden, within one run, so
         // the render's drift between runs stays out of it. Zero counts: no A/B.

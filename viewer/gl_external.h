@@ -7,11 +7,11 @@
 
 namespace prism::viewer {
 
-inline constexpr GLenum kGlDedicatedMemoryObject = 0x9581;   // GL_DEDICATED_MEMORY_OBJECT_EXT
-inline constexpr GLenum kGlHandleTypeOpaqueFd = 0x9586;      // GL_HANDLE_TYPE_OPAQUE_FD_EXT
-inline constexpr GLenum kGlNumDeviceUuids = 0x9596;          // GL_NUM_DEVICE_UUIDS_EXT
-inline constexpr GLenum kGlDeviceUuid = 0x9597;              // GL_DEVICE_UUID_EXT
-inline constexpr GLenum kGlDriverUuid = 0x9598;              // GL_DRIVER_UUID_EXT
+inline constexpr GLenum kGlDedicatedMemoryObject = 0x9581;  // GL_DEDICATED_MEMORY_OBJECT_EXT
+inline constexpr GLenum kGlHandleTypeOpaqueFd = 0x9586;     // GL_HANDLE_TYPE_OPAQUE_FD_EXT
+inline constexpr GLenum kGlNumDeviceUuids = 0x9596;         // GL_NUM_DEVICE_UUIDS_EXT
+inline constexpr GLenum kGlDeviceUuid = 0x9597;             // GL_DEVICE_UUID_EXT
+inline constexpr GLenum kGlDriverUuid = 0x9598;             // GL_DRIVER_UUID_EXT
 
 struct GlExternalFunctions {
     // GL_EXT_memory_object
@@ -28,12 +28,12 @@ struct GlExternalFunctions {
     void(APIENTRYP delete_semaphores)(GLsizei n, const GLuint* semaphores) = nullptr;
     void(APIENTRYP wait_semaphore)(GLuint semaphore, GLuint buffer_count, const GLuint* buffers, GLuint texture_count,
                                    const GLuint* textures, const GLenum* layouts) = nullptr;
-    void(APIENTRYP signal_semaphore)(GLuint semaphore, GLuint buffer_count, const GLuint* buffers,
-                                     GLuint texture_count, const GLuint* textures, const GLenum* layouts) = nullptr;
+    void(APIENTRYP signal_semaphore)(GLuint semaphore, GLuint buffer_count, const GLuint* buffers, GLuint texture_count,
+                                     const GLuint* textures, const GLenum* layouts) = nullptr;
     // GL_EXT_semaphore_fd
     void(APIENTRYP import_semaphore_fd)(GLuint semaphore, GLenum handle_type, GLint fd) = nullptr;
 
-    bool memory_object_fd = false;   // the context lists both extensions and every function above resolved
+    bool memory_object_fd = false;  // the context lists both extensions and every function above resolved
     bool semaphore_fd = false;
 };
 

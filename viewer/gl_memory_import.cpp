@@ -42,14 +42,15 @@ ImportedBuffer::ImportedBuffer(const ExportedBuffer& exported, size_t bytes) : g
         gl_.memory_object_parameteriv(memory_, kGlDedicatedMemoryObject, &dedicated);
         gl_.import_memory_fd(memory_, exported.allocation_size, kGlHandleTypeOpaqueFd, memory_fd);
         check_gl("glImportMemoryFdEXT");
-        memory_fd = -1;   // GL owns it now
+        memory_fd = -1;  // GL owns it now
         glGenBuffers(1, &buffer_);
-        glBindBuffer(GL_TEXTURE_BUFFER, buffer_);   // binding once creates the object the named call needs
+        glBindBuffer(GL_TEXTURE_BUFFER, buffer_);  // binding once creates the object the named call needs
         glBindBuffer(GL_TEXTURE_BUFFER, 0);
         gl_.named_buffer_storage_mem(buffer_, GLsizeiptr(bytes), memory_, 0);
         check_gl("glNamedBufferStorageMemEXT");
         if (ready_fd >= 0 && released_fd >= 0) {
-            if (!gl_.semaphore_fd) throw Error("view: the backend exported semaphores but GL has no GL_EXT_semaphore_fd");
+            if (!gl_.semaphore_fd)
+                throw Error("view: the backend exported semaphores but GL has no GL_EXT_semaphore_fd");
             gl_.gen_semaphores(1, &ready_);
             gl_.import_semaphore_fd(ready_, kGlHandleTypeOpaqueFd, ready_fd);
             check_gl("glImportSemaphoreFdEXT");

@@ -22,7 +22,7 @@ void GlTimer::end() {
 std::vector<std::pair<size_t, double>> GlTimer::collect(bool wait) {
     std::vector<std::pair<size_t, double>> results;
     for (size_t i = 0; i < kQueries; ++i) {
-        size_t slot = (next_ + i) % kQueries;   // oldest first
+        size_t slot = (next_ + i) % kQueries;  // oldest first
         if (!pending_[slot]) continue;
         GLint available = GL_FALSE;
         if (!wait) glGetQueryObjectiv(queries_[slot], GL_QUERY_RESULT_AVAILABLE, &available);

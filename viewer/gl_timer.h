@@ -25,7 +25,7 @@ public:
     std::vector<std::pair<size_t, double>> collect(bool wait);
 
 private:
-    static constexpr size_t kQueries = 4;   // in flight at once: a frame's result is read 3 frames later
+    static constexpr size_t kQueries = 4;  // in flight at once: a frame's result is read 3 frames later
     GLuint queries_[kQueries] = {};
     size_t frame_of_[kQueries] = {};
     bool pending_[kQueries] = {};

@@ -37,7 +37,7 @@ GLFWwindow* create_window(const std::string& title, int width, int height, int m
     glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
     // Resizable: the session renders at the framebuffer's new size (Input::resized).
     glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);
-    glfwWindowHint(GLFW_SRGB_CAPABLE, GLFW_FALSE);   // the frame is already sRGB-encoded: pass bytes through
+    glfwWindowHint(GLFW_SRGB_CAPABLE, GLFW_FALSE);  // the frame is already sRGB-encoded: pass bytes through
     return glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
 }
 
@@ -86,8 +86,10 @@ Input GlfwWindow::poll() {
 }
 
 Input GlfwWindow::wait(double timeout_seconds) {
-    if (timeout_seconds > 0.0) glfwWaitEventsTimeout(timeout_seconds);
-    else glfwPollEvents();
+    if (timeout_seconds > 0.0)
+        glfwWaitEventsTimeout(timeout_seconds);
+    else
+        glfwPollEvents();
     return take_pending();
 }
 
@@ -123,13 +125,13 @@ void GlfwWindow::native_handles(GlContextHandles& gl) const {
 // Fly keys are held keys: their presses and releases go to viewer/held_keys.h with the time they were seen.
 static bool fly_key(int key, FlyKey* fly) {
     switch (key) {
-    case GLFW_KEY_W: *fly = FlyKey::Forward; return true;
-    case GLFW_KEY_S: *fly = FlyKey::Back; return true;
-    case GLFW_KEY_A: *fly = FlyKey::Left; return true;
-    case GLFW_KEY_D: *fly = FlyKey::Right; return true;
-    case GLFW_KEY_Q: *fly = FlyKey::Down; return true;
-    case GLFW_KEY_E: *fly = FlyKey::Up; return true;
-    default: return false;
+        case GLFW_KEY_W: *fly = FlyKey::Forward; return true;
+        case GLFW_KEY_S: *fly = FlyKey::Back; return true;
+        case GLFW_KEY_A: *fly = FlyKey::Left; return true;
+        case GLFW_KEY_D: *fly = FlyKey::Right; return true;
+        case GLFW_KEY_Q: *fly = FlyKey::Down; return true;
+        case GLFW_KEY_E: *fly = FlyKey::Up; return true;
+        default: return false;
     }
 }
 
@@ -146,24 +148,48 @@ void GlfwWindow::on_key(GLFWwindow* window, int key, int scancode, int action, i
     auto push = [&](Action a) { self->pending_.actions.push_back(a); };
     bool repeat = action == GLFW_REPEAT;
     switch (key) {
-    case GLFW_KEY_1: if (!repeat) push(Action::Backend1); break;
-    case GLFW_KEY_2: if (!repeat) push(Action::Backend2); break;
-    case GLFW_KEY_3: if (!repeat) push(Action::Backend3); break;
-    case GLFW_KEY_4: if (!repeat) push(Action::Backend4); break;
-    case GLFW_KEY_5: if (!repeat) push(Action::Backend5); break;
-    case GLFW_KEY_KP_ADD: push(Action::DepthUp); break;
-    case GLFW_KEY_EQUAL: push(Action::DepthUp); break;   // '+' is shift+'=' on US layouts; take both
-    case GLFW_KEY_KP_SUBTRACT: push(Action::DepthDown); break;
-    case GLFW_KEY_MINUS: push(Action::DepthDown); break;
-    case GLFW_KEY_P: if (!repeat) push(Action::Screenshot); break;
-    case GLFW_KEY_R: if (!repeat) push(Action::ResetCamera); break;
-    case GLFW_KEY_M: if (!repeat) push(Action::ToggleMoving); break;
-    case GLFW_KEY_F: if (!repeat) push(Action::FrameScene); break;
-    case GLFW_KEY_H: if (!repeat) push(Action::ToggleHelp); break;
-    case GLFW_KEY_F1: if (!repeat) push(Action::ToggleHelp); break;
-    case GLFW_KEY_L: if (!repeat) push(Action::Reload); break;
-    case GLFW_KEY_ESCAPE: push(Action::Quit); break;
-    default: break;
+        case GLFW_KEY_1:
+            if (!repeat) push(Action::Backend1);
+            break;
+        case GLFW_KEY_2:
+            if (!repeat) push(Action::Backend2);
+            break;
+        case GLFW_KEY_3:
+            if (!repeat) push(Action::Backend3);
+            break;
+        case GLFW_KEY_4:
+            if (!repeat) push(Action::Backend4);
+            break;
+        case GLFW_KEY_5:
+            if (!repeat) push(Action::Backend5);
+            break;
+        case GLFW_KEY_KP_ADD: push(Action::DepthUp); break;
+        case GLFW_KEY_EQUAL: push(Action::DepthUp); break;  // '+' is shift+'=' on US layouts; take both
+        case GLFW_KEY_KP_SUBTRACT: push(Action::DepthDown); break;
+        case GLFW_KEY_MINUS: push(Action::DepthDown); break;
+        case GLFW_KEY_P:
+            if (!repeat) push(Action::Screenshot);
+            break;
+        case GLFW_KEY_R:
+            if (!repeat) push(Action::ResetCamera);
+            break;
+        case GLFW_KEY_M:
+            if (!repeat) push(Action::ToggleMoving);
+            break;
+        case GLFW_KEY_F:
+            if (!repeat) push(Action::FrameScene);
+            break;
+        case GLFW_KEY_H:
+            if (!repeat) push(Action::ToggleHelp);
+            break;
+        case GLFW_KEY_F1:
+            if (!repeat) push(Action::ToggleHelp);
+            break;
+        case GLFW_KEY_L:
+            if (!repeat) push(Action::Reload);
+            break;
+        case GLFW_KEY_ESCAPE: push(Action::Quit); break;
+        default: break;
     }
 }
 
@@ -187,7 +213,7 @@ void GlfwWindow::on_mouse_button(GLFWwindow* window, int button, int action, int
         self->drag_ = Drag::None;
         return;
     }
-    if (Panel::wants_mouse()) return;   // a click on the panel is the panel's
+    if (Panel::wants_mouse()) return;  // a click on the panel is the panel's
     if (button == GLFW_MOUSE_BUTTON_MIDDLE) self->drag_ = Drag::Pan;
     if (button == GLFW_MOUSE_BUTTON_LEFT) self->drag_ = (mods & GLFW_MOD_SHIFT) ? Drag::Pan : Drag::Orbit;
 }

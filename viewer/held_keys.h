@@ -26,8 +26,8 @@ public:
 private:
     struct State {
         bool down = false;
-        double since = 0.0;   // when it went down, or the last collect while down
-        double held = 0.0;    // seconds down not collected yet, from presses already released
+        double since = 0.0;  // when it went down, or the last collect while down
+        double held = 0.0;   // seconds down not collected yet, from presses already released
     };
     std::array<State, 6> keys_{};
 };

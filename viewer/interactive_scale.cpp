@@ -9,7 +9,7 @@
 namespace prism::viewer {
 namespace {
 
-constexpr double kStep = 1.0 / 8.0;   // coarse steps: each new scale re-creates the display's buffers
+constexpr double kStep = 1.0 / 8.0;  // coarse steps: each new scale re-creates the display's buffers
 
 double quantize(double scale) { return std::clamp(std::round(scale / kStep) * kStep, kStep, 1.0); }
 

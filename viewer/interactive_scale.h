@@ -29,7 +29,7 @@ private:
     bool automatic_ = true;
     double target_fps_;
     double scale_ = 1.0;
-    double full_pixels_ = 0.0;   // the largest frame recorded: the window's resolution
+    double full_pixels_ = 0.0;  // the largest frame recorded: the window's resolution
 };
 
 }  // namespace prism::viewer

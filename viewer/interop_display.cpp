@@ -90,8 +90,8 @@ private:
     GlInterop& interop_;
     uint32_t width_, height_;
     TextureQuad quad_;
-    std::unique_ptr<ImportedBuffer> imported_;   // Vulkan-GL, CUDA-GL through external memory
-    GLuint own_buffer_ = 0;                      // OpenCL-GL, CUDA-GL with a registered buffer
+    std::unique_ptr<ImportedBuffer> imported_;  // Vulkan-GL, CUDA-GL through external memory
+    GLuint own_buffer_ = 0;                     // OpenCL-GL, CUDA-GL with a registered buffer
     GLuint buffer_ = 0;
     GLsync fence_ = nullptr;
 };

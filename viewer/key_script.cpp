@@ -10,12 +10,12 @@ namespace prism::viewer {
 
 const char* backend_for_key(Action action) {
     switch (action) {
-    case Action::Backend1: return "cpu-ref";
-    case Action::Backend2: return "cpu";
-    case Action::Backend3: return "cuda";
-    case Action::Backend4: return "opencl";
-    case Action::Backend5: return "vulkan";
-    default: return nullptr;
+        case Action::Backend1: return "cpu-ref";
+        case Action::Backend2: return "cpu";
+        case Action::Backend3: return "cuda";
+        case Action::Backend4: return "opencl";
+        case Action::Backend5: return "vulkan";
+        default: return nullptr;
     }
 }
 
@@ -23,13 +23,13 @@ bool is_backend_key(Action action) { return backend_for_key(action) != nullptr; 
 
 bool fly_key_for(Action action, FlyKey* key) {
     switch (action) {
-    case Action::FlyForward: *key = FlyKey::Forward; return true;
-    case Action::FlyBack: *key = FlyKey::Back; return true;
-    case Action::FlyLeft: *key = FlyKey::Left; return true;
-    case Action::FlyRight: *key = FlyKey::Right; return true;
-    case Action::FlyDown: *key = FlyKey::Down; return true;
-    case Action::FlyUp: *key = FlyKey::Up; return true;
-    default: return false;
+        case Action::FlyForward: *key = FlyKey::Forward; return true;
+        case Action::FlyBack: *key = FlyKey::Back; return true;
+        case Action::FlyLeft: *key = FlyKey::Left; return true;
+        case Action::FlyRight: *key = FlyKey::Right; return true;
+        case Action::FlyDown: *key = FlyKey::Down; return true;
+        case Action::FlyUp: *key = FlyKey::Up; return true;
+        default: return false;
     }
 }
 
@@ -37,12 +37,12 @@ Action parse_key(const std::string& name) {
     std::string key;
     for (char c : name) key += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     static const std::pair<const char*, Action> table[] = {
-        {"1", Action::Backend1}, {"2", Action::Backend2}, {"3", Action::Backend3}, {"4", Action::Backend4},
-        {"5", Action::Backend5}, {"+", Action::DepthUp},  {"-", Action::DepthDown}, {"P", Action::Screenshot},
-        {"R", Action::ResetCamera}, {"M", Action::ToggleMoving}, {"ESC", Action::Quit},
-        {"F", Action::FrameScene}, {"H", Action::ToggleHelp}, {"F1", Action::ToggleHelp}, {"L", Action::Reload},
-        {"W", Action::FlyForward}, {"S", Action::FlyBack}, {"A", Action::FlyLeft}, {"D", Action::FlyRight},
-        {"Q", Action::FlyDown}, {"E", Action::FlyUp},
+        {"1", Action::Backend1},    {"2", Action::Backend2},     {"3", Action::Backend3},  {"4", Action::Backend4},
+        {"5", Action::Backend5},    {"+", Action::DepthUp},      {"-", Action::DepthDown}, {"P", Action::Screenshot},
+        {"R", Action::ResetCamera}, {"M", Action::ToggleMoving}, {"ESC", Action::Quit},    {"F", Action::FrameScene},
+        {"H", Action::ToggleHelp},  {"F1", Action::ToggleHelp},  {"L", Action::Reload},    {"W", Action::FlyForward},
+        {"S", Action::FlyBack},     {"A", Action::FlyLeft},      {"D", Action::FlyRight},  {"Q", Action::FlyDown},
+        {"E", Action::FlyUp},
     };
     for (const auto& [text, action] : table)
         if (key == text) return action;
@@ -60,7 +60,8 @@ std::vector<ScriptedKey> parse_key_script(const std::string& text) {
         if (colon == std::string::npos || colon == 0 || colon + 1 >= item.size())
             throw Error("--keys: expected FRAME:KEY, got '" + item + "'");
         std::string frame = item.substr(0, colon);
-        if (!std::all_of(frame.begin(), frame.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }) ||
+        if (!std::all_of(frame.begin(), frame.end(),
+                         [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }) ||
             frame.size() > 9)
             throw Error("--keys: bad frame number '" + frame + "' in '" + item + "'");
         std::string key = item.substr(colon + 1);

@@ -12,24 +12,34 @@
 namespace prism::viewer {
 
 enum class Action {
-    Backend1, Backend2, Backend3, Backend4, Backend5,   // cpu-ref, cpu, cuda, opencl, vulkan
-    DepthUp, DepthDown,
+    Backend1,
+    Backend2,
+    Backend3,
+    Backend4,
+    Backend5,  // cpu-ref, cpu, cuda, opencl, vulkan
+    DepthUp,
+    DepthDown,
     Screenshot,
     ResetCamera,
     ToggleMoving,
     Quit,
-    FrameScene,   // F: the whole scene in view
-    ToggleHelp,   // H or F1: the help overlay listing every control
-    Reload,       // L: load the current scene file again
+    FrameScene,  // F: the whole scene in view
+    ToggleHelp,  // H or F1: the help overlay listing every control
+    Reload,      // L: load the current scene file again
     // Fly keys in a script (the window reports them as held keys instead: Input::fly_keys).
-    FlyForward, FlyBack, FlyLeft, FlyRight, FlyDown, FlyUp,
+    FlyForward,
+    FlyBack,
+    FlyLeft,
+    FlyRight,
+    FlyDown,
+    FlyUp,
 };
 
 // The held key a scripted fly action stands for; false for other actions.
 bool fly_key_for(Action action, FlyKey* key);
 
 // The backend each of the keys 1-5 selects.
-const char* backend_for_key(Action action);   // nullptr for other actions
+const char* backend_for_key(Action action);  // nullptr for other actions
 bool is_backend_key(Action action);
 
 // Key names as written in --keys and the docs: 1-5, +, -, P, R, M, F, H, L, Esc, W, A, S, D, Q, E
@@ -43,7 +53,7 @@ inline constexpr double kScriptedTapSeconds = 0.25;
 struct ScriptedKey {
     uint32_t frame;
     Action action;
-    double hold_seconds = 0.0;   // fly keys: how long the key is held, ending just before the frame
+    double hold_seconds = 0.0;  // fly keys: how long the key is held, ending just before the frame
 };
 // "0:M,3:2,4:P,5:W:1.5" -> sorted by frame, order kept within a frame. SECONDS (> 0, at most 3600) only after a
 // fly key. Throws prism::Error ("--keys: ...") on bad input.

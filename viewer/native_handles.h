@@ -9,8 +9,8 @@ struct GLFWwindow;
 namespace prism::viewer {
 
 struct NativeGlHandles {
-    uintptr_t x11_display = 0;   // Display*; 0 when the window is not on X11
-    uintptr_t glx_context = 0;   // GLXContext; 0 when the context is not a GLX one (EGL)
+    uintptr_t x11_display = 0;  // Display*; 0 when the window is not on X11
+    uintptr_t glx_context = 0;  // GLXContext; 0 when the context is not a GLX one (EGL)
 };
 NativeGlHandles native_gl_handles(GLFWwindow* window);
 

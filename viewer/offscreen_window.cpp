@@ -6,7 +6,7 @@
 #include <cstring>
 #include <vector>
 
-#define EGL_NO_X11   // no Xlib types in eglplatform.h: this context has no window system
+#define EGL_NO_X11  // no Xlib types in eglplatform.h: this context has no window system
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 
@@ -17,7 +17,9 @@
 namespace prism::viewer {
 namespace {
 
-Error cannot_create(const std::string& why) { return Error("view: cannot create an offscreen GL context (" + why + ")"); }
+Error cannot_create(const std::string& why) {
+    return Error("view: cannot create an offscreen GL context (" + why + ")");
+}
 
 std::string egl_error(const char* call) {
     char text[64];
@@ -53,8 +55,9 @@ EGLContext create_context(EGLDisplay display, std::string* why) {
         return EGL_NO_CONTEXT;
     }
     // EGL_SURFACE_TYPE 0: no surface is ever made (the default, EGL_WINDOW_BIT, matches nothing offscreen).
-    const EGLint config_attributes[] = {EGL_SURFACE_TYPE, 0, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_RED_SIZE, 8,
-                                        EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8, EGL_NONE};
+    const EGLint config_attributes[] = {
+        EGL_SURFACE_TYPE, 0, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8,
+        EGL_NONE};
     EGLConfig config = nullptr;
     EGLint configs = 0;
     if (!eglChooseConfig(display, config_attributes, &config, 1, &configs) || configs == 0) {
@@ -63,9 +66,13 @@ EGLContext create_context(EGLDisplay display, std::string* why) {
         return EGL_NO_CONTEXT;
     }
     for (EGLint version : {45, 33}) {
-        const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION, version / 10, EGL_CONTEXT_MINOR_VERSION,
-                                             version % 10, EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                             EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+        const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                             version / 10,
+                                             EGL_CONTEXT_MINOR_VERSION,
+                                             version % 10,
+                                             EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                             EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                             EGL_NONE};
         EGLContext context = eglCreateContext(display, config, EGL_NO_CONTEXT, context_attributes);
         if (context == EGL_NO_CONTEXT) continue;
         if (eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context)) return context;
@@ -120,7 +127,8 @@ OffscreenWindow::OffscreenWindow(int width, int height) : width_(width), height_
             tried += std::string(tried.empty() ? "" : "; ") + "Mesa surfaceless platform: " + why;
         }
     }
-    if (!context_) throw cannot_create(tried.empty() ? "EGL offers neither a device nor a surfaceless platform" : tried);
+    if (!context_)
+        throw cannot_create(tried.empty() ? "EGL offers neither a device nor a surfaceless platform" : tried);
     set_gl_proc_address(egl_proc_address);
     describe_context(platform_);
 

@@ -21,7 +21,7 @@ public:
 
     bool should_close() const override { return false; }
     Input poll() override;
-    Input wait(double timeout_seconds) override;   // no events come: sleeps the timeout
+    Input wait(double timeout_seconds) override;  // no events come: sleeps the timeout
     void set_title(const std::string&) override {}
     void swap() override;
     int framebuffer_width() const override { return width_; }
@@ -30,14 +30,14 @@ public:
 private:
     uint32_t draw_framebuffer() const override { return framebuffer_; }
     void native_handles(GlContextHandles& gl) const override;
-    void release();   // the framebuffer, the context and the display, once
+    void release();  // the framebuffer, the context and the display, once
 
     int width_, height_;
-    void* display_ = nullptr;   // EGLDisplay
-    void* context_ = nullptr;   // EGLContext
+    void* display_ = nullptr;  // EGLDisplay
+    void* context_ = nullptr;  // EGLContext
     uint32_t framebuffer_ = 0;
-    uint32_t color_ = 0;        // the framebuffer's RGBA8 texture
-    std::string platform_;   // "EGL device 0 (EGL_NV_device_cuda ...)", "Mesa surfaceless platform"
+    uint32_t color_ = 0;    // the framebuffer's RGBA8 texture
+    std::string platform_;  // "EGL device 0 (EGL_NV_device_cuda ...)", "Mesa surfaceless platform"
 };
 
 }  // namespace prism::viewer

@@ -38,7 +38,7 @@ Panel::Panel(Window& window) : window_(window) {
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
     ImGuiIO& io = ImGui::GetIO();
-    io.IniFilename = nullptr;   // no imgui.ini left in the working directory
+    io.IniFilename = nullptr;  // no imgui.ini left in the working directory
     ImGui::StyleColorsDark();
     if (void* glfw = window.glfw_window()) {
         // The window's own callbacks forward to the backend's (viewer/glfw_window.cpp): no callbacks installed.
@@ -48,8 +48,9 @@ Panel::Panel(Window& window) : window_(window) {
     if (!ImGui_ImplOpenGL3_Init("#version 330 core")) {
         if (glfw_) ImGui_ImplGlfw_Shutdown();
         ImGui::DestroyContext();
-        throw Error("view: the panel cannot start (Dear ImGui's OpenGL 3 backend could not load GL's functions "
-                    "through libGL.so.1)");
+        throw Error(
+            "view: the panel cannot start (Dear ImGui's OpenGL 3 backend could not load GL's functions "
+            "through libGL.so.1)");
     }
     last_time_ = input_clock();
 }
@@ -97,8 +98,10 @@ PanelRequest Panel::build(const PanelView& view, bool help) {
     ImGui::PushTextWrapPos(ImGui::GetFontSize() * 22.0f);
     ImGui::TextWrapped("%s", view.scene.c_str());
     ImGui::Text("%s [%s]", view.backend.c_str(), view.device.c_str());
-    if (view.frame_ms > 0.0) ImGui::Text("%.1f fps (%.1f ms per frame)", view.fps, view.frame_ms);
-    else ImGui::TextUnformatted("fps: - (no frames in a row yet)");
+    if (view.frame_ms > 0.0)
+        ImGui::Text("%.1f fps (%.1f ms per frame)", view.fps, view.frame_ms);
+    else
+        ImGui::TextUnformatted("fps: - (no frames in a row yet)");
     ImGui::Text("render %.1f ms, %.1f Mrays/s", view.render_ms, view.mrays_per_second);
     if (ImGui::TreeNode("stages", "per stage (ms)")) {
         for (const auto& [name, ms] : view.stage_ms) ImGui::Text("%-10s %8.2f", name.c_str(), ms);

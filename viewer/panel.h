@@ -18,18 +18,18 @@ struct PanelView {
     std::string scene;
     std::string backend, device;
     std::string display_path;
-    double fps = 0.0, frame_ms = 0.0;   // one smoothed wall-clock interval between shown frames, both from it
+    double fps = 0.0, frame_ms = 0.0;  // one smoothed wall-clock interval between shown frames, both from it
     double render_ms = 0.0;            // the last render, as RenderEngine measured it
     double mrays_per_second = 0.0;
     std::vector<std::pair<std::string, double>> stage_ms;
-    uint32_t render_width = 0, render_height = 0;   // the last frame rendered (smaller while moving)
+    uint32_t render_width = 0, render_height = 0;  // the last frame rendered (smaller while moving)
     uint32_t window_width = 0, window_height = 0;
     uint32_t depth = 0;
-    std::string activity;   // "idle", "moving (1/2 resolution)", "refining"
+    std::string activity;  // "idle", "moving (1/2 resolution)", "refining"
     uint64_t frames_rendered = 0, frames_shown = 0;
-    std::string message;    // the last error or notice ("" none)
+    std::string message;  // the last error or notice ("" none)
     bool message_is_error = false;
-    std::vector<std::string> backends;   // the backend choices (key order)
+    std::vector<std::string> backends;  // the backend choices (key order)
 };
 
 // What the user changed through the panel this frame.
@@ -54,7 +54,7 @@ public:
     static bool wants_mouse();
 
 private:
-    PanelRequest build(const PanelView& view, bool help);   // one ImGui frame, up to ImGui::Render
+    PanelRequest build(const PanelView& view, bool help);  // one ImGui frame, up to ImGui::Render
 
     Window& window_;
     bool laid_out_ = false;

@@ -7,6 +7,6 @@
 
 namespace prism::viewer {
 
-Aabb world_bounds(const Scene& scene);   // empty (Aabb::empty()) for a scene without geometry
+Aabb world_bounds(const Scene& scene);  // empty (Aabb::empty()) for a scene without geometry
 
 }  // namespace prism::viewer

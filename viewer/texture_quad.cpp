@@ -106,7 +106,7 @@ TextureQuad::TextureQuad() {
     try {
         program_ = link({{GL_VERTEX_SHADER, vertex_source}, {GL_FRAGMENT_SHADER, fragment_source}});
         buffer_program_ = link({{GL_VERTEX_SHADER, vertex_source}, {GL_FRAGMENT_SHADER, buffer_fragment_source}});
-        if (major > 4 || (major == 4 && minor >= 3)) {   // compute shaders: GL 4.3 (a 3.3 context draws instead)
+        if (major > 4 || (major == 4 && minor >= 3)) {  // compute shaders: GL 4.3 (a 3.3 context draws instead)
             compute_program_ = link({{GL_COMPUTE_SHADER, compute_source}});
             compute_size_location_ = glGetUniformLocation(compute_program_, "size");
         }
@@ -115,7 +115,7 @@ TextureQuad::TextureQuad() {
             if (program) glDeleteProgram(program);
         throw;
     }
-    glGenVertexArrays(1, &vertex_array_);   // core profile: drawing needs a bound VAO, even an empty one
+    glGenVertexArrays(1, &vertex_array_);  // core profile: drawing needs a bound VAO, even an empty one
     glGenTextures(1, &texture_);
     glBindTexture(GL_TEXTURE_2D, texture_);
     // Nearest: the frame is shown 1:1, and a screenshot must return the frame's own pixels.
@@ -188,10 +188,10 @@ void TextureQuad::write_with_compute(GLuint target) {
 
 void TextureQuad::draw(int viewport_width, int viewport_height) {
     glViewport(0, 0, viewport_width, viewport_height);
-    glDisable(GL_FRAMEBUFFER_SRGB);   // the frame is already sRGB-encoded: pass the bytes through
+    glDisable(GL_FRAMEBUFFER_SRGB);  // the frame is already sRGB-encoded: pass the bytes through
     if (width_ == 0) {
         glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
-        glClear(GL_COLOR_BUFFER_BIT);   // nothing to show yet (the triangle covers everything otherwise)
+        glClear(GL_COLOR_BUFFER_BIT);  // nothing to show yet (the triangle covers everything otherwise)
         return;
     }
     if (compute_program_ && from_buffer_ && viewport_width == int(width_) && viewport_height == int(height_)) {

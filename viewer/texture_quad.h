@@ -14,7 +14,7 @@ namespace prism::viewer {
 
 class TextureQuad {
 public:
-    TextureQuad();   // throws prism::Error when the shaders do not build
+    TextureQuad();  // throws prism::Error when the shaders do not build
     ~TextureQuad();
     TextureQuad(const TextureQuad&) = delete;
     TextureQuad& operator=(const TextureQuad&) = delete;
@@ -34,9 +34,9 @@ private:
 
     GLuint program_ = 0, vertex_array_ = 0, texture_ = 0;
     GLuint buffer_program_ = 0, buffer_texture_ = 0;
-    GLuint compute_program_ = 0, buffer_ = 0;   // the compute path (GL 4.3+) and the shared buffer it reads
+    GLuint compute_program_ = 0, buffer_ = 0;  // the compute path (GL 4.3+) and the shared buffer it reads
     GLint compute_size_location_ = -1;
-    GLuint compute_target_ = 0;                 // the framebuffer's color texture, 0: none (draw instead)
+    GLuint compute_target_ = 0;  // the framebuffer's color texture, 0: none (draw instead)
     bool compute_target_known_ = false;
     bool from_buffer_ = false;
     uint32_t width_ = 0, height_ = 0;

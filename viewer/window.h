@@ -27,15 +27,15 @@ struct FlyKeyEvent {
 
 // Everything the user did since the last poll.
 struct Input {
-    std::vector<Action> actions;         // key presses, in order
-    std::vector<FlyKeyEvent> fly_keys;   // W/A/S/D/Q/E going down and up, in order
-    glm::vec2 drag{0.0f};                // pixels moved with the left button held (x right, y down): orbit
-    glm::vec2 pan{0.0f};                 // pixels moved with the middle button, or Shift and the left button
-    float scroll = 0.0f;                 // wheel notches, positive away from the user
-    std::vector<std::string> dropped;    // paths dropped onto the window
-    bool resized = false;                // the framebuffer changed size
-    bool other = false;                  // any other event (the pointer moved over the panel, a click on it...):
-                                         // the panel is drawn again, the scene is not rendered again
+    std::vector<Action> actions;        // key presses, in order
+    std::vector<FlyKeyEvent> fly_keys;  // W/A/S/D/Q/E going down and up, in order
+    glm::vec2 drag{0.0f};               // pixels moved with the left button held (x right, y down): orbit
+    glm::vec2 pan{0.0f};                // pixels moved with the middle button, or Shift and the left button
+    float scroll = 0.0f;                // wheel notches, positive away from the user
+    std::vector<std::string> dropped;   // paths dropped onto the window
+    bool resized = false;               // the framebuffer changed size
+    bool other = false;                 // any other event (the pointer moved over the panel, a click on it...):
+                                        // the panel is drawn again, the scene is not rendered again
     bool any() const {
         return !actions.empty() || !fly_keys.empty() || drag != glm::vec2(0.0f) || pan != glm::vec2(0.0f) ||
                scroll != 0.0f || !dropped.empty() || resized || other;
@@ -83,7 +83,7 @@ private:
     std::string context_description_;
 
 protected:
-    Input pending_;   // what the callbacks collected since the last poll
+    Input pending_;  // what the callbacks collected since the last poll
 };
 
 // Now on the clock held keys are timed with (seconds since an arbitrary start, steady).

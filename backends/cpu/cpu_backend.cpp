@@ -18,7 +18,6 @@
 #include "core/util/error.h"
 #include "core/util/thread_pool.h"
 
-
 namespace prism {
 namespace {
 
@@ -64,7 +63,7 @@ struct DeviceArrayAllocator {
         size_t bytes = n * sizeof(T);
         void* p = ::operator new(bytes, std::align_val_t(alignment(bytes)));
 #if defined(MADV_HUGEPAGE)
-        if (bytes >= kHugePage) madvise(p, bytes, MADV_HUGEPAGE);   // a hint: failure changes nothing
+        if (bytes >= kHugePage) madvise(p, bytes, MADV_HUGEPAGE);  // a hint: failure changes nothing
 #endif
         return static_cast<T*>(p);
     }
@@ -101,9 +100,7 @@ public:
         book_.check_range(array, bytes, offset);
         std::memcpy(data, reinterpret_cast<const char*>(buffers_[size_t(array)].data()) + offset, bytes);
     }
-    void zero(DeviceArray array) override {
-        std::memset(buffers_[size_t(array)].data(), 0, book_.size(array));
-    }
+    void zero(DeviceArray array) override { std::memset(buffers_[size_t(array)].data(), 0, book_.size(array)); }
 
     void enqueue(Stage stage, uint32_t depth) override {
         KernelGlobals kg = globals();
@@ -118,8 +115,8 @@ public:
             rt_cpu_grid = RtCpuGrid{&cursor, chunk, workers};
             stages_.run(stage, kg, depth);
         });
-        timings_.push_back(StageTiming{stage, depth,
-                                       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()});
+        timings_.push_back(StageTiming{
+            stage, depth, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()});
     }
 
     std::vector<StageTiming> finish() override { return std::exchange(timings_, {}); }
@@ -139,7 +136,7 @@ private:
     ThreadPool pool_;
     StageSet stages_;
     std::array<std::vector<float4, DeviceArrayAllocator<float4>>, device_array_count> buffers_;
-    DeviceArrayBook book_{"cpu", "", std::nullopt};   // sizes and range checks; host memory has its own guard
+    DeviceArrayBook book_{"cpu", "", std::nullopt};  // sizes and range checks; host memory has its own guard
     std::vector<StageTiming> timings_;
 };
 

@@ -8,7 +8,9 @@ namespace prism::cpu {
 void PRISM_CPU_STAGE_RUNNER(Stage stage, KernelGlobals kg, uint32_t depth) {
     switch (stage) {
 #define RT_STAGE(name, Name, pass, launch) \
-    case Stage::Name: rt_kernel_##name(kg, depth); break;
+    case Stage::Name:                      \
+        rt_kernel_##name(kg, depth);       \
+        break;
 #include "kernels/stage_list.h"
 #undef RT_STAGE
         case Stage::Count: break;

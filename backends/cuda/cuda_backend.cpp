@@ -45,7 +45,7 @@ public:
     }
 
     ~CudaBackend() override {
-        gl_.reset();   // unregister the GL buffer while the context is alive
+        gl_.reset();  // unregister the GL buffer while the context is alive
         for (void* pointer : pointers_) {
             try {
                 context_.release(pointer);
@@ -59,7 +59,7 @@ public:
         const cuda::DeviceDescription& d = context_.device();
         BackendInfo info;
         info.name = "cuda";
-        info.device = d.name;   // the bare name, as OpenCL and Vulkan report it: result files match across APIs
+        info.device = d.name;  // the bare name, as OpenCL and Vulkan report it: result files match across APIs
         info.driver = cuda::driver_version();
         info.api_version = cuda::runtime_version();
         info.device_memory = d.total_memory;
@@ -124,9 +124,8 @@ private:
 #ifdef PRISM_CUDA_GL_INTEROP
         gl_reason_ = cuda::gl_context_check(context_, gl.renderer);
         if (gl_reason_.empty())
-            gl_ = cuda::create_gl_interop(context_, [this] {
-                return static_cast<const void*>(pointers_[size_t(DeviceArray::image)]);
-            }, gl);
+            gl_ = cuda::create_gl_interop(
+                context_, [this] { return static_cast<const void*>(pointers_[size_t(DeviceArray::image)]); }, gl);
 #else
         gl_reason_ = "CUDA-GL interop not built (no OpenGL headers at configure time)";
 #endif
@@ -135,10 +134,10 @@ private:
     cuda::DeviceContext context_;
     DeviceArrayBook book_;
     unsigned blocks_ = 0;
-    std::array<void*, device_array_count> pointers_{};   // indexed by slot: what stages.cu receives
+    std::array<void*, device_array_count> pointers_{};  // indexed by slot: what stages.cu receives
     std::vector<StageTiming> pending_;
-    std::unique_ptr<GlInterop> gl_;   // CUDA-GL, when the viewer asked and its GL context is on this device
-    std::string gl_reason_;           // why gl_ is null
+    std::unique_ptr<GlInterop> gl_;  // CUDA-GL, when the viewer asked and its GL context is on this device
+    std::string gl_reason_;          // why gl_ is null
 };
 
 }  // namespace
@@ -157,8 +156,7 @@ BackendFactory cuda_backend_factory() {
         a.available = !devices.empty();
         for (const auto& d : devices)
             a.devices.push_back(d.name + " (sm_" + std::to_string(d.compute_major) + std::to_string(d.compute_minor) +
-                                ", " + std::to_string(d.multiprocessors) + " SMs, " + mib_text(d.total_memory) +
-                                ")");
+                                ", " + std::to_string(d.multiprocessors) + " SMs, " + mib_text(d.total_memory) + ")");
         a.detail = a.available ? cuda::runtime_version() + ", driver " + cuda::driver_version() : no_device_reason(why);
         return a;
     };

@@ -12,7 +12,7 @@
 namespace prism::cuda {
 namespace {
 
-std::string version_text(int version) {   // 13000 -> "13.0"
+std::string version_text(int version) {  // 13000 -> "13.0"
     return std::to_string(version / 1000) + "." + std::to_string(version % 1000 / 10);
 }
 
@@ -24,7 +24,7 @@ std::vector<DeviceDescription> list_devices(std::string& why) {
     cudaError_t status = cudaGetDeviceCount(&count);
     if (status != cudaSuccess) {
         why = std::string("cudaGetDeviceCount: ") + cudaGetErrorString(status);
-        cudaGetLastError();   // clear it: later calls should report their own errors
+        cudaGetLastError();  // clear it: later calls should report their own errors
         return devices;
     }
     if (count == 0) {
@@ -63,7 +63,8 @@ std::string driver_version() {
         std::istringstream words(line);
         std::string word;
         while (words >> word)
-            if (!word.empty() && std::isdigit(static_cast<unsigned char>(word[0])) && word.find('.') != std::string::npos)
+            if (!word.empty() && std::isdigit(static_cast<unsigned char>(word[0])) &&
+                word.find('.') != std::string::npos)
                 return word + " (" + cuda + ")";
     }
     return cuda;
@@ -95,7 +96,7 @@ void DeviceContext::bind() const { cudaSetDevice(device_.index); }
 void DeviceContext::check(int status, const std::string& what) const {
     if (status == cudaSuccess) return;
     cudaError_t error = static_cast<cudaError_t>(status);
-    cudaGetLastError();   // clear non-sticky errors so the next call reports its own
+    cudaGetLastError();  // clear non-sticky errors so the next call reports its own
     throw Error("cuda: " + what + " on " + device_.name + ": " + cudaGetErrorString(error) + " (" +
                 cudaGetErrorName(error) + ")");
 }
@@ -110,15 +111,15 @@ size_t DeviceContext::free_memory() {
 void* DeviceContext::allocate(size_t bytes, const char* what) {
     bind();
     void* pointer = nullptr;
-    check(cudaMalloc(&pointer, bytes), std::string("cudaMalloc of buffer '") + what + "' (" +
-                                           std::to_string(bytes) + " bytes)");
+    check(cudaMalloc(&pointer, bytes),
+          std::string("cudaMalloc of buffer '") + what + "' (" + std::to_string(bytes) + " bytes)");
     return pointer;
 }
 
 void DeviceContext::release(void* pointer) {
     if (!pointer) return;
     bind();
-    check(cudaFree(pointer), "cudaFree");   // waits for the device: no launch still uses it
+    check(cudaFree(pointer), "cudaFree");  // waits for the device: no launch still uses it
 }
 
 void DeviceContext::copy_to_device(void* device_pointer, const void* host, size_t bytes) {
@@ -133,8 +134,7 @@ void DeviceContext::copy_to_device(void* device_pointer, const void* host, size_
 void DeviceContext::copy_to_host(void* host, const void* device_pointer, size_t bytes) {
     bind();
     if (bytes)
-        check(cudaMemcpyAsync(host, device_pointer, bytes, cudaMemcpyDeviceToHost,
-                              static_cast<cudaStream_t>(stream_)),
+        check(cudaMemcpyAsync(host, device_pointer, bytes, cudaMemcpyDeviceToHost, static_cast<cudaStream_t>(stream_)),
               "cudaMemcpyAsync (device to host)");
     check(cudaStreamSynchronize(static_cast<cudaStream_t>(stream_)), "cudaStreamSynchronize (read)");
 }
@@ -165,7 +165,7 @@ void DeviceContext::launch(unsigned stage, const char* stage_name, void* const* 
 std::vector<double> DeviceContext::synchronize_and_collect_ms() {
     bind();
     size_t launches = launches_;
-    launches_ = 0;   // even if the sync throws, the next frame starts a fresh list
+    launches_ = 0;  // even if the sync throws, the next frame starts a fresh list
     // Errors inside a kernel (an illegal address, ...) surface here.
     check(cudaStreamSynchronize(static_cast<cudaStream_t>(stream_)), "cudaStreamSynchronize (finish)");
     std::vector<double> ms(launches);

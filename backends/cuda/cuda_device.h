@@ -37,9 +37,9 @@ public:
     size_t free_memory();
     void* allocate(size_t bytes, const char* what);
     void release(void* pointer);
-    void copy_to_device(void* device_pointer, const void* host, size_t bytes);   // asynchronous on the stream
-    void copy_to_host(void* host, const void* device_pointer, size_t bytes);     // waits for it (and all before)
-    void fill_zero(void* device_pointer, size_t bytes);                           // asynchronous on the stream
+    void copy_to_device(void* device_pointer, const void* host, size_t bytes);  // asynchronous on the stream
+    void copy_to_host(void* host, const void* device_pointer, size_t bytes);    // waits for it (and all before)
+    void fill_zero(void* device_pointer, size_t bytes);                         // asynchronous on the stream
 
     // Launch of a stage between two timing events; `pointers` as in cuda_launch.h.
     void launch(unsigned stage, const char* stage_name, void* const* pointers, unsigned depth, unsigned blocks,
@@ -56,8 +56,8 @@ public:
 private:
     DeviceDescription device_;
     void* stream_ = nullptr;
-    std::vector<void*> events_;   // pool: launch i uses events 2i and 2i+1
-    size_t launches_ = 0;         // launches since the last collection
+    std::vector<void*> events_;  // pool: launch i uses events 2i and 2i+1
+    size_t launches_ = 0;        // launches since the last collection
 };
 
 }  // namespace prism::cuda

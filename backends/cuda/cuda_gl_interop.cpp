@@ -1,7 +1,7 @@
 #include "backends/cuda/cuda_gl_interop.h"
 
-#include <GL/gl.h>   // GLuint for cuda_gl_interop.h; no GL function is called here
-#include <cuda.h>      // driver API types only: its functions come from cudaGetDriverEntryPointByVersion
+#include <GL/gl.h>  // GLuint for cuda_gl_interop.h; no GL function is called here
+#include <cuda.h>   // driver API types only: its functions come from cudaGetDriverEntryPointByVersion
 #include <cuda_gl_interop.h>
 #include <cuda_runtime.h>
 #include <unistd.h>
@@ -34,7 +34,7 @@ public:
     std::string name() const override { return "CUDA-GL"; }
     std::string sync() const override { return "registered GL buffer, map/unmap on the CUDA stream"; }
     bool device_owns_memory() const override { return false; }
-    bool needs_gl_idle_before_copy() const override { return false; }   // mapping waits for GL's use
+    bool needs_gl_idle_before_copy() const override { return false; }  // mapping waits for GL's use
 
     void attach_gl_buffer(uint32_t gl_buffer, size_t bytes) override {
         context_.bind();
@@ -43,8 +43,9 @@ public:
             cudaGetLastError();
         }
         // Write-discard: CUDA never reads the old contents, so the driver need not preserve them.
-        context_.check(cudaGraphicsGLRegisterBuffer(&resource_, GLuint(gl_buffer), cudaGraphicsRegisterFlagsWriteDiscard),
-                       "cudaGraphicsGLRegisterBuffer of GL buffer " + std::to_string(gl_buffer));
+        context_.check(
+            cudaGraphicsGLRegisterBuffer(&resource_, GLuint(gl_buffer), cudaGraphicsRegisterFlagsWriteDiscard),
+            "cudaGraphicsGLRegisterBuffer of GL buffer " + std::to_string(gl_buffer));
         bytes_ = bytes;
     }
 
@@ -59,8 +60,7 @@ public:
         void* target = nullptr;
         size_t mapped = 0;
         cudaError_t status = cudaGraphicsResourceGetMappedPointer(&target, &mapped, resource_);
-        if (status == cudaSuccess)
-            status = cudaMemcpyAsync(target, image_(), bytes, cudaMemcpyDeviceToDevice, stream);
+        if (status == cudaSuccess) status = cudaMemcpyAsync(target, image_(), bytes, cudaMemcpyDeviceToDevice, stream);
         // Always unmap, even after a failed copy: a mapped buffer would block GL. Unmapping on the stream makes
         // GL's later use of the buffer wait for the copy, with no host synchronisation.
         cudaError_t unmapped = cudaGraphicsUnmapResources(1, &resource_, stream);
@@ -89,7 +89,7 @@ struct VirtualMemoryApi {
     decltype(&cuMemExportToShareableHandle) export_handle = nullptr;
     decltype(&cuDeviceGet) device = nullptr;
     decltype(&cuDeviceGetAttribute) attribute = nullptr;
-    std::string missing;   // the first entry point the driver did not give
+    std::string missing;  // the first entry point the driver did not give
 
     VirtualMemoryApi() {
         auto get = [this](auto& function, const char* name) {
@@ -191,7 +191,7 @@ public:
         if (bytes > bytes_)
             throw Error("cuda: frame of " + std::to_string(bytes) + " bytes does not fit the shared buffer of " +
                         std::to_string(bytes_));
-        wait_for_gl_idle();   // GL's draw of the last shown frame has read the buffer
+        wait_for_gl_idle();  // GL's draw of the last shown frame has read the buffer
         context_.bind();
         context_.check(cudaMemcpyAsync(reinterpret_cast<void*>(address_), image_(), bytes, cudaMemcpyDeviceToDevice,
                                        static_cast<cudaStream_t>(context_.stream())),
@@ -237,13 +237,12 @@ std::string gl_context_check(const DeviceContext& context, const std::string& gl
     cudaError_t status = cudaGLGetDevices(&count, devices, 8, cudaGLDeviceListAll);
     if (status != cudaSuccess) {
         cudaGetLastError();
-        return "GL runs on " + gl_renderer + ", not on a CUDA device (cudaGLGetDevices: " +
-               cudaGetErrorName(status) + ")";
+        return "GL runs on " + gl_renderer + ", not on a CUDA device (cudaGLGetDevices: " + cudaGetErrorName(status) +
+               ")";
     }
     for (unsigned int i = 0; i < count && i < 8; ++i)
         if (devices[i] == context.device().index) return "";
-    return "GL runs on " + gl_renderer + ", another device than CUDA device " +
-           std::to_string(context.device().index);
+    return "GL runs on " + gl_renderer + ", another device than CUDA device " + std::to_string(context.device().index);
 }
 
 std::unique_ptr<GlInterop> create_gl_interop(DeviceContext& context, std::function<const void*()> image,

@@ -7,7 +7,6 @@ namespace prism::cuda {
 // Launches stage `stage` (prism::Stage order) with `blocks` x `threads` on `stream` (a cudaStream_t).
 // `arrays` holds one device pointer per line of kernels/data_arrays.h, indexed by slot.
 // Returns the cudaError_t of the launch (0 = cudaSuccess); errors inside the kernel surface at the next sync.
-int launch_stage(unsigned stage, void* const* arrays, unsigned depth, unsigned blocks, unsigned threads,
-                 void* stream);
+int launch_stage(unsigned stage, void* const* arrays, unsigned depth, unsigned blocks, unsigned threads, void* stream);
 
 }  // namespace prism::cuda

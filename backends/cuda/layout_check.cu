@@ -6,10 +6,10 @@
 
 #define RT_LAYOUT_STRUCT(name, size) \
     static_assert(sizeof(name) == (size), "CUDA: " #name " size differs from layout_table.h");
-#define RT_LAYOUT_MEMBER(name, member, offset, kind)                                                         \
-    static_assert(offsetof(name, member) == (offset), "CUDA: " #name "." #member                              \
-                                                      " offset differs from layout_table.h");                 \
-    static_assert(sizeof(name::member) == 16 && alignof(decltype(name::member)) == 16,                         \
+#define RT_LAYOUT_MEMBER(name, member, offset, kind)                                   \
+    static_assert(offsetof(name, member) == (offset),                                  \
+                  "CUDA: " #name "." #member " offset differs from layout_table.h");   \
+    static_assert(sizeof(name::member) == 16 && alignof(decltype(name::member)) == 16, \
                   "CUDA: " #name "." #member " is not a 16-byte " #kind);
 #include "kernels/layout_table.h"
 #undef RT_LAYOUT_STRUCT

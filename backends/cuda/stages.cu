@@ -13,8 +13,7 @@
 
 namespace prism::cuda {
 
-int launch_stage(unsigned stage, void* const* arrays, unsigned depth, unsigned blocks, unsigned threads,
-                 void* stream) {
+int launch_stage(unsigned stage, void* const* arrays, unsigned depth, unsigned blocks, unsigned threads, void* stream) {
     // The pointer table is in data_arrays.h order (slot = binding), so the X-macro fills KernelGlobals.
     KernelGlobals kg;
 #define RT_DATA_ARRAY(slot, type, name, access, role) kg.name = static_cast<type*>(arrays[slot]);
@@ -28,8 +27,10 @@ int launch_stage(unsigned stage, void* const* arrays, unsigned depth, unsigned b
 #undef RT_STAGE
     };
     switch (stage) {
-#define RT_STAGE(name, Name, pass, launch) \
-    case stage_##name: prism_cuda_##name<<<blocks, threads, 0, s>>>(kg, depth); break;
+#define RT_STAGE(name, Name, pass, launch)                       \
+    case stage_##name:                                           \
+        prism_cuda_##name<<<blocks, threads, 0, s>>>(kg, depth); \
+        break;
 #include "kernels/stage_list.h"
 #undef RT_STAGE
         default: return static_cast<int>(cudaErrorInvalidValue);

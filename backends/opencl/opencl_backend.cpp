@@ -24,10 +24,10 @@ extern const char prism_opencl_layout_source[];
 namespace prism {
 namespace {
 
-using namespace prism::opencl;   // opencl_device.h, opencl_program.h
+using namespace prism::opencl;  // opencl_device.h, opencl_program.h
 
 // ---- Launch configuration (docs/fairness.md: the same rule on every GPU API) -----------------------------------
-constexpr size_t kBlocksPerComputeUnit = prism::kWorkGroupsPerComputeUnit;   // core/render/launch_config.h
+constexpr size_t kBlocksPerComputeUnit = prism::kWorkGroupsPerComputeUnit;  // core/render/launch_config.h
 constexpr size_t kThreadsPerBlock = 128;
 constexpr size_t kPlaceholderBytes = 256;
 static_assert(kPlaceholderBytes >= sizeof(FrameParams) && kPlaceholderBytes >= RT_COUNTER_SLOTS * 4);
@@ -108,7 +108,7 @@ public:
         const size_t a = size_t(array);
         if (buffers_[a] && book_.size(array) == bytes) return;
         const DeviceEntry& d = dev_.entry();
-        const size_t bytes_on_device = std::max<size_t>((bytes + 15) / 16 * 16, 16);   // zero-size arrays too
+        const size_t bytes_on_device = std::max<size_t>((bytes + 15) / 16 * 16, 16);  // zero-size arrays too
         if (bytes_on_device > d.max_alloc)
             throw Error(std::string("opencl: buffer '") + device_array_name(array) + "' needs " + mib_text(bytes) +
                         " but CL_DEVICE_MAX_MEM_ALLOC_SIZE of " + d.device_name + " is " + mib_text(d.max_alloc));
@@ -147,8 +147,8 @@ public:
         const size_t a = size_t(array);
         if (!buffers_[a]) return;
         const cl_uint pattern = 0;
-        check(clEnqueueFillBuffer(dev_.queue(), buffers_[a], &pattern, sizeof pattern, 0, book_.device_bytes(array), 0, nullptr,
-                                  nullptr),
+        check(clEnqueueFillBuffer(dev_.queue(), buffers_[a], &pattern, sizeof pattern, 0, book_.device_bytes(array), 0,
+                                  nullptr, nullptr),
               "clEnqueueFillBuffer", dev_.entry());
     }
 
@@ -203,16 +203,16 @@ private:
     }
 
     ClDevice dev_;
-    DeviceArrayBook book_;   // sizes as requested; on the device >= 16 bytes, a multiple of 16
+    DeviceArrayBook book_;  // sizes as requested; on the device >= 16 bytes, a multiple of 16
     cl_program program_ = nullptr;
     std::array<cl_kernel, stage_count> kernels_{};
     std::array<cl_mem, device_array_count> buffers_{};
-    cl_mem placeholder_ = nullptr;   // zeroed; bound to arrays never allocated
+    cl_mem placeholder_ = nullptr;  // zeroed; bound to arrays never allocated
     size_t local_size_ = kThreadsPerBlock;
     size_t global_size_ = 0;
     std::vector<Pending> pending_;
-    std::unique_ptr<GlInterop> gl_;   // OpenCL-GL, when the viewer asked and the context shares with its GL
-    std::string gl_reason_;           // why gl_ is null
+    std::unique_ptr<GlInterop> gl_;  // OpenCL-GL, when the viewer asked and the context shares with its GL
+    std::string gl_reason_;          // why gl_ is null
 };
 
 }  // namespace
@@ -232,8 +232,9 @@ BackendFactory opencl_backend_factory() {
         for (const DeviceEntry& d : devices)
             a.devices.push_back(d.label() + " (" + d.device_version + ", " + std::to_string(d.compute_units) +
                                 " compute units, " + mib_text(d.global_memory) + ")");
-        a.detail = devices.empty() ? why
-                                   : std::to_string(devices.size()) + " device(s); kernels/ built at run time as OpenCL C";
+        a.detail = devices.empty()
+                       ? why
+                       : std::to_string(devices.size()) + " device(s); kernels/ built at run time as OpenCL C";
         return a;
     };
     return factory;
@@ -258,11 +259,12 @@ std::vector<uint32_t> layout_words(const std::string& device_filter) {
     std::vector<uint32_t> words(256, 0xffffffffu);
     cl_mem buffer = nullptr;
     if (err == CL_SUCCESS)
-        buffer = clCreateBuffer(dev.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, words.size() * 4,
-                                words.data(), &err);
+        buffer = clCreateBuffer(dev.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, words.size() * 4, words.data(),
+                                &err);
     size_t one = 1;
     if (err == CL_SUCCESS) err = clSetKernelArg(kernel, 0, sizeof buffer, &buffer);
-    if (err == CL_SUCCESS) err = clEnqueueNDRangeKernel(dev.queue(), kernel, 1, nullptr, &one, &one, 0, nullptr, nullptr);
+    if (err == CL_SUCCESS)
+        err = clEnqueueNDRangeKernel(dev.queue(), kernel, 1, nullptr, &one, &one, 0, nullptr, nullptr);
     if (err == CL_SUCCESS)
         err = clEnqueueReadBuffer(dev.queue(), buffer, CL_TRUE, 0, words.size() * 4, words.data(), 0, nullptr, nullptr);
     if (buffer) clReleaseMemObject(buffer);

@@ -39,8 +39,7 @@ T device_value(cl_device_id device, cl_device_info what) {
 const char* cl_error_name(cl_int code) {
     switch (code) {
 #define PRISM_CL_ERROR(name) \
-    case name:               \
-        return #name;
+    case name: return #name;
         PRISM_CL_ERROR(CL_DEVICE_NOT_FOUND)
         PRISM_CL_ERROR(CL_DEVICE_NOT_AVAILABLE)
         PRISM_CL_ERROR(CL_COMPILER_NOT_AVAILABLE)
@@ -73,10 +72,8 @@ const char* cl_error_name(cl_int code) {
         PRISM_CL_ERROR(CL_INVALID_BUFFER_SIZE)
         PRISM_CL_ERROR(CL_INVALID_GLOBAL_WORK_SIZE)
 #undef PRISM_CL_ERROR
-        case -1001:
-            return "CL_PLATFORM_NOT_FOUND_KHR";
-        default:
-            return "unknown OpenCL error";
+        case -1001: return "CL_PLATFORM_NOT_FOUND_KHR";
+        default: return "unknown OpenCL error";
     }
 }
 
@@ -88,7 +85,7 @@ std::string trim(std::string s) {
 }
 
 std::vector<DeviceEntry> enumerate_devices(std::string& why_none) {
-    ensure_pocl_cache_dir();   // before PoCL initialises: it needs a usable cache folder
+    ensure_pocl_cache_dir();  // before PoCL initialises: it needs a usable cache folder
     std::vector<DeviceEntry> devices;
     cl_uint platform_count = 0;
     cl_int err = clGetPlatformIDs(0, nullptr, &platform_count);
@@ -163,8 +160,8 @@ void check(cl_int err, const char* what, const DeviceEntry& device) {
 ClDevice::ClDevice(const std::string& filter, const GlContextHandles* gl) : entry_(select_device(filter)) {
     cl_int err = CL_SUCCESS;
     if (gl) {
-        opencl_gl::ContextSharing sharing =
-            opencl_gl::context_properties(entry_.platform, entry_.device, entry_.platform_name, entry_.device_name, *gl);
+        opencl_gl::ContextSharing sharing = opencl_gl::context_properties(
+            entry_.platform, entry_.device, entry_.platform_name, entry_.device_name, *gl);
         gl_reason_ = sharing.reason;
         if (!sharing.properties.empty()) {
             context_ = clCreateContext(sharing.properties.data(), 1, &entry_.device, nullptr, nullptr, &err);
@@ -175,8 +172,8 @@ ClDevice::ClDevice(const std::string& filter, const GlContextHandles* gl) : entr
         }
     }
     if (!context_) {
-        cl_context_properties props[] = {CL_CONTEXT_PLATFORM,
-                                         reinterpret_cast<cl_context_properties>(entry_.platform), 0};
+        cl_context_properties props[] = {CL_CONTEXT_PLATFORM, reinterpret_cast<cl_context_properties>(entry_.platform),
+                                         0};
         context_ = clCreateContext(props, 1, &entry_.device, nullptr, nullptr, &err);
         check(err, "clCreateContext", entry_);
     }

@@ -56,12 +56,12 @@ public:
     const DeviceEntry& entry() const { return entry_; }
     cl_context context() const { return context_; }
     cl_command_queue queue() const { return queue_; }
-    bool shares_gl() const { return gl_reason_.empty(); }   // meaningful only when created with `gl`
+    bool shares_gl() const { return gl_reason_.empty(); }  // meaningful only when created with `gl`
     const std::string& gl_reason() const { return gl_reason_; }
 
 private:
     DeviceEntry entry_;
-    std::string gl_reason_;   // why the context does not share with GL ("" when it does)
+    std::string gl_reason_;  // why the context does not share with GL ("" when it does)
     cl_context context_ = nullptr;
     cl_command_queue queue_ = nullptr;
 };

@@ -5,7 +5,7 @@
 #define RT_CL_PASTE(a, b) RT_CL_PASTE_(a, b)
 
 __kernel void RT_CL_PASTE(prism_, RT_CL_STAGE)(
-#define RT_DATA_ARRAY(slot, type, name, access, role) __global type* name,
+#define RT_DATA_ARRAY(slot, type, name, access, role) __global type *name,
 #include "data_arrays.h"
 #undef RT_DATA_ARRAY
     uint depth) {

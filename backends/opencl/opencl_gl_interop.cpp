@@ -50,7 +50,7 @@ public:
         if (bytes > bytes_)
             throw Error("opencl: frame of " + std::to_string(bytes) + " bytes does not fit the GL buffer of " +
                         std::to_string(bytes_));
-        wait_for_gl_idle();   // cl_khr_gl_sharing: GL must be done with the buffer before the acquire
+        wait_for_gl_idle();  // cl_khr_gl_sharing: GL must be done with the buffer before the acquire
         check(clEnqueueAcquireGLObjects(queue_, 1, &shared_, 0, nullptr, nullptr), "clEnqueueAcquireGLObjects",
               device_);
         cl_int copied = clEnqueueCopyBuffer(queue_, image_(), shared_, 0, 0, bytes, 0, nullptr, nullptr);

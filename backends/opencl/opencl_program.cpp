@@ -71,7 +71,7 @@ std::string build_log(cl_program program, const DeviceEntry& device) {
 }  // namespace
 
 std::string cache_dir() {
-    if (std::optional<std::string> dir = setting(Setting::CacheDir)) return *dir;   // "": no cache
+    if (std::optional<std::string> dir = setting(Setting::CacheDir)) return *dir;  // "": no cache
     if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::string(xdg) + "/prism";
     if (const char* home = std::getenv("HOME"); home && *home) return std::string(home) + "/.cache/prism";
     return "";
@@ -81,8 +81,8 @@ cl_program build_program(const ClDevice& dev, const std::string& source, opencl_
     const DeviceEntry& device = dev.entry();
     const std::string options = build_options(device);
     const std::string key = "prism-opencl-v1\n" + options + "\n" + device.platform_name + "\n" +
-                            device.platform_version + "\n" + device.device_name + "\n" + device.device_version +
-                            "\n" + device.driver_version + "\n" + source;
+                            device.platform_version + "\n" + device.device_name + "\n" + device.device_version + "\n" +
+                            device.driver_version + "\n" + source;
     const std::string hash = hex64(fnv1a(key, 0xcbf29ce484222325ull)) + hex64(fnv1a(key, 0x84222325cbf29ce4ull));
     const std::string header = "PRISMCL " + hash + " " + std::to_string(key.size()) + "\n";
     std::string dir = cache_dir();
@@ -150,6 +150,5 @@ cl_program build_program(const ClDevice& dev, const std::string& source, opencl_
     }
     return program;
 }
-
 
 }  // namespace prism::opencl

@@ -3,10 +3,10 @@
 // Commands are recorded into one command buffer on one compute queue: enqueue() records a stage between two
 // timestamps — intersect, miss and shade as vkCmdDispatchIndirect, sized on the device from the queue counters
 // (kernels/launch_args.h) by generate and shadow, which run on the fixed grid and write every launch's arguments in
-// passing (shaders/launch_args.glsl), so a frame has no extra dispatch for it; write() a copy from a host-visible staging buffer, zero()
-// a vkCmdFillBuffer. A full memory barrier (compute, transfer and indirect reads) precedes every command, which
-// makes the queue behave in order like a CUDA stream or an in-order OpenCL queue. Nothing is submitted until
-// read() or finish() (or a full staging buffer or query pool), which submit, wait on a fence and collect the
+// passing (shaders/launch_args.glsl), so a frame has no extra dispatch for it; write() a copy from a host-visible
+// staging buffer, zero() a vkCmdFillBuffer. A full memory barrier (compute, transfer and indirect reads) precedes every
+// command, which makes the queue behave in order like a CUDA stream or an in-order OpenCL queue. Nothing is submitted
+// until read() or finish() (or a full staging buffer or query pool), which submit, wait on a fence and collect the
 // timestamps.
 //
 // Memory: every device array is its own device-local storage buffer (binding = its line in kernels/data_arrays.h);
@@ -40,18 +40,18 @@
 #include "shaders/vulkan_bindings.h"
 #include "spirv/vulkan_shaders.h"
 #include "spirv/vulkan_shaders_address.h"
-#include "kernels/launch_args.h"   // as C++ (core defines RT_CPU): slots of the argument buffer
+#include "kernels/launch_args.h"  // as C++ (core defines RT_CPU): slots of the argument buffer
 
 namespace prism {
 namespace {
 
-constexpr uint32_t kWorkGroupSize = 128;                 // local_size_x of shaders/common.glsl
-constexpr VkDeviceSize kTransferChunk = 64ull << 20;     // staging and read-back buffers grow up to this
-constexpr uint32_t kQueryCapacity = 2 * 512;             // timestamps per submission (two per dispatch)
+constexpr uint32_t kWorkGroupSize = 128;              // local_size_x of shaders/common.glsl
+constexpr VkDeviceSize kTransferChunk = 64ull << 20;  // staging and read-back buffers grow up to this
+constexpr uint32_t kQueryCapacity = 2 * 512;          // timestamps per submission (two per dispatch)
 static_assert(RT_LAUNCH_SLOTS <= kWorkGroupSize, "shaders/launch_args.comp fills one slot per invocation of one group");
 static_assert(RT_VK_BINDING_LAUNCH_ARGS == device_array_count, "data_arrays.h: bindings 0 .. count - 1, in order");
 
-struct StagePush {   // shaders/common.glsl
+struct StagePush {  // shaders/common.glsl
     uint32_t depth;
     uint32_t groups;
 };
@@ -59,18 +59,22 @@ struct StagePush {   // shaders/common.glsl
 std::string mib(uint64_t bytes) {
     char text[32];
     double value = double(bytes) / double(1 << 20);
-    if (value == std::floor(value)) std::snprintf(text, sizeof text, "%.0f MiB", value);
-    else std::snprintf(text, sizeof text, "%.1f MiB", value);
+    if (value == std::floor(value))
+        std::snprintf(text, sizeof text, "%.0f MiB", value);
+    else
+        std::snprintf(text, sizeof text, "%.1f MiB", value);
     return text;
 }
 
-VkDeviceSize round_up(VkDeviceSize value, VkDeviceSize multiple) { return (value + multiple - 1) / multiple * multiple; }
+VkDeviceSize round_up(VkDeviceSize value, VkDeviceSize multiple) {
+    return (value + multiple - 1) / multiple * multiple;
+}
 
 struct Buffer {
     VkBuffer buffer = VK_NULL_HANDLE;
     VkDeviceMemory memory = VK_NULL_HANDLE;
-    VkDeviceSize capacity = 0;   // bytes of the VkBuffer (>= 16, a multiple of 16)
-    size_t bytes = 0;            // bytes the user allocated
+    VkDeviceSize capacity = 0;  // bytes of the VkBuffer (>= 16, a multiple of 16)
+    size_t bytes = 0;           // bytes the user allocated
     void* mapped = nullptr;
     bool coherent = true;
 };
@@ -78,7 +82,7 @@ struct Buffer {
 struct PendingTiming {
     Stage stage;
     uint32_t depth;
-    uint32_t query;   // start; end is query + 1
+    uint32_t query;  // start; end is query + 1
 };
 
 class VulkanBackend final : public Backend, private vk::ImageCopier {
@@ -119,11 +123,10 @@ public:
         const std::string device = physical_.properties.deviceName;
         if (bytes > physical_.properties.limits.maxStorageBufferRange &&
             (!address_supported_ || forced_addressing_ == "descriptors"))
-            throw Error(std::string("vulkan: buffer '") + name + "' needs " + mib(bytes) +
-                        " but maxStorageBufferRange of " + device + " is " +
-                        mib(physical_.properties.limits.maxStorageBufferRange) +
-                        (address_supported_ ? " (PRISM_VULKAN_ADDRESSING=descriptors)"
-                                            : " and it has no bufferDeviceAddress"));
+            throw Error(
+                std::string("vulkan: buffer '") + name + "' needs " + mib(bytes) + " but maxStorageBufferRange of " +
+                device + " is " + mib(physical_.properties.limits.maxStorageBufferRange) +
+                (address_supported_ ? " (PRISM_VULKAN_ADDRESSING=descriptors)" : " and it has no bufferDeviceAddress"));
         if (bytes > max_allocation_)
             throw Error(std::string("vulkan: buffer '") + name + "' needs " + mib(bytes) +
                         " but maxMemoryAllocationSize of " + device + " is " + mib(max_allocation_));
@@ -132,7 +135,7 @@ public:
                         device + " is " + mib(device_heap_bytes_));
         const size_t device_bytes = round_up(std::max<size_t>(bytes, 16), 16);
         book_->check_fits(array, bytes, device_bytes);
-        flush();   // commands already recorded may use the old buffer
+        flush();  // commands already recorded may use the old buffer
         release(buffer);
         book_->forget(array);
         buffer = create_buffer(name, device_bytes, array_usage_, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0,
@@ -153,16 +156,18 @@ public:
 
     void write(DeviceArray array, const void* data, size_t bytes, size_t offset) override {
         book_->check_range(array, bytes, offset);
-        if (device_array_role(array) == DeviceArrayRole::Frame) launch_args_fresh_ = false;   // counts may change
+        if (device_array_role(array) == DeviceArrayRole::Frame) launch_args_fresh_ = false;  // counts may change
         const char* source = static_cast<const char*>(data);
         while (bytes > 0) {
             if (staging_.capacity < kTransferChunk && staging_used_ + bytes > staging_.capacity) {
                 flush();
                 release(staging_);
-                VkDeviceSize capacity = std::min(kTransferChunk, std::max<VkDeviceSize>(round_up(bytes, 1 << 20), 1 << 20));
-                staging_ = create_buffer("staging", capacity, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
-                                         VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, 0,
-                                         VK_MEMORY_PROPERTY_HOST_CACHED_BIT | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, true);
+                VkDeviceSize capacity =
+                    std::min(kTransferChunk, std::max<VkDeviceSize>(round_up(bytes, 1 << 20), 1 << 20));
+                staging_ =
+                    create_buffer("staging", capacity, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                  VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, 0,
+                                  VK_MEMORY_PROPERTY_HOST_CACHED_BIT | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, true);
             }
             if (staging_used_ >= staging_.capacity) {
                 flush();
@@ -187,11 +192,11 @@ public:
             if (readback_.capacity < std::min<VkDeviceSize>(bytes, kTransferChunk)) {
                 flush();
                 release(readback_);
-                VkDeviceSize capacity = std::min(kTransferChunk, std::max<VkDeviceSize>(round_up(bytes, 1 << 20), 1 << 20));
-                readback_ = create_buffer("readback", capacity, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                          VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
-                                          VK_MEMORY_PROPERTY_HOST_CACHED_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, 0,
-                                          true);
+                VkDeviceSize capacity =
+                    std::min(kTransferChunk, std::max<VkDeviceSize>(round_up(bytes, 1 << 20), 1 << 20));
+                readback_ = create_buffer(
+                    "readback", capacity, VK_BUFFER_USAGE_TRANSFER_DST_BIT, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
+                    VK_MEMORY_PROPERTY_HOST_CACHED_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, 0, true);
             }
             VkDeviceSize piece = std::min<VkDeviceSize>(bytes, readback_.capacity);
             begin_command();
@@ -200,8 +205,8 @@ public:
             VkMemoryBarrier to_host{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
             to_host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
             to_host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-            vkCmdPipelineBarrier(command_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &to_host, 0,
-                                 nullptr, 0, nullptr);
+            vkCmdPipelineBarrier(command_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &to_host,
+                                 0, nullptr, 0, nullptr);
             flush();
             if (!readback_.coherent) {
                 VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE};
@@ -219,7 +224,7 @@ public:
     void zero(DeviceArray array) override {
         Buffer& buffer = arrays_[size_t(array)];
         if (!buffer.buffer) return;
-        if (device_array_role(array) == DeviceArrayRole::Frame) launch_args_fresh_ = false;   // counts may change
+        if (device_array_role(array) == DeviceArrayRole::Frame) launch_args_fresh_ = false;  // counts may change
         begin_command();
         vkCmdFillBuffer(command_, buffer.buffer, 0, VK_WHOLE_SIZE, 0u);
     }
@@ -242,8 +247,8 @@ public:
         if (timestamps_) vkCmdWriteTimestamp(command_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, query_pool_, query);
         VkPipeline stage_pipeline = pipeline(pipelines_, address_pipelines_, size_t(stage), stage_name(stage), address);
         if (indirect)
-            dispatch_indirect(stage_pipeline,
-                              VkDeviceSize(rt_launch_slot(RT_LAUNCH_RAYS, depth)) * sizeof(uint4), depth);
+            dispatch_indirect(stage_pipeline, VkDeviceSize(rt_launch_slot(RT_LAUNCH_RAYS, depth)) * sizeof(uint4),
+                              depth);
         else
             dispatch(stage_pipeline, grid_.groups, depth);
         if (timestamps_) {
@@ -251,8 +256,8 @@ public:
             queries_used_ += 2;
         }
         pending_.push_back(PendingTiming{stage, depth, query});
-        if (launch == StageLaunch::GridSizesQueue) launch_args_fresh_ = true;   // it refreshed them
-        if (launch == StageLaunch::QueueGrows) launch_args_fresh_ = false;      // it appended rays
+        if (launch == StageLaunch::GridSizesQueue) launch_args_fresh_ = true;  // it refreshed them
+        if (launch == StageLaunch::QueueGrows) launch_args_fresh_ = false;     // it appended rays
     }
 
     std::vector<StageTiming> finish() override {
@@ -268,7 +273,7 @@ public:
             found = extra_pipelines_.emplace(spirv.data(), create_pipeline(spirv, "module")).first;
         begin_command();
         dispatch(found->second, groups, push);
-        launch_args_fresh_ = false;   // a module may write anything, the counters included
+        launch_args_fresh_ = false;  // a module may write anything, the counters included
     }
 
     // For the tests: the variant the next stage would run with, and whether launches are indirect.
@@ -290,7 +295,7 @@ private:
             command_info.commandBufferCount = 1;
             vk::check(vkAllocateCommandBuffers(device_, &command_info, &copy_command_), "vkAllocateCommandBuffers");
         }
-        begin_command();   // the frame's batch goes with it, even if nothing else is recorded after the copy
+        begin_command();  // the frame's batch goes with it, even if nothing else is recorded after the copy
         VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
         begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
         vk::check(vkBeginCommandBuffer(copy_command_, &begin), "vkBeginCommandBuffer (copy)");
@@ -353,15 +358,15 @@ private:
         forced_addressing_ = setting_choice(Setting::VulkanAddressing, {"auto", "descriptors", "addresses"}, "vulkan");
         if (forced_addressing_ == "auto") forced_addressing_.clear();
         if (forced_addressing_ == "addresses" && !address_supported_)
-            throw Error(std::string("vulkan: PRISM_VULKAN_ADDRESSING=addresses but ") + physical_.properties.deviceName +
-                        " lacks bufferDeviceAddress or shaderInt64");
+            throw Error(std::string("vulkan: PRISM_VULKAN_ADDRESSING=addresses but ") +
+                        physical_.properties.deviceName + " lacks bufferDeviceAddress or shaderInt64");
         indirect_ = setting_choice(Setting::VulkanDispatch, {"indirect", "fixed"}, "vulkan") != "fixed";
         max_buffer_ = std::min<size_t>(max_allocation_, device_heap_bytes_);
         if (!address_supported_ || forced_addressing_ == "descriptors")
             max_buffer_ = std::min<size_t>(max_buffer_, physical_.properties.limits.maxStorageBufferRange);
         array_usage_ = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-                      VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
-                      (address_supported_ ? VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT : 0);
+                       VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                       (address_supported_ ? VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT : 0);
 
         float priority = 1.0f;
         VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -419,20 +424,22 @@ private:
     bindings.push_back({slot, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
 #include "kernels/data_arrays.h"
 #undef RT_DATA_ARRAY
-        bindings.push_back({RT_VK_BINDING_LAUNCH_ARGS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT,
-                            nullptr});
-        bindings.push_back({RT_VK_BINDING_ADDRESSES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT,
-                            nullptr});
+        bindings.push_back(
+            {RT_VK_BINDING_LAUNCH_ARGS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
+        bindings.push_back(
+            {RT_VK_BINDING_ADDRESSES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
         VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
         set_info.bindingCount = uint32_t(bindings.size());
         set_info.pBindings = bindings.data();
-        vk::check(vkCreateDescriptorSetLayout(device_, &set_info, nullptr, &set_layout_), "vkCreateDescriptorSetLayout");
+        vk::check(vkCreateDescriptorSetLayout(device_, &set_info, nullptr, &set_layout_),
+                  "vkCreateDescriptorSetLayout");
         VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, uint32_t(bindings.size())};
         VkDescriptorPoolCreateInfo descriptor_pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
         descriptor_pool_info.maxSets = 1;
         descriptor_pool_info.poolSizeCount = 1;
         descriptor_pool_info.pPoolSizes = &pool_size;
-        vk::check(vkCreateDescriptorPool(device_, &descriptor_pool_info, nullptr, &descriptor_pool_), "vkCreateDescriptorPool");
+        vk::check(vkCreateDescriptorPool(device_, &descriptor_pool_info, nullptr, &descriptor_pool_),
+                  "vkCreateDescriptorPool");
         VkDescriptorSetAllocateInfo set_alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
         set_alloc.descriptorPool = descriptor_pool_;
         set_alloc.descriptorSetCount = 1;
@@ -447,7 +454,8 @@ private:
         layout_info.pPushConstantRanges = &push;
         vk::check(vkCreatePipelineLayout(device_, &layout_info, nullptr, &pipeline_layout_), "vkCreatePipelineLayout");
         // Descriptor-mode pipelines now (the common case); address-mode ones when first needed.
-        for (size_t s = 0; s < stage_count; ++s) pipeline(pipelines_, address_pipelines_, s, stage_name(Stage(s)), false);
+        for (size_t s = 0; s < stage_count; ++s)
+            pipeline(pipelines_, address_pipelines_, s, stage_name(Stage(s)), false);
         if (indirect_) pipeline(launch_args_pipelines_, launch_args_address_pipelines_, 0, "launch_args", false);
 
         // Until an array is allocated its binding points at a small placeholder, so every set is valid.
@@ -463,8 +471,9 @@ private:
     }
 
     // The pipeline of one entry point in the variant asked for, created on first use.
-    VkPipeline pipeline(std::array<VkPipeline, stage_count>& descriptor_set, std::array<VkPipeline, stage_count>& address,
-                        size_t index, const char* name, bool use_addresses) {
+    VkPipeline pipeline(std::array<VkPipeline, stage_count>& descriptor_set,
+                        std::array<VkPipeline, stage_count>& address, size_t index, const char* name,
+                        bool use_addresses) {
         VkPipeline& slot = use_addresses ? address[index] : descriptor_set[index];
         if (slot) return slot;
         std::span<const uint32_t> spirv =
@@ -476,7 +485,7 @@ private:
 
     void destroy() {
         if (!device_) return;
-        gl_.reset();   // its buffer and semaphores belong to this device
+        gl_.reset();  // its buffer and semaphores belong to this device
         vkDeviceWaitIdle(device_);
         for (Buffer& b : arrays_) release(b);
         release(placeholder_);
@@ -546,8 +555,9 @@ private:
         VkResult result = vkAllocateMemory(device_, &alloc, nullptr, &b.memory);
         if (result != VK_SUCCESS) {
             vkDestroyBuffer(device_, b.buffer, nullptr);
-            throw Error(std::string("vulkan: buffer '") + name + "' (" + mib(capacity) + ") does not fit in the memory of " +
-                        physical_.properties.deviceName + ": " + vk::result_name(result));
+            throw Error(std::string("vulkan: buffer '") + name + "' (" + mib(capacity) +
+                        ") does not fit in the memory of " + physical_.properties.deviceName + ": " +
+                        vk::result_name(result));
         }
         vk::check(vkBindBufferMemory(device_, b.buffer, b.memory, 0), "vkBindBufferMemory");
         b.coherent = memory_.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
@@ -557,7 +567,7 @@ private:
 
     void release(Buffer& b) {
         if (b.buffer) vkDestroyBuffer(device_, b.buffer, nullptr);
-        if (b.memory) vkFreeMemory(device_, b.memory, nullptr);   // unmaps too
+        if (b.memory) vkFreeMemory(device_, b.memory, nullptr);  // unmaps too
         b = Buffer{};
     }
 
@@ -574,9 +584,9 @@ private:
     }
 
     void bind_extra(uint32_t binding, const Buffer& buffer) {
-        VkDescriptorBufferInfo info{buffer.buffer, 0,
-                                    std::min<VkDeviceSize>(buffer.capacity,
-                                                           physical_.properties.limits.maxStorageBufferRange)};
+        VkDescriptorBufferInfo info{
+            buffer.buffer, 0,
+            std::min<VkDeviceSize>(buffer.capacity, physical_.properties.limits.maxStorageBufferRange)};
         VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
         write.dstSet = descriptor_set_;
         write.dstBinding = binding;
@@ -594,9 +604,9 @@ private:
             begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
             vk::check(vkBeginCommandBuffer(command_, &begin), "vkBeginCommandBuffer");
             recording_ = true;
-            if (timestamps_) vkCmdResetQueryPool(command_, query_pool_, 0, kQueryCapacity);   // once per submission
+            if (timestamps_) vkCmdResetQueryPool(command_, query_pool_, 0, kQueryCapacity);  // once per submission
         }
-        if (addresses_dirty_) {   // the address table follows every (re)allocation, in stream order
+        if (addresses_dirty_) {  // the address table follows every (re)allocation, in stream order
             addresses_dirty_ = false;
             full_barrier();
             vkCmdUpdateBuffer(command_, addresses_.buffer, 0, sizeof address_table_, address_table_.data());
@@ -696,7 +706,7 @@ private:
     size_t max_allocation_ = 0;
     size_t device_heap_bytes_ = 0;
     size_t max_buffer_ = 0;
-    std::optional<DeviceArrayBook> book_;   // made once the device heap is known
+    std::optional<DeviceArrayBook> book_;  // made once the device heap is known
 
     VkDevice device_ = VK_NULL_HANDLE;
     VkQueue queue_ = VK_NULL_HANDLE;
@@ -721,20 +731,20 @@ private:
     VkDescriptorPool descriptor_pool_ = VK_NULL_HANDLE;
     VkDescriptorSet descriptor_set_ = VK_NULL_HANDLE;
     VkPipelineLayout pipeline_layout_ = VK_NULL_HANDLE;
-    std::array<VkPipeline, stage_count> pipelines_{};           // descriptor mode
-    std::array<VkPipeline, stage_count> address_pipelines_{};   // address mode
-    std::array<VkPipeline, stage_count> launch_args_pipelines_{};           // [0] only
-    std::array<VkPipeline, stage_count> launch_args_address_pipelines_{};   // [0] only
+    std::array<VkPipeline, stage_count> pipelines_{};                      // descriptor mode
+    std::array<VkPipeline, stage_count> address_pipelines_{};              // address mode
+    std::array<VkPipeline, stage_count> launch_args_pipelines_{};          // [0] only
+    std::array<VkPipeline, stage_count> launch_args_address_pipelines_{};  // [0] only
     bool address_supported_ = false;
-    std::string forced_addressing_;   // PRISM_VULKAN_ADDRESSING: "", "descriptors" or "addresses"
-    bool indirect_ = true;            // PRISM_VULKAN_DISPATCH != fixed
+    std::string forced_addressing_;  // PRISM_VULKAN_ADDRESSING: "", "descriptors" or "addresses"
+    bool indirect_ = true;           // PRISM_VULKAN_DISPATCH != fixed
     VkBufferUsageFlags array_usage_ = 0;
     std::map<const uint32_t*, VkPipeline> extra_pipelines_;
 
     std::array<Buffer, device_array_count> arrays_{};
     Buffer placeholder_;
-    Buffer launch_args_;   // RT_LAUNCH_SLOTS x uint4: vkCmdDispatchIndirect arguments
-    Buffer addresses_;     // device_array_count x uint64: the address table of address mode
+    Buffer launch_args_;  // RT_LAUNCH_SLOTS x uint4: vkCmdDispatchIndirect arguments
+    Buffer addresses_;    // device_array_count x uint64: the address table of address mode
     std::array<uint64_t, device_array_count> address_table_{};
     bool addresses_dirty_ = false;
     // Whether launch_args_ holds the counts of the counters as they are (cleared by anything that changes them:
@@ -744,8 +754,8 @@ private:
     VkDeviceSize staging_used_ = 0;
     Buffer readback_;
 
-    std::unique_ptr<GlInterop> gl_;   // Vulkan-GL, when the viewer asked and GL can import this device's memory
-    std::string gl_reason_;           // why gl_ is null
+    std::unique_ptr<GlInterop> gl_;  // Vulkan-GL, when the viewer asked and GL can import this device's memory
+    std::string gl_reason_;          // why gl_ is null
 };
 
 }  // namespace
@@ -779,9 +789,12 @@ BackendFactory vulkan_backend_factory() {
                 a.devices.push_back(d.describe());
                 if (d.unusable.empty()) a.available = true;
             }
-            if (a.devices.empty()) a.detail = "Vulkan: no compute-capable device (no physical device found)";
-            else if (!a.available) a.detail = "Vulkan: no compute-capable device (none usable)";
-            else a.detail = "kernels/ compiled to SPIR-V (GLSL 4.60, Vulkan 1.2) as compute pipelines";
+            if (a.devices.empty())
+                a.detail = "Vulkan: no compute-capable device (no physical device found)";
+            else if (!a.available)
+                a.detail = "Vulkan: no compute-capable device (none usable)";
+            else
+                a.detail = "kernels/ compiled to SPIR-V (GLSL 4.60, Vulkan 1.2) as compute pipelines";
         } catch (const Error& e) {
             a.available = false;
             a.detail = e.what();

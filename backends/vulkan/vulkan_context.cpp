@@ -28,8 +28,8 @@ std::vector<std::string>& message_log() {
 }
 
 VKAPI_ATTR VkBool32 VKAPI_CALL debug_callback(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
-                                              VkDebugUtilsMessageTypeFlagsEXT, const VkDebugUtilsMessengerCallbackDataEXT* data,
-                                              void*) {
+                                              VkDebugUtilsMessageTypeFlagsEXT,
+                                              const VkDebugUtilsMessengerCallbackDataEXT* data, void*) {
     const char* level = severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT ? "error" : "warning";
     std::string text = std::string("vulkan ") + level + ": " + (data && data->pMessage ? data->pMessage : "(no text)");
     vk::record_message(text);
@@ -66,9 +66,7 @@ void record_message(const std::string& message) {
     message_log().push_back(message);
 }
 
-bool validation_requested() {
-    return setting(Setting::VulkanValidation) == "1";
-}
+bool validation_requested() { return setting(Setting::VulkanValidation) == "1"; }
 
 const char* result_name(VkResult result) {
     switch (result) {
@@ -127,8 +125,9 @@ Instance::Instance(bool validation) : validation_(validation) {
         return std::strcmp(l.layerName, validation_layer) == 0;
     });
     if (validation && !have_validation)
-        throw Error("vulkan: PRISM_VULKAN_VALIDATION=1 but VK_LAYER_KHRONOS_validation is not installed "
-                    "(apt-get install vulkan-validationlayers)");
+        throw Error(
+            "vulkan: PRISM_VULKAN_VALIDATION=1 but VK_LAYER_KHRONOS_validation is not installed "
+            "(apt-get install vulkan-validationlayers)");
 
     uint32_t extension_count = 0;
     vkEnumerateInstanceExtensionProperties(nullptr, &extension_count, nullptr);
@@ -163,10 +162,11 @@ Instance::Instance(bool validation) : validation_(validation) {
         info.enabledLayerCount = 1;
         info.ppEnabledLayerNames = &validation_layer;
     }
-    if (have_debug_utils) info.pNext = &messenger_info;   // also reports during vkCreateInstance itself
+    if (have_debug_utils) info.pNext = &messenger_info;  // also reports during vkCreateInstance itself
     VkResult result = vkCreateInstance(&info, nullptr, &instance_);
     if (result == VK_ERROR_INCOMPATIBLE_DRIVER)
-        throw Error("vulkan: no Vulkan driver (VK_ERROR_INCOMPATIBLE_DRIVER): install a driver, e.g. mesa-vulkan-drivers");
+        throw Error(
+            "vulkan: no Vulkan driver (VK_ERROR_INCOMPATIBLE_DRIVER): install a driver, e.g. mesa-vulkan-drivers");
     check(result, "vkCreateInstance");
     if (have_debug_utils) {
         auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
@@ -213,7 +213,8 @@ std::vector<DeviceCandidate> Instance::devices() const {
         int best_score = -1;
         for (uint32_t f = 0; f < family_count; ++f) {
             if (!(families[f].queueFlags & VK_QUEUE_COMPUTE_BIT)) continue;
-            int score = (families[f].timestampValidBits > 0 ? 2 : 0) + (families[f].queueFlags & VK_QUEUE_GRAPHICS_BIT ? 0 : 1);
+            int score =
+                (families[f].timestampValidBits > 0 ? 2 : 0) + (families[f].queueFlags & VK_QUEUE_GRAPHICS_BIT ? 0 : 1);
             if (score > best_score) {
                 best_score = score;
                 d.compute_family = f;
@@ -297,7 +298,7 @@ GridChoice choose_grid(const DeviceCandidate& device) {
         grid.compute_units = device.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU ? 64 : 16;
         grid.source = "default for the device type";
     }
-    uint64_t groups = uint64_t(grid.compute_units) * kWorkGroupsPerComputeUnit;   // core/render/launch_config.h
+    uint64_t groups = uint64_t(grid.compute_units) * kWorkGroupsPerComputeUnit;  // core/render/launch_config.h
     grid.groups = uint32_t(std::min<uint64_t>(groups, device.properties.limits.maxComputeWorkGroupCount[0]));
     return grid;
 }

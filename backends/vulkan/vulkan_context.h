@@ -17,7 +17,7 @@ const char* result_name(VkResult result);
 // Records a debug message (thread-safe); also what the tests read.
 void record_message(const std::string& message);
 
-bool validation_requested();   // PRISM_VULKAN_VALIDATION=1
+bool validation_requested();  // PRISM_VULKAN_VALIDATION=1
 
 bool has_device_extension(VkPhysicalDevice device, const char* name);
 
@@ -25,9 +25,9 @@ struct DeviceCandidate {
     VkPhysicalDevice handle = VK_NULL_HANDLE;
     VkPhysicalDeviceProperties properties{};
     VkPhysicalDeviceDriverProperties driver{};
-    uint32_t compute_family = UINT32_MAX;   // UINT32_MAX: no compute queue
-    std::string unusable;                   // why this device cannot run the backend ("" when it can)
-    std::string describe() const;           // "llvmpipe (LLVM 15.0.6, 256 bits) [llvmpipe, Vulkan 1.3.230]"
+    uint32_t compute_family = UINT32_MAX;  // UINT32_MAX: no compute queue
+    std::string unusable;                  // why this device cannot run the backend ("" when it can)
+    std::string describe() const;          // "llvmpipe (LLVM 15.0.6, 256 bits) [llvmpipe, Vulkan 1.3.230]"
 };
 
 class Instance {
@@ -56,14 +56,14 @@ uint32_t find_memory_type(const VkPhysicalDeviceMemoryProperties& memory, uint32
                           VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred,
                           VkMemoryPropertyFlags avoided);
 
-// Work-groups per dispatch: kWorkGroupsPerComputeUnit (core/render/launch_config.h) x the device's compute units (SMs on
-// NVIDIA through VK_NV_shader_sm_builtins, CUs on
-// AMD through VK_AMD_shader_core_properties, host threads for a CPU device, else a per-type default), bounded by
-// maxComputeWorkGroupCount[0]. The same rule as the CUDA and OpenCL backends.
+// Work-groups per dispatch: kWorkGroupsPerComputeUnit (core/render/launch_config.h) x the device's compute units (SMs
+// on NVIDIA through VK_NV_shader_sm_builtins, CUs on AMD through VK_AMD_shader_core_properties, host threads for a CPU
+// device, else a per-type default), bounded by maxComputeWorkGroupCount[0]. The same rule as the CUDA and OpenCL
+// backends.
 struct GridChoice {
     uint32_t groups = 0;
     uint32_t compute_units = 0;
-    std::string source;   // where compute_units came from
+    std::string source;  // where compute_units came from
 };
 GridChoice choose_grid(const DeviceCandidate& device);
 

@@ -88,7 +88,8 @@ private:
         vkGetBufferMemoryRequirements(device_, buffer_, &requirements);
         uint32_t type = find_memory_type(memory_, requirements.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0,
                                          VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
-        if (type == UINT32_MAX) throw Error("vulkan: no device-local memory type for the shared buffer on " + device_name);
+        if (type == UINT32_MAX)
+            throw Error("vulkan: no device-local memory type for the shared buffer on " + device_name);
         // A dedicated allocation: what drivers prefer (or require) for exported memory, and GL is told the same.
         VkMemoryDedicatedAllocateInfo dedicated{VK_STRUCTURE_TYPE_MEMORY_DEDICATED_ALLOCATE_INFO};
         dedicated.buffer = buffer_;
@@ -149,7 +150,7 @@ private:
 
     void release() {
         if (!buffer_ && !memory_handle_ && !ready_ && !released_) return;
-        vkDeviceWaitIdle(device_);   // no submitted copy may still use them
+        vkDeviceWaitIdle(device_);  // no submitted copy may still use them
         if (ready_) vkDestroySemaphore(device_, std::exchange(ready_, VK_NULL_HANDLE), nullptr);
         if (released_) vkDestroySemaphore(device_, std::exchange(released_, VK_NULL_HANDLE), nullptr);
         if (buffer_) vkDestroyBuffer(device_, std::exchange(buffer_, VK_NULL_HANDLE), nullptr);
@@ -167,8 +168,8 @@ private:
     PFN_vkGetSemaphoreFdKHR get_semaphore_fd_ = nullptr;
     VkBuffer buffer_ = VK_NULL_HANDLE;
     VkDeviceMemory memory_handle_ = VK_NULL_HANDLE;
-    VkSemaphore ready_ = VK_NULL_HANDLE;      // device -> GL: the copy is done
-    VkSemaphore released_ = VK_NULL_HANDLE;   // GL -> device: GL has read the buffer
+    VkSemaphore ready_ = VK_NULL_HANDLE;     // device -> GL: the copy is done
+    VkSemaphore released_ = VK_NULL_HANDLE;  // GL -> device: GL has read the buffer
     size_t bytes_ = 0;
     uint64_t copies_ = 0;
 };

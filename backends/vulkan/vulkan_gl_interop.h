@@ -18,10 +18,10 @@ namespace prism::vk {
 
 // Decided before vkCreateDevice, since the extensions must be enabled there.
 struct GlSharingPlan {
-    std::string reason;                    // non-empty: no Vulkan-GL path, and why
-    std::vector<const char*> extensions;   // device extensions to enable
-    bool semaphores = false;               // shared semaphores on both sides
-    std::string no_semaphores;             // why not, when they are not
+    std::string reason;                   // non-empty: no Vulkan-GL path, and why
+    std::vector<const char*> extensions;  // device extensions to enable
+    bool semaphores = false;              // shared semaphores on both sides
+    std::string no_semaphores;            // why not, when they are not
 };
 // Checks GL_EXT_memory_object_fd, VK_KHR_external_memory_fd, that GL and `device` are the same device and driver
 // (VkPhysicalDeviceIDProperties against GL_DEVICE_UUID_EXT / GL_DRIVER_UUID_EXT: memory from another is useless

@@ -91,7 +91,7 @@ void run_bandwidth(const Options& options) {
         std::string extension = std::filesystem::path(options.plot_path).extension().string();
         if (extension != ".png" && extension != ".PNG")
             throw Error("--plot: expected a .png file name, got '" + options.plot_path + "'");
-        bench::require_plotting("--plot");   // before measuring, so a missing matplotlib costs no time
+        bench::require_plotting("--plot");  // before measuring, so a missing matplotlib costs no time
     }
 
     for (const std::string& api : apis) {

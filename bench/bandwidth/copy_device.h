@@ -41,10 +41,10 @@ public:
     virtual std::byte* pinned_upload() = 0;
     virtual std::byte* pinned_download() = 0;
 
-    virtual Timed upload(Memory host) = 0;     // host -> A
-    virtual Timed download(Memory host) = 0;   // A -> host
-    virtual Timed copy_buffer() = 0;           // A -> B with the API's copy command
-    virtual Timed copy_kernel() = 0;           // A -> B with kernels/bandwidth_copy.h
+    virtual Timed upload(Memory host) = 0;    // host -> A
+    virtual Timed download(Memory host) = 0;  // A -> host
+    virtual Timed copy_buffer() = 0;          // A -> B with the API's copy command
+    virtual Timed copy_kernel() = 0;          // A -> B with kernels/bandwidth_copy.h
     // Untimed helpers for checking data: zero B; read B into the pageable buffer.
     virtual void clear_destination() = 0;
     virtual void read_destination() = 0;

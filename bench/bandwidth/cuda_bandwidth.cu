@@ -78,7 +78,7 @@ public:
         result.device_memory = properties_.totalGlobalMem;
         int memory_clock_khz = 0;
         cudaDeviceGetAttribute(&memory_clock_khz, cudaDevAttrMemoryClockRate, ordinal_);
-        if (memory_clock_khz > 0 && properties_.memoryBusWidth > 0)   // double data rate: 2 transfers per clock
+        if (memory_clock_khz > 0 && properties_.memoryBusWidth > 0)  // double data rate: 2 transfers per clock
             result.memory_spec_gbps = memory_clock_khz * 1e3 * 2.0 * properties_.memoryBusWidth / 8.0 * 1e-9;
         result.details = {"pinned: cudaMallocHost; copies: cudaMemcpyAsync on one stream; timer: cudaEvent"};
         return result;
@@ -112,10 +112,12 @@ public:
     std::byte* pinned_download() override { return static_cast<std::byte*>(pinned_); }
 
     Timed upload(Memory host) override {
-        return timed([&] { return cudaMemcpyAsync(buffer_a_, host_pointer(host), bytes_, cudaMemcpyHostToDevice, stream_); });
+        return timed(
+            [&] { return cudaMemcpyAsync(buffer_a_, host_pointer(host), bytes_, cudaMemcpyHostToDevice, stream_); });
     }
     Timed download(Memory host) override {
-        return timed([&] { return cudaMemcpyAsync(host_pointer(host), buffer_a_, bytes_, cudaMemcpyDeviceToHost, stream_); });
+        return timed(
+            [&] { return cudaMemcpyAsync(host_pointer(host), buffer_a_, bytes_, cudaMemcpyDeviceToHost, stream_); });
     }
     Timed copy_buffer() override {
         return timed([&] { return cudaMemcpyAsync(buffer_b_, buffer_a_, bytes_, cudaMemcpyDeviceToDevice, stream_); });
@@ -141,11 +143,12 @@ public:
 private:
     void check(cudaError_t status, const char* call) const {
         if (status != cudaSuccess)
-            throw Error(std::string("cuda ") + properties_.name + ": " + call + " failed (" + cudaGetErrorString(status) + ")");
+            throw Error(std::string("cuda ") + properties_.name + ": " + call + " failed (" +
+                        cudaGetErrorString(status) + ")");
     }
     void allocation(cudaError_t status, const char* what) {
         if (status == cudaErrorMemoryAllocation) {
-            cudaGetLastError();   // clear the sticky-free error so later calls work
+            cudaGetLastError();  // clear the sticky-free error so later calls work
             throw SizeSkipped(std::string("out of memory for ") + what);
         }
         check(status, what);
@@ -183,8 +186,8 @@ ApiResult measure_cuda(const Plan& plan) {
     int count = 0;
     cudaError_t status = cudaGetDeviceCount(&count);
     if (status != cudaSuccess || count == 0) {
-        api.unavailable_reason = std::string("no CUDA device (") +
-                                 (status == cudaSuccess ? "0 devices" : cudaGetErrorString(status)) + ")";
+        api.unavailable_reason =
+            std::string("no CUDA device (") + (status == cudaSuccess ? "0 devices" : cudaGetErrorString(status)) + ")";
         return api;
     }
     for (int ordinal = 0; ordinal < count; ++ordinal) {

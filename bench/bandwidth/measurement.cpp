@@ -6,29 +6,29 @@ namespace prism::bandwidth {
 
 const char* direction_key(Direction direction) {
     switch (direction) {
-    case Direction::HostToDevice: return "h2d";
-    case Direction::DeviceToHost: return "d2h";
-    case Direction::DeviceToDevice: return "d2d";
-    case Direction::KernelCopy: return "kernel_copy";
+        case Direction::HostToDevice: return "h2d";
+        case Direction::DeviceToHost: return "d2h";
+        case Direction::DeviceToDevice: return "d2d";
+        case Direction::KernelCopy: return "kernel_copy";
     }
     return "?";
 }
 
 const char* direction_label(Direction direction) {
     switch (direction) {
-    case Direction::HostToDevice: return "H2D";
-    case Direction::DeviceToHost: return "D2H";
-    case Direction::DeviceToDevice: return "D2D copy";
-    case Direction::KernelCopy: return "D2D kernel";
+        case Direction::HostToDevice: return "H2D";
+        case Direction::DeviceToHost: return "D2H";
+        case Direction::DeviceToDevice: return "D2D copy";
+        case Direction::KernelCopy: return "D2D kernel";
     }
     return "?";
 }
 
 const char* memory_key(Memory memory) {
     switch (memory) {
-    case Memory::Pageable: return "pageable";
-    case Memory::Pinned: return "pinned";
-    case Memory::Device: return "device";
+        case Memory::Pageable: return "pageable";
+        case Memory::Pinned: return "pinned";
+        case Memory::Device: return "device";
     }
     return "?";
 }

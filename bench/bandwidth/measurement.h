@@ -39,37 +39,37 @@ struct Measurement {
     Direction direction = Direction::HostToDevice;
     Memory memory = Memory::Pageable;
     size_t bytes = 0;
-    std::optional<RateStats> device_timer;   // cudaEvent / OpenCL profiling / vkCmdWriteTimestamp
-    RateStats wall;                          // host steady clock around submit + wait
+    std::optional<RateStats> device_timer;  // cudaEvent / OpenCL profiling / vkCmdWriteTimestamp
+    RateStats wall;                         // host steady clock around submit + wait
     // The figure the tables compare: the device timer where there is one, else wall time.
     double primary_gbps() const { return device_timer ? device_timer->median_gbps : wall.median_gbps; }
 };
 
 // Peak rates the device (or its driver) reports, for "% of spec".
 struct LinkInfo {
-    std::string description;   // e.g. "PCIe 32.0 GT/s x16"
-    double gbps = 0;           // per direction, after line encoding
+    std::string description;  // e.g. "PCIe 32.0 GT/s x16"
+    double gbps = 0;          // per direction, after line encoding
 };
 
 struct DeviceResult {
-    std::string api;            // "cuda", "opencl", "vulkan"
-    std::string device;         // device name as the API reports it
-    std::string platform;       // OpenCL platform; Vulkan driver name; CUDA: "CUDA"
-    std::string driver;         // driver version
-    std::string api_version;    // e.g. "CUDA runtime 13.0, driver API 13.0", "OpenCL 1.2 PoCL ...", "Vulkan 1.3.239"
-    std::string pci_address;    // "dddd:bb:dd.f" where the API reports it
-    size_t device_memory = 0;   // bytes
+    std::string api;           // "cuda", "opencl", "vulkan"
+    std::string device;        // device name as the API reports it
+    std::string platform;      // OpenCL platform; Vulkan driver name; CUDA: "CUDA"
+    std::string driver;        // driver version
+    std::string api_version;   // e.g. "CUDA runtime 13.0, driver API 13.0", "OpenCL 1.2 PoCL ...", "Vulkan 1.3.239"
+    std::string pci_address;   // "dddd:bb:dd.f" where the API reports it
+    size_t device_memory = 0;  // bytes
     std::optional<double> memory_spec_gbps;  // bus width x memory clock x 2 (CUDA), read+write
-    std::optional<LinkInfo> link;             // from sysfs for the PCI address, read right after transfers
-    std::vector<std::string> details;         // how this API's copies are done (queues, memory types)
-    std::vector<std::string> notes;           // sizes or kinds skipped, and why
+    std::optional<LinkInfo> link;            // from sysfs for the PCI address, read right after transfers
+    std::vector<std::string> details;        // how this API's copies are done (queues, memory types)
+    std::vector<std::string> notes;          // sizes or kinds skipped, and why
     std::vector<Measurement> measurements;
 };
 
 // One API's outcome: its devices, or why it could not be measured.
 struct ApiResult {
     std::string api;
-    std::string unavailable_reason;   // empty when the API ran
+    std::string unavailable_reason;  // empty when the API ran
     std::vector<DeviceResult> devices;
 };
 

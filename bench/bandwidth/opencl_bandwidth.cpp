@@ -133,9 +133,8 @@ public:
         check_allocation(status, "device buffer B");
         pinned_buffer_ = clCreateBuffer(context_, CL_MEM_READ_WRITE | CL_MEM_ALLOC_HOST_PTR, bytes, nullptr, &status);
         check_allocation(status, "pinned host buffer");
-        pinned_ = static_cast<std::byte*>(clEnqueueMapBuffer(queue_, pinned_buffer_, CL_TRUE,
-                                                             CL_MAP_READ | CL_MAP_WRITE, 0, bytes, 0, nullptr,
-                                                             nullptr, &status));
+        pinned_ = static_cast<std::byte*>(clEnqueueMapBuffer(
+            queue_, pinned_buffer_, CL_TRUE, CL_MAP_READ | CL_MAP_WRITE, 0, bytes, 0, nullptr, nullptr, &status));
         check_allocation(status, "mapping the pinned host buffer");
         // OpenCL allocates lazily: touch both device buffers now so a size that does not fit fails here.
         cl_uchar zero = 0;
@@ -194,7 +193,8 @@ public:
 
 private:
     void check(cl_int status, const char* call) const {
-        if (status != CL_SUCCESS) throw Error("opencl " + name_ + ": " + call + " failed (" + std::to_string(status) + ")");
+        if (status != CL_SUCCESS)
+            throw Error("opencl " + name_ + ": " + call + " failed (" + std::to_string(status) + ")");
     }
     void check_allocation(cl_int status, const char* what) const {
         if (is_out_of_memory(status))
@@ -216,7 +216,8 @@ private:
         }
         cl_ulong begin_ns = 0, end_ns = 0;
         Timed result{std::nullopt, std::chrono::duration<double>(end - start).count()};
-        if (clGetEventProfilingInfo(event, CL_PROFILING_COMMAND_START, sizeof begin_ns, &begin_ns, nullptr) == CL_SUCCESS &&
+        if (clGetEventProfilingInfo(event, CL_PROFILING_COMMAND_START, sizeof begin_ns, &begin_ns, nullptr) ==
+                CL_SUCCESS &&
             clGetEventProfilingInfo(event, CL_PROFILING_COMMAND_END, sizeof end_ns, &end_ns, nullptr) == CL_SUCCESS &&
             end_ns > begin_ns)
             result.device_seconds = static_cast<double>(end_ns - begin_ns) * 1e-9;
@@ -246,7 +247,8 @@ private:
             return;
         }
         size_t kernel_limit = device_value<size_t>(device_, CL_DEVICE_MAX_WORK_GROUP_SIZE);
-        clGetKernelWorkGroupInfo(kernel_, device_, CL_KERNEL_WORK_GROUP_SIZE, sizeof kernel_limit, &kernel_limit, nullptr);
+        clGetKernelWorkGroupInfo(kernel_, device_, CL_KERNEL_WORK_GROUP_SIZE, sizeof kernel_limit, &kernel_limit,
+                                 nullptr);
         group_size_ = std::min<size_t>(RT_BANDWIDTH_GROUP_SIZE, kernel_limit);
     }
 
@@ -269,7 +271,7 @@ private:
 
 ApiResult measure_opencl(const Plan& plan) {
     ApiResult api{"opencl", "", {}};
-    ensure_pocl_cache_dir();   // before PoCL initialises: it needs a usable cache folder
+    ensure_pocl_cache_dir();  // before PoCL initialises: it needs a usable cache folder
     cl_uint platform_count = 0;
     cl_int status = clGetPlatformIDs(0, nullptr, &platform_count);
     if (status != CL_SUCCESS || platform_count == 0) {

@@ -13,7 +13,7 @@ std::string pci_address(unsigned domain, unsigned bus, unsigned device, unsigned
 }
 
 std::optional<LinkInfo> link_from_sysfs_text(const std::string& speed, const std::string& width) {
-    double transfers = std::strtod(speed.c_str(), nullptr);   // GT/s per lane
+    double transfers = std::strtod(speed.c_str(), nullptr);  // GT/s per lane
     int lanes = std::atoi(width.c_str());
     if (transfers <= 0 || lanes <= 0) return std::nullopt;
     double encoding = transfers <= 5.0 ? 8.0 / 10.0 : 128.0 / 130.0;

@@ -8,15 +8,15 @@
 namespace prism::bandwidth {
 
 struct DeviceFilter {
-    std::string api;         // empty: any API
-    std::string substring;   // matched case-insensitively against "<platform> <device>"
+    std::string api;        // empty: any API
+    std::string substring;  // matched case-insensitively against "<platform> <device>"
 };
 
 struct Plan {
     std::vector<size_t> sizes;
     int warmup = 2;
     int repeats = 10;
-    std::vector<DeviceFilter> filters;   // empty: every device
+    std::vector<DeviceFilter> filters;  // empty: every device
 
     // True when the device passes the filters that name its API (or no API).
     bool wants(const std::string& api, const std::string& platform, const std::string& device) const;

@@ -18,7 +18,7 @@ static nlohmann::json optional_number(const std::optional<double>& value) {
 }
 
 nlohmann::json report_json(const Report& report) {
-    nlohmann::json json = bench::result_header();   // commit, date, build_type, host
+    nlohmann::json json = bench::result_header();  // commit, date, build_type, host
     json["schema"] = json_schema_name;
     json["sizes"] = report.plan.sizes;
     json["warmup"] = report.plan.warmup;

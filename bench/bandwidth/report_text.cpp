@@ -18,15 +18,17 @@ void print_report(const Report& report, std::FILE* out) {
     const Plan& plan = report.plan;
     std::fprintf(out, "prism bandwidth: %zu size%s, %d warm-up, median of %d\n", plan.sizes.size(),
                  plan.sizes.size() == 1 ? "" : "s", plan.warmup, plan.repeats);
-    std::fprintf(out, "GB/s = 1e9 bytes/s. device = cudaEvent / OpenCL profiling events / vkCmdWriteTimestamp;\n"
-                      "wall = host clock around issue and wait. D2D copy and D2D kernel are bytes copied per second;\n"
-                      "r+w = read+write traffic (2x bytes copied, as CUDA's bandwidthTest counts).\n\n");
+    std::fprintf(out,
+                 "GB/s = 1e9 bytes/s. device = cudaEvent / OpenCL profiling events / vkCmdWriteTimestamp;\n"
+                 "wall = host clock around issue and wait. D2D copy and D2D kernel are bytes copied per second;\n"
+                 "r+w = read+write traffic (2x bytes copied, as CUDA's bandwidthTest counts).\n\n");
 
     std::fprintf(out, "Devices\n");
     for (const ApiResult& api : report.apis)
         for (const DeviceResult& d : api.devices) {
-            std::fprintf(out, "  %-7s %s | %s | driver %s%s%s\n", d.api.c_str(), d.device.c_str(), d.api_version.c_str(),
-                         d.driver.c_str(), d.pci_address.empty() ? "" : " | PCI ", d.pci_address.c_str());
+            std::fprintf(out, "  %-7s %s | %s | driver %s%s%s\n", d.api.c_str(), d.device.c_str(),
+                         d.api_version.c_str(), d.driver.c_str(), d.pci_address.empty() ? "" : " | PCI ",
+                         d.pci_address.c_str());
             for (const std::string& detail : d.details) std::fprintf(out, "          %s\n", detail.c_str());
         }
 
@@ -57,7 +59,8 @@ void print_report(const Report& report, std::FILE* out) {
             for (const Measurement& m : row.device->measurements)
                 if (m.bytes == bytes && m.direction == row.peak->direction && m.memory == row.peak->memory) found = &m;
             char cell[16] = "-";
-            if (found) std::snprintf(cell, sizeof cell, "%.2f%s", found->primary_gbps(), found->device_timer ? "" : "*");
+            if (found)
+                std::snprintf(cell, sizeof cell, "%.2f%s", found->primary_gbps(), found->device_timer ? "" : "*");
             std::fprintf(out, " %8s", cell);
         }
         std::fprintf(out, "\n");

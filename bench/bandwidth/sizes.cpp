@@ -25,11 +25,16 @@ static size_t parse_one(const std::string& item) {
     std::string suffix(rest, end);
     std::transform(suffix.begin(), suffix.end(), suffix.begin(), [](unsigned char c) { return std::toupper(c); });
     int shift = 0;
-    if (suffix.empty() || suffix == "B") shift = 0;
-    else if (suffix == "K" || suffix == "KB" || suffix == "KIB") shift = 10;
-    else if (suffix == "M" || suffix == "MB" || suffix == "MIB") shift = 20;
-    else if (suffix == "G" || suffix == "GB" || suffix == "GIB") shift = 30;
-    else throw fail("has an unknown unit (use K, M or G)");
+    if (suffix.empty() || suffix == "B")
+        shift = 0;
+    else if (suffix == "K" || suffix == "KB" || suffix == "KIB")
+        shift = 10;
+    else if (suffix == "M" || suffix == "MB" || suffix == "MIB")
+        shift = 20;
+    else if (suffix == "G" || suffix == "GB" || suffix == "GIB")
+        shift = 30;
+    else
+        throw fail("has an unknown unit (use K, M or G)");
     // 64 GiB keeps the element count of the copy kernel within 32 bits with room to spare.
     if (value == 0 || value > (size_t(64) << (30 - shift))) throw fail("is out of range (16 bytes to 64G)");
     size_t bytes = value << shift;
@@ -62,8 +67,10 @@ std::string format_size(size_t bytes) {
         ++unit;
     }
     char text[32];
-    if (value == static_cast<double>(static_cast<size_t>(value))) std::snprintf(text, sizeof text, "%zu%s", static_cast<size_t>(value), units[unit]);
-    else std::snprintf(text, sizeof text, "%.1f%s", value, units[unit]);
+    if (value == static_cast<double>(static_cast<size_t>(value)))
+        std::snprintf(text, sizeof text, "%zu%s", static_cast<size_t>(value), units[unit]);
+    else
+        std::snprintf(text, sizeof text, "%.1f%s", value, units[unit]);
     return text;
 }
 

@@ -20,7 +20,8 @@ std::vector<SummaryRow> summarize_peaks(const std::vector<ApiResult>& apis) {
     std::map<std::string, std::optional<LinkInfo>> link;
     for (const ApiResult& api : apis)
         for (const DeviceResult& device : api.devices) {
-            if (device.memory_spec_gbps && !memory_spec[device.device]) memory_spec[device.device] = device.memory_spec_gbps;
+            if (device.memory_spec_gbps && !memory_spec[device.device])
+                memory_spec[device.device] = device.memory_spec_gbps;
             if (device.link && (!link[device.device] || link[device.device]->gbps < device.link->gbps))
                 link[device.device] = device.link;
         }
@@ -59,7 +60,8 @@ std::vector<SummaryRow> summarize_peaks(const std::vector<ApiResult>& apis) {
         b = std::max(b, row.peak->primary_gbps());
     }
     for (SummaryRow& row : rows)
-        row.percent_of_best = 100 * row.peak->primary_gbps() / best[{row.device->device, row.peak->direction, row.peak->memory}];
+        row.percent_of_best =
+            100 * row.peak->primary_gbps() / best[{row.device->device, row.peak->direction, row.peak->memory}];
     return rows;
 }
 

@@ -68,8 +68,10 @@ public:
             for (int i = 0; i < plan_.repeats; ++i) {
                 Timed timed = copy();
                 wall_seconds.push_back(timed.wall_seconds);
-                if (timed.device_seconds && *timed.device_seconds > 0) device_seconds.push_back(*timed.device_seconds);
-                else device_timer = false;
+                if (timed.device_seconds && *timed.device_seconds > 0)
+                    device_seconds.push_back(*timed.device_seconds);
+                else
+                    device_timer = false;
             }
             if (!check()) {
                 note(what + ": wrong data after the copy; measurement dropped");
@@ -93,19 +95,23 @@ public:
         // Seeds differ so each check proves both the upload before it and the download it follows. The pinned
         // pattern is written after the pageable upload: on Vulkan that upload goes through the same staging memory.
         fill_pattern(host, bytes_, 1);
-        measure(Direction::HostToDevice, Memory::Pageable, [&] { return device_.upload(Memory::Pageable); },
-                [] { return true; });
+        measure(
+            Direction::HostToDevice, Memory::Pageable, [&] { return device_.upload(Memory::Pageable); },
+            [] { return true; });
         fill_pattern(pinned_upload, bytes_, 2);
-        measure(Direction::HostToDevice, Memory::Pinned, [&] { return device_.upload(Memory::Pinned); },
-                [] { return true; });
+        measure(
+            Direction::HostToDevice, Memory::Pinned, [&] { return device_.upload(Memory::Pinned); },
+            [] { return true; });
         std::memset(host, 0, bytes_);
-        measure(Direction::DeviceToHost, Memory::Pageable, [&] { return device_.download(Memory::Pageable); },
-                [&] { return has_pattern(host, bytes_, 2); });
+        measure(
+            Direction::DeviceToHost, Memory::Pageable, [&] { return device_.download(Memory::Pageable); },
+            [&] { return has_pattern(host, bytes_, 2); });
         fill_pattern(host, bytes_, 3);
         device_.upload(Memory::Pageable);
         std::memset(pinned_download, 0, bytes_);
-        measure(Direction::DeviceToHost, Memory::Pinned, [&] { return device_.download(Memory::Pinned); },
-                [&] { return has_pattern(pinned_download, bytes_, 3); });
+        measure(
+            Direction::DeviceToHost, Memory::Pinned, [&] { return device_.download(Memory::Pinned); },
+            [&] { return has_pattern(pinned_download, bytes_, 3); });
         read_link();
 
         // A now holds pattern 3; each device copy must reproduce it in B.
@@ -115,13 +121,15 @@ public:
             return has_pattern(host, bytes_, 3);
         };
         device_.clear_destination();
-        measure(Direction::DeviceToDevice, Memory::Device, [&] { return device_.copy_buffer(); }, destination_ok);
+        measure(
+            Direction::DeviceToDevice, Memory::Device, [&] { return device_.copy_buffer(); }, destination_ok);
         std::string kernel_limit = device_.kernel_cannot_fit(bytes_);
         if (!kernel_limit.empty()) {
             note(std::string(direction_label(Direction::KernelCopy)) + ": skipped: " + kernel_limit);
         } else {
             device_.clear_destination();
-            measure(Direction::KernelCopy, Memory::Device, [&] { return device_.copy_kernel(); }, destination_ok);
+            measure(
+                Direction::KernelCopy, Memory::Device, [&] { return device_.copy_kernel(); }, destination_ok);
         }
     }
 
@@ -149,8 +157,8 @@ DeviceResult sweep(CopyDevice& device, const Plan& plan) {
         // Pageable buffer, pinned/staging memory, and device memory that may itself be host memory (CPU devices).
         size_t available = host_memory_available();
         if (limit.empty() && available && 4 * bytes > available)
-            limit = "needs about " + format_size(4 * bytes) + " of host memory, " + format_size(available) +
-                    " available";
+            limit =
+                "needs about " + format_size(4 * bytes) + " of host memory, " + format_size(available) + " available";
         if (!limit.empty()) {
             run.note("skipped: " + limit);
             continue;

@@ -29,8 +29,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 std::string version_text(uint32_t version) {
-    return std::to_string(VK_API_VERSION_MAJOR(version)) + "." + std::to_string(VK_API_VERSION_MINOR(version)) +
-           "." + std::to_string(VK_API_VERSION_PATCH(version));
+    return std::to_string(VK_API_VERSION_MAJOR(version)) + "." + std::to_string(VK_API_VERSION_MINOR(version)) + "." +
+           std::to_string(VK_API_VERSION_PATCH(version));
 }
 
 bool is_out_of_memory(VkResult result) {
@@ -135,7 +135,7 @@ public:
     std::string cannot_fit(size_t bytes) const override {
         if (bytes > max_allocation_)
             return "larger than maxMemoryAllocationSize (" + format_size(max_allocation_) + ")";
-        std::map<uint32_t, size_t> need;   // heap -> bytes
+        std::map<uint32_t, size_t> need;  // heap -> bytes
         need[heap_of(device_local_)] += 2 * bytes;
         need[heap_of(upload_)] += bytes;
         need[heap_of(readback_)] += bytes;
@@ -244,13 +244,14 @@ private:
         vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
         device_local_ = find_memory_type({VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT});
         // Staging in system memory (not device-local BAR memory): what crosses the link is what we time.
-        upload_ = find_memory_type({VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
-                                    VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT});
+        upload_ = find_memory_type({VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT, VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                                    VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT});
         readback_ = find_memory_type({VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
                                       VK_MEMORY_PROPERTY_HOST_CACHED_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
                                       VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT});
         if (device_local_ < 0 || upload_ < 0 || readback_ < 0)
-            throw Error(std::string("vulkan ") + properties_.deviceName + ": no device-local or host-visible memory type");
+            throw Error(std::string("vulkan ") + properties_.deviceName +
+                        ": no device-local or host-visible memory type");
     }
 
     bool has_extension(const char* name) const {
@@ -422,7 +423,8 @@ private:
         vkGetBufferMemoryRequirements(device_, result.buffer, &requirements);
         if (!(requirements.memoryTypeBits & (1u << memory_type))) {
             vkDestroyBuffer(device_, result.buffer, nullptr);
-            throw Error(std::string("vulkan ") + properties_.deviceName + ": " + what + " cannot use the chosen memory type");
+            throw Error(std::string("vulkan ") + properties_.deviceName + ": " + what +
+                        " cannot use the chosen memory type");
         }
         VkMemoryAllocateInfo allocate{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
         allocate.allocationSize = requirements.size;
@@ -447,15 +449,18 @@ private:
     // Records the per-size command buffers. Large transfers are one vkCmdCopyBuffer region.
     void record_all() {
         VkBufferCopy whole{0, 0, bytes_};
-        record(upload_command_, [&](VkCommandBuffer cb) { vkCmdCopyBuffer(cb, upload_staging_.buffer, buffer_a_.buffer, 1, &whole); });
-        record(download_command_, [&](VkCommandBuffer cb) { vkCmdCopyBuffer(cb, buffer_a_.buffer, readback_staging_.buffer, 1, &whole); });
-        record(copy_command_, [&](VkCommandBuffer cb) { vkCmdCopyBuffer(cb, buffer_a_.buffer, buffer_b_.buffer, 1, &whole); });
+        record(upload_command_,
+               [&](VkCommandBuffer cb) { vkCmdCopyBuffer(cb, upload_staging_.buffer, buffer_a_.buffer, 1, &whole); });
+        record(download_command_,
+               [&](VkCommandBuffer cb) { vkCmdCopyBuffer(cb, buffer_a_.buffer, readback_staging_.buffer, 1, &whole); });
+        record(copy_command_,
+               [&](VkCommandBuffer cb) { vkCmdCopyBuffer(cb, buffer_a_.buffer, buffer_b_.buffer, 1, &whole); });
         record(clear_command_, [&](VkCommandBuffer cb) { vkCmdFillBuffer(cb, buffer_b_.buffer, 0, VK_WHOLE_SIZE, 0); });
-        record(read_destination_command_, [&](VkCommandBuffer cb) {
-            vkCmdCopyBuffer(cb, buffer_b_.buffer, readback_staging_.buffer, 1, &whole);
-        });
+        record(read_destination_command_,
+               [&](VkCommandBuffer cb) { vkCmdCopyBuffer(cb, buffer_b_.buffer, readback_staging_.buffer, 1, &whole); });
         if (!kernel_cannot_fit(bytes_).empty()) return;
-        VkDescriptorBufferInfo buffers[2] = {{buffer_a_.buffer, 0, VK_WHOLE_SIZE}, {buffer_b_.buffer, 0, VK_WHOLE_SIZE}};
+        VkDescriptorBufferInfo buffers[2] = {{buffer_a_.buffer, 0, VK_WHOLE_SIZE},
+                                             {buffer_b_.buffer, 0, VK_WHOLE_SIZE}};
         VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
         write.dstSet = descriptor_set_;
         write.descriptorCount = 2;
@@ -468,7 +473,8 @@ private:
                                               properties_.limits.maxComputeWorkGroupCount[0]});
         record(kernel_command_, [&](VkCommandBuffer cb) {
             vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
-            vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_, 0, 1, &descriptor_set_, 0, nullptr);
+            vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_, 0, 1, &descriptor_set_, 0,
+                                    nullptr);
             vkCmdPushConstants(cb, pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof count, &count);
             vkCmdDispatch(cb, groups, 1, 1);
         });
@@ -541,7 +547,8 @@ private:
     VkDevice device_ = VK_NULL_HANDLE;
     VkQueue compute_queue_ = VK_NULL_HANDLE, transfer_queue_ = VK_NULL_HANDLE;
     VkCommandPool compute_pool_ = VK_NULL_HANDLE, transfer_pool_ = VK_NULL_HANDLE;
-    Command upload_command_, download_command_, copy_command_, kernel_command_, clear_command_, read_destination_command_;
+    Command upload_command_, download_command_, copy_command_, kernel_command_, clear_command_,
+        read_destination_command_;
     VkQueryPool queries_ = VK_NULL_HANDLE;
     VkFence fence_ = VK_NULL_HANDLE;
     VkShaderModule shader_ = VK_NULL_HANDLE;

@@ -17,8 +17,14 @@ namespace prism {
 struct Aabb {
     glm::vec3 lower{std::numeric_limits<float>::infinity()};
     glm::vec3 upper{-std::numeric_limits<float>::infinity()};
-    void grow(const glm::vec3& p) { lower = glm::min(lower, p); upper = glm::max(upper, p); }
-    void grow(const Aabb& b) { lower = glm::min(lower, b.lower); upper = glm::max(upper, b.upper); }
+    void grow(const glm::vec3& p) {
+        lower = glm::min(lower, p);
+        upper = glm::max(upper, p);
+    }
+    void grow(const Aabb& b) {
+        lower = glm::min(lower, b.lower);
+        upper = glm::max(upper, b.upper);
+    }
     bool empty() const { return lower.x > upper.x; }
     glm::vec3 center() const { return 0.5f * (lower + upper); }
     float half_area() const {
@@ -27,22 +33,27 @@ struct Aabb {
     }
 };
 
-enum class BvhMethod { BinnedSah, Median };   // Median: the seed's split (thesis Algorithm 6-1), to reproduce it
+enum class BvhMethod { BinnedSah, Median };  // Median: the seed's split (thesis Algorithm 6-1), to reproduce it
 // Wide: 4-ary nodes collapsed from the binary tree (kernels/types.h BvhWideNode); `nodes` keeps the binary tree in
 // the stack layout (refit, SAH cost and node decoding work on it).
-enum class BvhLayout : uint32_t { Stack = RT_BVH_LAYOUT_STACK, Escape = RT_BVH_LAYOUT_ESCAPE, Wide = RT_BVH_LAYOUT_WIDE };
+enum class BvhLayout : uint32_t {
+    Stack = RT_BVH_LAYOUT_STACK,
+    Escape = RT_BVH_LAYOUT_ESCAPE,
+    Wide = RT_BVH_LAYOUT_WIDE
+};
 
 struct BvhBuildOptions {
     BvhMethod method = BvhMethod::BinnedSah;
     BvhLayout layout = BvhLayout::Stack;
-    uint32_t max_leaf_size = 4;     // primitives per leaf (at most 255 in the escape layout)
-    uint32_t bins = 16;             // SAH bins per axis
-    uint32_t threads = 0;           // 0: std::thread::hardware_concurrency()
-    float traversal_cost = 1.0f;    // SAH constants: cost of a node visit relative to one primitive test
+    uint32_t max_leaf_size = 4;   // primitives per leaf (at most 255 in the escape layout)
+    uint32_t bins = 16;           // SAH bins per axis
+    uint32_t threads = 0;         // 0: std::thread::hardware_concurrency()
+    float traversal_cost = 1.0f;  // SAH constants: cost of a node visit relative to one primitive test
     float intersection_cost = 1.0f;
-    uint32_t wide_leaf_size = RT_WIDE_LEAF_MAX;   // the wide layout: subtrees of at most this many become one leaf
+    uint32_t wide_leaf_size = RT_WIDE_LEAF_MAX;  // the wide layout: subtrees of at most this many become one leaf
     // The wide layout: one world-space BVH over every instance's triangles instead of a top level over instances
-    // (build_device_scene; core/render/device_scene_flat.cpp). For scenes whose instances do not move: it cannot be refit.
+    // (build_device_scene; core/render/device_scene_flat.cpp). For scenes whose instances do not move: it cannot be
+    // refit.
     bool flatten_instances = false;
     // ... unless that stores more than this many times the meshes' own triangles (instancing-heavy scenes keep the
     // two-level layout; the built DeviceScene's bvh_options.flatten_instances says which one it got, false for
@@ -51,23 +62,23 @@ struct BvhBuildOptions {
 };
 
 struct Bvh {
-    std::vector<BvhNode> nodes;              // node 0 is the root; see kernels/types.h for the layouts
-    std::vector<BvhWideNode> wide_nodes;     // the wide layout only: node 0 is the root
-    std::vector<uint32_t> primitive_order;   // leaf ranges index this; it maps to the caller's primitive indices
+    std::vector<BvhNode> nodes;             // node 0 is the root; see kernels/types.h for the layouts
+    std::vector<BvhWideNode> wide_nodes;    // the wide layout only: node 0 is the root
+    std::vector<uint32_t> primitive_order;  // leaf ranges index this; it maps to the caller's primitive indices
     BvhLayout layout = BvhLayout::Stack;
-    float sah_cost = 0.0f;                   // expected cost of a random ray that hits the root box
+    float sah_cost = 0.0f;  // expected cost of a random ray that hits the root box
     double build_ms = 0.0;
-    BvhBuildOptions options;                 // as built (threads resolved); refit keeps sah_cost in its terms
-    uint32_t primitive_count = 0;            // input primitives, left-out ones included (refit checks it)
-    uint32_t depth = 0;                      // levels, root alone = 1; a stack traversal needs depth - 1 entries
+    BvhBuildOptions options;       // as built (threads resolved); refit keeps sah_cost in its terms
+    uint32_t primitive_count = 0;  // input primitives, left-out ones included (refit checks it)
+    uint32_t depth = 0;            // levels, root alone = 1; a stack traversal needs depth - 1 entries
 };
 
 // One flat node decoded, whatever the layout: what a traversal reads from the .w bits.
 struct BvhNodeView {
     bool leaf = false;
-    uint32_t first = 0;    // leaf: first position in primitive_order
-    uint32_t count = 0;    // leaf: primitives
-    uint32_t left = 0;     // interior: child indices
+    uint32_t first = 0;  // leaf: first position in primitive_order
+    uint32_t count = 0;  // leaf: primitives
+    uint32_t left = 0;   // interior: child indices
     uint32_t right = 0;
 };
 BvhNodeView decode_bvh_node(const Bvh& bvh, uint32_t index);
@@ -83,8 +94,8 @@ BvhNodeView decode_bvh_node(const Bvh& bvh, uint32_t index);
 using BvhProgress = std::function<void(double fraction)>;
 Bvh build_bvh(std::span<const Aabb> primitive_bounds, const BvhBuildOptions& options, const BvhProgress& progress = {});
 
-// Recomputes every node box (wide nodes too) from new primitive bounds keeping the topology (dynamic rigid scenes: the top level
-// is refit when instances move; rebuild when the quality drops). Primitives left out at build time stay out
+// Recomputes every node box (wide nodes too) from new primitive bounds keeping the topology (dynamic rigid scenes: the
+// top level is refit when instances move; rebuild when the quality drops). Primitives left out at build time stay out
 // (rebuild if one becomes non-empty); one that becomes empty or non-finite contributes nothing. Updates sah_cost.
 // Throws prism::Error when primitive_bounds is not as long as the input the BVH was built from.
 void refit_bvh(Bvh& bvh, std::span<const Aabb> primitive_bounds);
@@ -113,11 +124,11 @@ uint32_t wide_stack_bound(const std::vector<BvhWideNode>& wide, uint32_t root);
 BvhWideNode empty_wide_node();
 void set_wide_lane_box(BvhWideNode& node, uint32_t lane, const Aabb& box);
 Aabb wide_lane_bounds(const BvhWideNode& node, uint32_t lane);
-uint32_t wide_lane_ref(const BvhWideNode& node, uint32_t lane);     // as stored: node index or leaf reference
+uint32_t wide_lane_ref(const BvhWideNode& node, uint32_t lane);  // as stored: node index or leaf reference
 bool wide_lane_used(const BvhWideNode& node, uint32_t lane);
 bool wide_lane_leaf(const BvhWideNode& node, uint32_t lane);
-uint32_t wide_lane_first(const BvhWideNode& node, uint32_t lane);   // a leaf's first primitive
-uint32_t wide_lane_count(const BvhWideNode& node, uint32_t lane);   // a leaf's primitive count
+uint32_t wide_lane_first(const BvhWideNode& node, uint32_t lane);  // a leaf's first primitive
+uint32_t wide_lane_count(const BvhWideNode& node, uint32_t lane);  // a leaf's primitive count
 void set_wide_lane_node(BvhWideNode& node, uint32_t lane, uint32_t index);
 // Throws prism::Error for a count outside 1..RT_WIDE_LEAF_MAX or first at or above RT_WIDE_FIRST_LIMIT.
 void set_wide_lane_leaf(BvhWideNode& node, uint32_t lane, uint32_t first, uint32_t count);

@@ -20,8 +20,8 @@ namespace prism {
 
 namespace {
 
-constexpr uint32_t kTaskThreshold = 4096;          // subtrees larger than this may run on another thread
-constexpr uint32_t kParallelPassThreshold = 1u << 16;   // binning/bounding passes this large are split in chunks
+constexpr uint32_t kTaskThreshold = 4096;              // subtrees larger than this may run on another thread
+constexpr uint32_t kParallelPassThreshold = 1u << 16;  // binning/bounding passes this large are split in chunks
 constexpr uint32_t kPassChunk = 1u << 15;
 // Below this depth every split is an index median, so no input can make the tree deeper than
 // kBalancedDepth + log2(primitives): with 2^24 primitives that still fits RT_BVH_STACK_SIZE (64). Real meshes never
@@ -62,9 +62,12 @@ void run_in_parts(uint32_t begin, uint32_t end, int parts, const Body& body) {
 }
 
 struct RangeBounds {
-    Aabb box;         // of the primitive bounds
-    Aabb centroids;   // of the primitive centroids
-    void grow(const RangeBounds& other) { box.grow(other.box); centroids.grow(other.centroids); }
+    Aabb box;        // of the primitive bounds
+    Aabb centroids;  // of the primitive centroids
+    void grow(const RangeBounds& other) {
+        box.grow(other.box);
+        centroids.grow(other.centroids);
+    }
 };
 
 // One primitive in the working array. Builders move these (not indices into the caller's bounds) so every pass
@@ -81,13 +84,16 @@ struct Reference {
 struct Bin {
     Aabb box;
     uint32_t count = 0;
-    void grow(const Bin& other) { box.grow(other.box); count += other.count; }
+    void grow(const Bin& other) {
+        box.grow(other.box);
+        count += other.count;
+    }
 };
 
 // Maps a centroid coordinate to its bin on one axis; the same function counts and partitions, so both agree.
 struct AxisBinning {
     float origin = 0.0f;
-    float scale = 0.0f;   // 0: the axis cannot be binned (no centroid extent)
+    float scale = 0.0f;  // 0: the axis cannot be binned (no centroid extent)
     uint32_t bins = 0;
     uint32_t bin(float coordinate) const {
         float position = (coordinate - origin) * scale;
@@ -96,15 +102,15 @@ struct AxisBinning {
 };
 
 struct Split {
-    int axis = -1;   // -1: none found
+    int axis = -1;  // -1: none found
     uint32_t last_left_bin = 0;
-    float cost = std::numeric_limits<float>::infinity();   // sum of area * count over both sides
+    float cost = std::numeric_limits<float>::infinity();  // sum of area * count over both sides
 };
 
 struct Task {
     uint32_t begin, end;
     RangeBounds bounds;
-    uint32_t depth;   // root = 0
+    uint32_t depth;  // root = 0
 };
 
 class TreeBuilder {
@@ -126,7 +132,7 @@ public:
         auto& arena = new_arena();
         uint32_t count = uint32_t(references_.size());
         if (count == 0) {
-            arena.emplace_back();   // one leaf, count 0, empty box
+            arena.emplace_back();  // one leaf, count 0, empty box
             tree_.root = &arena.back();
             tree_.node_count = 1;
             tree_.depth = 1;
@@ -221,7 +227,7 @@ private:
             float split_cost = options_.traversal_cost * area + options_.intersection_cost * best.cost;
             if (leaf_cost <= split_cost) return false;
         }
-        if (best.axis < 0) return split_at_index_median(task, left, right);   // all centroids equal
+        if (best.axis < 0) return split_at_index_median(task, left, right);  // all centroids equal
 
         AxisBinning binning = binning_for(task.bounds.centroids, best.axis);
         int axis = best.axis;
@@ -291,16 +297,15 @@ private:
             bin_range(task.begin, task.end, binnings, bins.data());
         } else {
             std::vector<std::vector<Bin>> parts(helpers + 1, std::vector<Bin>(3 * bin_count));
-            run_in_parts(task.begin, task.end, helpers + 1, [&](uint32_t b, uint32_t e, int part) {
-                bin_range(b, e, binnings, parts[part].data());
-            });
+            run_in_parts(task.begin, task.end, helpers + 1,
+                         [&](uint32_t b, uint32_t e, int part) { bin_range(b, e, binnings, parts[part].data()); });
             budget_.release(helpers);
             for (const auto& part : parts)
                 for (uint32_t i = 0; i < 3 * bin_count; ++i) bins[i].grow(part[i]);
         }
 
         Split best;
-        float right_costs[kMaxBins];   // area * count of bins i.. on the right
+        float right_costs[kMaxBins];  // area * count of bins i.. on the right
         for (int axis = 0; axis < 3; ++axis) {
             if (binnings[axis].scale == 0.0f) continue;
             const Bin* axis_bins = &bins[axis * bin_count];

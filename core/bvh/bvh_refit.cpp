@@ -20,7 +20,7 @@ BvhNodeView decode_bvh_node(const Bvh& bvh, uint32_t index) {
     uint32_t lower_w = std::bit_cast<uint32_t>(node.lower.w);
     uint32_t upper_w = std::bit_cast<uint32_t>(node.upper.w);
     BvhNodeView view;
-    if (bvh.layout != BvhLayout::Escape) {   // the wide layout keeps its binary tree in the stack layout
+    if (bvh.layout != BvhLayout::Escape) {  // the wide layout keeps its binary tree in the stack layout
         // The empty BVH's single node has count 0 yet is a leaf: it is the only node without children.
         view.leaf = upper_w != 0 || bvh.nodes.size() == 1;
         if (view.leaf) {
@@ -37,7 +37,7 @@ BvhNodeView decode_bvh_node(const Bvh& bvh, uint32_t index) {
             view.count = upper_w >> RT_ESCAPE_COUNT_SHIFT;
         } else {
             view.left = index + 1;
-            view.right = std::bit_cast<uint32_t>(bvh.nodes[index + 1].lower.w);   // the left subtree's escape
+            view.right = std::bit_cast<uint32_t>(bvh.nodes[index + 1].lower.w);  // the left subtree's escape
         }
     }
     return view;
@@ -45,8 +45,8 @@ BvhNodeView decode_bvh_node(const Bvh& bvh, uint32_t index) {
 
 void refit_bvh(Bvh& bvh, std::span<const Aabb> primitive_bounds) {
     if (primitive_bounds.size() != bvh.primitive_count)
-        throw Error("BVH refit: got " + std::to_string(primitive_bounds.size()) + " primitive bounds, the BVH was built over " +
-                    std::to_string(bvh.primitive_count));
+        throw Error("BVH refit: got " + std::to_string(primitive_bounds.size()) +
+                    " primitive bounds, the BVH was built over " + std::to_string(bvh.primitive_count));
     // Children always follow their parent in both layouts, so one reverse sweep sees children first.
     for (uint32_t index = uint32_t(bvh.nodes.size()); index-- > 0;) {
         BvhNodeView view = decode_bvh_node(bvh, index);
@@ -71,7 +71,7 @@ void refit_bvh(Bvh& bvh, std::span<const Aabb> primitive_bounds) {
 float sah_cost(const Bvh& bvh, const BvhBuildOptions& options) {
     if (bvh.nodes.empty()) return 0.0f;
     float root_area = node_bounds(bvh.nodes[0]).half_area();
-    if (!(root_area > 0.0f)) return 0.0f;   // empty tree (or only points): no ray hits it
+    if (!(root_area > 0.0f)) return 0.0f;  // empty tree (or only points): no ray hits it
     // Summed in double: a million terms in float would lose the small ones.
     double interior = 0.0, leaves = 0.0;
     for (uint32_t index = 0; index < bvh.nodes.size(); ++index) {

@@ -15,8 +15,8 @@ namespace prism {
 struct BvhBuildNode {
     Aabb box;
     const BvhBuildNode* children[2] = {nullptr, nullptr};
-    uint32_t first = 0;   // leaf: first position in BvhTree::primitive_order
-    uint32_t count = 0;   // leaf: primitive count (0 only for the single leaf of an empty input)
+    uint32_t first = 0;  // leaf: first position in BvhTree::primitive_order
+    uint32_t count = 0;  // leaf: primitive count (0 only for the single leaf of an empty input)
     bool leaf() const { return children[0] == nullptr; }
 };
 
@@ -26,7 +26,7 @@ struct BvhTree {
     // Nodes live in one arena per build task; a deque keeps addresses stable while it grows.
     std::list<std::deque<BvhBuildNode>> arenas;
     uint32_t node_count = 0;
-    uint32_t depth = 0;   // root alone: 1
+    uint32_t depth = 0;  // root alone: 1
 };
 
 // Bounds that can go into a tree: not empty on any axis and finite. Others (degenerate triangles) are left out.

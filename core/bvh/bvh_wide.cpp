@@ -127,10 +127,12 @@ void set_wide_lane_box(BvhWideNode& node, uint32_t k, const Aabb& box) {
 }
 
 Aabb wide_lane_bounds(const BvhWideNode& node, uint32_t k) {
-    Aabb box;   // empty unless the lane holds a box
+    Aabb box;  // empty unless the lane holds a box
     if (PRISM_WIDE_LANE(node, lower_x, k) == std::numeric_limits<float>::infinity()) return box;
-    box.lower = {PRISM_WIDE_LANE(node, lower_x, k), PRISM_WIDE_LANE(node, lower_y, k), PRISM_WIDE_LANE(node, lower_z, k)};
-    box.upper = {PRISM_WIDE_LANE(node, upper_x, k), PRISM_WIDE_LANE(node, upper_y, k), PRISM_WIDE_LANE(node, upper_z, k)};
+    box.lower = {PRISM_WIDE_LANE(node, lower_x, k), PRISM_WIDE_LANE(node, lower_y, k),
+                 PRISM_WIDE_LANE(node, lower_z, k)};
+    box.upper = {PRISM_WIDE_LANE(node, upper_x, k), PRISM_WIDE_LANE(node, upper_y, k),
+                 PRISM_WIDE_LANE(node, upper_z, k)};
     return box;
 }
 

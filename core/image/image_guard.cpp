@@ -33,8 +33,9 @@ void check_encoded_image(std::span<const uint8_t> bytes, const std::string& name
         throw file_error(name, std::string("unsupported image format ") + format +
                                    " (textures: PNG, JPEG, BMP, TGA or Radiance HDR)");
     const bool jpeg = jpeg_start_of_image(bytes) != 0, png = starts_with(bytes, "\x89PNG\r\n\x1a\n");
-    const bool hdr = starts_with(bytes, "#?RADIANCE\n") || starts_with(bytes, "#?RGBE\n"), bmp = starts_with(bytes, "BM");
-    if (jpeg) check_jpeg(bytes, name);   // before stbi_info, which parses the tables too
+    const bool hdr = starts_with(bytes, "#?RADIANCE\n") || starts_with(bytes, "#?RGBE\n"),
+               bmp = starts_with(bytes, "BM");
+    if (jpeg) check_jpeg(bytes, name);  // before stbi_info, which parses the tables too
     if (png) check_png(bytes, name);
     if (bytes.size() > size_t(INT_MAX)) throw file_error(name, "image file too large");
     int width = 0, height = 0, channels = 0;
@@ -44,13 +45,17 @@ void check_encoded_image(std::span<const uint8_t> bytes, const std::string& name
         throw file_error(name, "image is " + std::to_string(width) + "x" + std::to_string(height) +
                                    " pixels; Prism takes textures up to " + std::to_string(kMaxTextureSide) +
                                    " on a side and " + std::to_string(kMaxTexturePixels >> 20) + "M pixels");
-    if (width <= 0 || height <= 0) return;   // stb refuses it
+    if (width <= 0 || height <= 0) return;  // stb refuses it
     // Whether the file can hold what its header declares. A file stb sizes that has none of the other signatures
     // is a TGA (stb tries TGA last; it has no signature, and its header rules out the others' first bytes).
-    if (jpeg) check_jpeg_size(bytes, name, width, height);
-    else if (hdr) check_hdr(bytes, name, width, height);
-    else if (bmp) check_bmp(bytes, name, width, height);
-    else if (!png) check_tga(bytes, name, width, height);
+    if (jpeg)
+        check_jpeg_size(bytes, name, width, height);
+    else if (hdr)
+        check_hdr(bytes, name, width, height);
+    else if (bmp)
+        check_bmp(bytes, name, width, height);
+    else if (!png)
+        check_tga(bytes, name, width, height);
 }
 
 }  // namespace prism

@@ -24,37 +24,37 @@ void check_jpeg(std::span<const uint8_t> bytes, const std::string& name) {
     auto byte = [&](size_t i) -> size_t { return i < bytes.size() ? bytes[i] : 0; };
     auto corrupt = [&](const std::string& cause) { return file_error(name, "corrupt JPEG (" + cause + ")"); };
     bool progressive = false;
-    bool defined[2][4] = {};   // [DC, AC][table id]
+    bool defined[2][4] = {};  // [DC, AC][table id]
     size_t at = jpeg_start_of_image(bytes) + 1;
     while (at + 1 < bytes.size()) {
-        if (bytes[at] != 0xff) {   // entropy-coded data, or junk stb skips the same way
+        if (bytes[at] != 0xff) {  // entropy-coded data, or junk stb skips the same way
             ++at;
             continue;
         }
         const uint8_t marker = bytes[at + 1];
-        if (marker == 0xff) {   // fill byte
+        if (marker == 0xff) {  // fill byte
             ++at;
             continue;
         }
-        if (marker == 0x00 || (marker >= 0xd0 && marker <= 0xd7) || marker == 0x01) {   // stuffing, RSTn, TEM
+        if (marker == 0x00 || (marker >= 0xd0 && marker <= 0xd7) || marker == 0x01) {  // stuffing, RSTn, TEM
             at += 2;
             continue;
         }
-        if (marker == 0xd9) return;   // EOI
+        if (marker == 0xd9) return;  // EOI
         const size_t segment_end = at + 2 + (byte(at + 2) << 8 | byte(at + 3));
-        if (marker == 0xc2) progressive = true;   // the only progressive frame type stb decodes
-        if (marker == 0xc4) {   // DHT: tables of [class/id][16 counts][values] until the declared length
+        if (marker == 0xc2) progressive = true;  // the only progressive frame type stb decodes
+        if (marker == 0xc4) {  // DHT: tables of [class/id][16 counts][values] until the declared length
             for (size_t table = at + 4; table < segment_end && table < bytes.size();) {
                 size_t codes = 0;
                 for (size_t i = 1; i <= 16; ++i) codes += byte(table + i);
                 if (codes > 256)
                     throw corrupt("a Huffman table declares " + std::to_string(codes) + " codes; at most 256 exist");
                 const size_t kind = byte(table) >> 4, id = byte(table) & 15;
-                if (kind <= 1 && id <= 3) defined[kind][id] = true;   // stb refuses other ids itself
+                if (kind <= 1 && id <= 3) defined[kind][id] = true;  // stb refuses other ids itself
                 table += 17 + codes;
             }
         }
-        if (marker == 0xda) {   // SOS: [count][(component, DC<<4 | AC) x count][Ss][Se][Ah<<4 | Al]
+        if (marker == 0xda) {  // SOS: [count][(component, DC<<4 | AC) x count][Ss][Se][Ah<<4 | Al]
             const size_t count = byte(at + 4);
             const size_t spectral_start = byte(at + 5 + 2 * count), high_bit = byte(at + 7 + 2 * count) >> 4;
             const bool uses_dc = !progressive || (spectral_start == 0 && high_bit == 0);
@@ -65,13 +65,13 @@ void check_jpeg(std::span<const uint8_t> bytes, const std::string& name) {
                     throw corrupt("a scan decodes with a Huffman table no DHT segment defined");
             }
         }
-        at = segment_end;   // after SOS the scan's data follows and is skipped above
+        at = segment_end;  // after SOS the scan's data follows and is skipped above
     }
 }
 
 // A JPEG codes every 8x8 block of its most finely sampled component (width/8 x height/8 of them) with at least one
-// bit (a one-bit DC code in the first DC scan; baseline needs two), so a file holds at most 512 pixels per byte. stb fills a JPEG that ends early with
-// grey: a few bytes claiming 8192x8192 would decode to 64M pixels of nothing.
+// bit (a one-bit DC code in the first DC scan; baseline needs two), so a file holds at most 512 pixels per byte. stb
+// fills a JPEG that ends early with grey: a few bytes claiming 8192x8192 would decode to 64M pixels of nothing.
 void check_jpeg_size(std::span<const uint8_t> bytes, const std::string& name, int width, int height) {
     const uint64_t pixels = uint64_t(width) * uint64_t(height);
     if (pixels > 512 * uint64_t(bytes.size()))

@@ -8,10 +8,10 @@ namespace prism::image_guard {
 // the declared length before reading it (fuzz_image: a 2 KB file made it allocate 1.5 GB); with this check it
 // never holds more than the file's size. A missing CRC after the last chunk is tolerated, as stb tolerates it.
 void check_png(std::span<const uint8_t> bytes, const std::string& name) {
-    size_t at = 8;   // after the signature
+    size_t at = 8;  // after the signature
     while (at + 8 <= bytes.size()) {
-        const uint64_t length = uint64_t(bytes[at]) << 24 | uint64_t(bytes[at + 1]) << 16 |
-                                uint64_t(bytes[at + 2]) << 8 | bytes[at + 3];
+        const uint64_t length =
+            uint64_t(bytes[at]) << 24 | uint64_t(bytes[at + 1]) << 16 | uint64_t(bytes[at + 2]) << 8 | bytes[at + 3];
         const std::string type(reinterpret_cast<const char*>(bytes.data() + at + 4), 4);
         const uint64_t left = bytes.size() - (at + 8);
         if (length > left)

@@ -13,9 +13,9 @@ namespace {
 
 uint64_t le16(std::span<const uint8_t> b, size_t at) { return at + 2 <= b.size() ? b[at] | b[at + 1] << 8 : 0; }
 uint64_t le32(std::span<const uint8_t> b, size_t at) {
-    return at + 4 <= b.size() ? uint64_t(b[at]) | uint64_t(b[at + 1]) << 8 | uint64_t(b[at + 2]) << 16 |
-                                    uint64_t(b[at + 3]) << 24
-                              : 0;
+    return at + 4 <= b.size()
+               ? uint64_t(b[at]) | uint64_t(b[at + 1]) << 8 | uint64_t(b[at + 2]) << 16 | uint64_t(b[at + 3]) << 24
+               : 0;
 }
 
 [[noreturn]] void truncated(const std::string& name, const char* format, int width, int height, uint64_t needed,
@@ -30,7 +30,7 @@ uint64_t le32(std::span<const uint8_t> b, size_t at) {
 // Header: id length, colour-map type and image type, colour-map length and entry bits, ..., bits per pixel.
 // Uncompressed data is width x height pixels; run-length packets hold at most 128 pixels and a pixel each.
 void check_tga(std::span<const uint8_t> bytes, const std::string& name, int width, int height) {
-    if (bytes.size() < 18) return;   // stb refuses it
+    if (bytes.size() < 18) return;  // stb refuses it
     const uint64_t map_bytes = bytes[1] ? le16(bytes, 5) * ((bytes[7] + 7u) / 8u) : 0;
     const uint64_t data = 18 + bytes[0] + map_bytes;
     const uint64_t pixel_bytes = (bytes[16] + 7u) / 8u;
@@ -61,10 +61,10 @@ void check_bmp(std::span<const uint8_t> bytes, const std::string& name, int widt
 // out of bytes inside a scanline is where stb 2.27 spins. Flat data needs 4 bytes per pixel.
 void check_hdr(std::span<const uint8_t> bytes, const std::string& name, int width, int height) {
     const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-    size_t at = text.find('\n');   // the signature line
+    size_t at = text.find('\n');  // the signature line
     while (at != std::string_view::npos && at + 1 < text.size() && text[at + 1] != '\n') at = text.find('\n', at + 1);
-    if (at == std::string_view::npos || at + 1 >= text.size()) return;   // no header end: stb refuses it
-    at = text.find('\n', at + 2);                                        // the resolution line
+    if (at == std::string_view::npos || at + 1 >= text.size()) return;  // no header end: stb refuses it
+    at = text.find('\n', at + 2);                                       // the resolution line
     if (at == std::string_view::npos) return;
     size_t pos = at + 1;
     const uint64_t pixels = uint64_t(width) * uint64_t(height);
@@ -78,19 +78,19 @@ void check_hdr(std::span<const uint8_t> bytes, const std::string& name, int widt
     auto fail = [&] { truncated(name, "HDR", width, height, least, bytes.size() - (at + 1)); };
     for (int row = 0; row < height; ++row) {
         if (pos + 4 > bytes.size()) fail();
-        if (bytes[pos] != 2 || bytes[pos + 1] != 2 || (bytes[pos + 2] & 0x80)) {   // stb reads flat pixels from here
+        if (bytes[pos] != 2 || bytes[pos + 1] != 2 || (bytes[pos + 2] & 0x80)) {  // stb reads flat pixels from here
             if (pixels * 4 > bytes.size() - pos) truncated(name, "HDR", width, height, pixels * 4, bytes.size() - pos);
             return;
         }
-        if ((bytes[pos + 2] << 8 | bytes[pos + 3]) != width) return;                    // stb refuses it
+        if ((bytes[pos + 2] << 8 | bytes[pos + 3]) != width) return;  // stb refuses it
         pos += 4;
         for (int channel = 0; channel < 4; ++channel) {
             for (int filled = 0; filled < width;) {
-                if (pos >= bytes.size()) fail();   // stb would read zero-length runs for ever
+                if (pos >= bytes.size()) fail();  // stb would read zero-length runs for ever
                 int count = bytes[pos++];
                 const bool run = count > 128;
                 if (run) count -= 128;
-                if (count > width - filled) return;   // stb refuses it
+                if (count > width - filled) return;  // stb refuses it
                 pos += run ? 1 : size_t(count);
                 filled += count;
             }

@@ -52,8 +52,8 @@ void write_atomically(const std::filesystem::path& path, WriteFunction write) {
         int saved = errno;
         std::error_code ignored;
         std::filesystem::remove(temporary, ignored);
-        throw file_error(path.string(), std::string("cannot write (") +
-                                            (saved ? std::strerror(saved) : "image encoder failed") + ")");
+        throw file_error(path.string(),
+                         std::string("cannot write (") + (saved ? std::strerror(saved) : "image encoder failed") + ")");
     }
     std::error_code error;
     std::filesystem::rename(temporary, path, error);
@@ -81,8 +81,8 @@ Texture load_texture_from_memory(std::span<const uint8_t> bytes, const std::stri
     const int length = static_cast<int>(bytes.size());
     int declared_width = 0, declared_height = 0, declared_channels = 0;
     if (stbi_info_from_memory(bytes.data(), length, &declared_width, &declared_height, &declared_channels))
-        charge_texture_bytes(name, uint64_t(std::max(declared_width, 0)) * uint64_t(std::max(declared_height, 0)) *
-                                       sizeof(uint32_t));
+        charge_texture_bytes(
+            name, uint64_t(std::max(declared_width, 0)) * uint64_t(std::max(declared_height, 0)) * sizeof(uint32_t));
     Texture texture;
     texture.name = name;
     int channels = 0;
@@ -167,9 +167,8 @@ void write_png(const std::filesystem::path& path, int width, int height, std::sp
         bytes[4 * i + 2] = static_cast<uint8_t>(texel >> 16);
         bytes[4 * i + 3] = static_cast<uint8_t>(texel >> 24);
     }
-    write_atomically(path, [&](const char* file) {
-        return stbi_write_png(file, width, height, 4, bytes.data(), width * 4) != 0;
-    });
+    write_atomically(
+        path, [&](const char* file) { return stbi_write_png(file, width, height, 4, bytes.data(), width * 4) != 0; });
 }
 
 void write_hdr(const std::filesystem::path& path, int width, int height, std::span<const float> rgba) {
@@ -180,8 +179,8 @@ void write_hdr(const std::filesystem::path& path, int width, int height, std::sp
 void check_output_extension(const std::filesystem::path& path) {
     const std::string extension = lowercase(path.extension().string());
     if (extension != ".png" && extension != ".hdr")
-        throw file_error(path.string(), "unsupported output format '" + path.extension().string() +
-                                            "' (use .png or .hdr)");
+        throw file_error(path.string(),
+                         "unsupported output format '" + path.extension().string() + "' (use .png or .hdr)");
 }
 
 }  // namespace prism

@@ -17,7 +17,8 @@ ImageFormat output_image_format(const std::filesystem::path& path, int png_depth
         throw Error("--png-depth: " + std::to_string(png_depth) + " is not a PNG depth Prism writes (use 8 or 16)");
     if (extension == ".png") return png_depth == 16 ? ImageFormat::Png16 : ImageFormat::Png8;
     if (png_depth != 8)
-        throw Error(path.string() + ": --png-depth applies to .png output only, not '" + path.extension().string() + "'");
+        throw Error(path.string() + ": --png-depth applies to .png output only, not '" + path.extension().string() +
+                    "'");
     if (extension == ".hdr") return ImageFormat::Hdr;
     if (extension == ".exr") return ImageFormat::Exr;
     throw file_error(path.string(),

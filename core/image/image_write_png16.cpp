@@ -59,14 +59,15 @@ void write_png16(const std::filesystem::path& path, int width, int height, std::
     for (size_t i = 0; i < size_t(width) * size_t(height); ++i)
         for (size_t c = 0; c < 3; ++c) {
             auto value = static_cast<uint16_t>(rt_linear_to_srgb(rgba[4 * i + c]) * 65535.0f + 0.5f);
-            bytes[6 * i + 2 * c] = png_byte(value >> 8);   // PNG stores 16-bit samples big-endian
+            bytes[6 * i + 2 * c] = png_byte(value >> 8);  // PNG stores 16-bit samples big-endian
             bytes[6 * i + 2 * c + 1] = png_byte(value & 255u);
         }
     std::vector<png_bytep> rows(static_cast<size_t>(height));
     for (size_t y = 0; y < rows.size(); ++y) rows[y] = bytes.data() + y * row_bytes;
     std::string encoded, cause;
     if (!encode_png16(rows.data(), width, height, &encoded, &cause))
-        throw file_error(path.string(), "cannot write PNG (" + (cause.empty() ? std::string("encoder failed") : cause) + ")");
+        throw file_error(path.string(),
+                         "cannot write PNG (" + (cause.empty() ? std::string("encoder failed") : cause) + ")");
     write_file_atomically(path, encoded);
 }
 

@@ -95,7 +95,7 @@ void add_lights(Scene& scene) {
     Light lamp;
     lamp.type = LightType::Point;
     lamp.position = {3.0f, 5.0f, 4.0f};
-    lamp.intensity = 25.0f;   // inverse-square: about 0.5 at the model, 7 units away
+    lamp.intensity = 25.0f;  // inverse-square: about 0.5 at the model, 7 units away
     scene.lights = {sun, lamp};
     scene.ambient_light = glm::vec3(0.1f);
 }
@@ -164,9 +164,10 @@ Scene bunny_scene(const LoadOptions& options) {
     Material small_glass = glass("glass", glm::vec3(1.5f));
     small_glass.use_vertex_colors = false;
     uint32_t sphere_material = add_material(scene, small_glass);
-    add_instance(scene, add_mesh(scene, make_uv_sphere(24, 48), sphere_material),
-                 glm::translate(glm::mat4(1.0f), glm::vec3(1.8f, 0.5f, 0.8f)) * glm::scale(glm::mat4(1.0f), glm::vec3(0.5f)),
-                 "glass sphere");
+    add_instance(
+        scene, add_mesh(scene, make_uv_sphere(24, 48), sphere_material),
+        glm::translate(glm::mat4(1.0f), glm::vec3(1.8f, 0.5f, 0.8f)) * glm::scale(glm::mat4(1.0f), glm::vec3(0.5f)),
+        "glass sphere");
     add_data_environment(scene, options);
     add_lights(scene);
     set_camera(scene, {0.0f, 2.0f, 5.5f}, {0.3f, 0.9f, 0.0f});
@@ -184,9 +185,10 @@ Scene dragon_scene(const LoadOptions& options) {
     uint32_t glass_material = add_material(scene, dragon_glass);
     add_instance(scene, add_mesh(scene, std::move(dragon), glass_material), placement, "dragon");
     uint32_t chrome = add_material(scene, mirror("mirror", glm::vec3(0.8f), 0.8f));
-    add_instance(scene, add_mesh(scene, make_uv_sphere(24, 48), chrome),
-                 glm::translate(glm::mat4(1.0f), glm::vec3(2.0f, 0.5f, 1.0f)) * glm::scale(glm::mat4(1.0f), glm::vec3(0.5f)),
-                 "mirror sphere");
+    add_instance(
+        scene, add_mesh(scene, make_uv_sphere(24, 48), chrome),
+        glm::translate(glm::mat4(1.0f), glm::vec3(2.0f, 0.5f, 1.0f)) * glm::scale(glm::mat4(1.0f), glm::vec3(0.5f)),
+        "mirror sphere");
     add_data_environment(scene, options);
     add_lights(scene);
     set_camera(scene, {0.0f, 2.3f, 6.0f}, {0.3f, 0.9f, 0.0f});
@@ -199,10 +201,14 @@ std::vector<std::string> builtin_scene_names() { return {"sphere", "bunny", "dra
 
 Scene load_builtin_scene(const std::string& name, const LoadOptions& options) {
     Scene scene;
-    if (name == "sphere") scene = sphere_scene();
-    else if (name == "bunny") scene = bunny_scene(options);
-    else if (name == "dragon") scene = dragon_scene(options);
-    else throw file_error(kBuiltinPrefix + name, "unknown built-in scene (known: sphere, bunny, dragon)");
+    if (name == "sphere")
+        scene = sphere_scene();
+    else if (name == "bunny")
+        scene = bunny_scene(options);
+    else if (name == "dragon")
+        scene = dragon_scene(options);
+    else
+        throw file_error(kBuiltinPrefix + name, "unknown built-in scene (known: sphere, bunny, dragon)");
     scene.source = kBuiltinPrefix + name;
     return scene;
 }

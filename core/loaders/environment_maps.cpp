@@ -38,8 +38,7 @@ void load_cube_map(const std::filesystem::path& folder, Scene& scene) {
     environment.color = glm::vec3(1.0f);
     for (const char* face : kFaceNames) {
         std::filesystem::path file = find_face(folder, face);
-        if (file.empty())
-            throw file_error((folder / (std::string(face) + ".png")).string(), "cube-map face not found");
+        if (file.empty()) throw file_error((folder / (std::string(face) + ".png")).string(), "cube-map face not found");
         scene.textures.push_back(load_texture(file, true));
         environment.textures.push_back(static_cast<uint32_t>(scene.textures.size() - 1));
     }

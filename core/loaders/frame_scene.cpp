@@ -27,7 +27,7 @@ void frame_scene(Scene& scene) {
             high = glm::max(high, world);
         }
     }
-    if (low.x > high.x) return;   // nothing to look at: keep the default camera
+    if (low.x > high.x) return;  // nothing to look at: keep the default camera
 
     glm::vec3 centre = (low + high) * 0.5f;
     float radius = std::max(glm::length(high - low) * 0.5f, 1e-6f);

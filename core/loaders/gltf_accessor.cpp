@@ -28,14 +28,14 @@ int component_count(int type) {
         case TINYGLTF_TYPE_VEC2: return 2;
         case TINYGLTF_TYPE_VEC3: return 3;
         case TINYGLTF_TYPE_VEC4: return 4;
-        default: return 0;   // matrices are never vertex attributes Prism reads
+        default: return 0;  // matrices are never vertex attributes Prism reads
     }
 }
 
 template <typename T>
 T load_unaligned(const uint8_t* bytes) {
     T value;
-    std::memcpy(&value, bytes, sizeof(T));   // glTF allows strides that leave elements unaligned
+    std::memcpy(&value, bytes, sizeof(T));  // glTF allows strides that leave elements unaligned
     return value;
 }
 
@@ -84,8 +84,8 @@ const uint8_t* locate(const tinygltf::Model& model, int buffer_view_index, size_
     const bool run_inside_view = byte_offset <= length && element_size <= length - byte_offset &&
                                  count - 1 <= (length - byte_offset - element_size) / stride;
     if (!view_inside_buffer || !run_inside_view)
-        throw file_error(file, what + " reads past the end of its buffer (" + std::to_string(buffer.data.size()) +
-                                   " bytes)");
+        throw file_error(file,
+                         what + " reads past the end of its buffer (" + std::to_string(buffer.data.size()) + " bytes)");
     return buffer.data.data() + view.byteOffset + byte_offset;
 }
 
@@ -114,8 +114,8 @@ std::vector<double> read_components(const tinygltf::Model& model, int accessor_i
         const tinygltf::BufferView& view = model.bufferViews[accessor.bufferView];
         stride = view.byteStride ? view.byteStride : element_size;
         if (stride < element_size) throw file_error(file, what + ": byteStride smaller than one element");
-        base = locate(model, accessor.bufferView, accessor.byteOffset, accessor.count, element_size, stride, what,
-                      file);
+        base =
+            locate(model, accessor.bufferView, accessor.byteOffset, accessor.count, element_size, stride, what, file);
     } else {
         // No bufferView: zeros (spec), perhaps with sparse values. Nothing backs the count, so it may not exceed
         // what the file's buffers could hold as elements of this type.
@@ -174,8 +174,8 @@ std::vector<uint32_t> read_indices(const tinygltf::Model& model, int accessor_in
     std::vector<double> values = read_components(model, accessor_index, file, components, false);
     const tinygltf::Accessor& accessor = model.accessors[accessor_index];
     if (components != 1 || accessor.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT)
-        throw file_error(file, "accessor " + std::to_string(accessor_index) +
-                                   ": indices must be SCALAR unsigned integers");
+        throw file_error(file,
+                         "accessor " + std::to_string(accessor_index) + ": indices must be SCALAR unsigned integers");
     std::vector<uint32_t> indices(values.size());
     for (size_t i = 0; i < values.size(); ++i) {
         if (values[i] < 0) throw file_error(file, "accessor " + std::to_string(accessor_index) + ": negative index");

@@ -18,7 +18,7 @@ namespace prism::gltf {
 struct FloatArray {
     int components = 0;
     size_t count = 0;
-    std::vector<float> values;   // count * components
+    std::vector<float> values;  // count * components
 
     float at(size_t element, int component) const { return values[element * components + component]; }
 };

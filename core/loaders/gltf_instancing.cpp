@@ -39,9 +39,10 @@ std::vector<glm::mat4> gpu_instance_transforms(const tinygltf::Model& model, con
     std::vector<glm::mat4> transforms(count, glm::mat4(1.0f));
     for (size_t i = 0; i < count; ++i) {
         glm::mat4& m = transforms[i];
-        if (translation.count) m = glm::translate(m, {translation.at(i, 0), translation.at(i, 1), translation.at(i, 2)});
+        if (translation.count)
+            m = glm::translate(m, {translation.at(i, 0), translation.at(i, 1), translation.at(i, 2)});
         if (rotation.count) {
-            glm::quat q(rotation.at(i, 3), rotation.at(i, 0), rotation.at(i, 1), rotation.at(i, 2));   // w, x, y, z
+            glm::quat q(rotation.at(i, 3), rotation.at(i, 0), rotation.at(i, 1), rotation.at(i, 2));  // w, x, y, z
             if (glm::dot(q, q) > 0.0f) m *= glm::mat4_cast(glm::normalize(q));
         }
         if (scale.count) m = glm::scale(m, {scale.at(i, 0), scale.at(i, 1), scale.at(i, 2)});

@@ -77,9 +77,9 @@ void set_specular_fresnel(Material& material, float ior, float k) {
 
 TextureWrap wrap_mode(int gl_wrap) {
     switch (gl_wrap) {
-    case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return TextureWrap::ClampToEdge;
-    case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return TextureWrap::MirroredRepeat;
-    default: return TextureWrap::Repeat;
+        case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return TextureWrap::ClampToEdge;
+        case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return TextureWrap::MirroredRepeat;
+        default: return TextureWrap::Repeat;
     }
 }
 
@@ -178,23 +178,29 @@ Material MaterialConverter::convert(int index) {
     material.name = source.name.empty() ? "material " + std::to_string(index) : source.name;
 
     glm::vec4 base{1.0f};
-    for (size_t i = 0; i < 4 && i < pbr.baseColorFactor.size(); ++i) base[i] = static_cast<float>(pbr.baseColorFactor[i]);
+    for (size_t i = 0; i < 4 && i < pbr.baseColorFactor.size(); ++i)
+        base[i] = static_cast<float>(pbr.baseColorFactor[i]);
     float metallic = std::clamp(static_cast<float>(pbr.metallicFactor), 0.0f, 1.0f);
     float roughness = std::clamp(static_cast<float>(pbr.roughnessFactor), 0.0f, 1.0f);
     material.diffuse = glm::vec3(base);
     material.use_vertex_colors = true;
 
-    if (auto base_layer = layer(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
-                                extension(pbr.baseColorTexture.extensions, "KHR_texture_transform"), true, material.name))
+    if (auto base_layer =
+            layer(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+                  extension(pbr.baseColorTexture.extensions, "KHR_texture_transform"), true, material.name))
         material.textures.push_back(*base_layer);
-    material.metal_rough_map = layer(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
-                                     extension(pbr.metallicRoughnessTexture.extensions, "KHR_texture_transform"), false, material.name);
-    material.emissive_map = layer(source.emissiveTexture.index, source.emissiveTexture.texCoord,
-                                  extension(source.emissiveTexture.extensions, "KHR_texture_transform"), true, material.name);
-    material.occlusion_map = layer(source.occlusionTexture.index, source.occlusionTexture.texCoord,
-                                   extension(source.occlusionTexture.extensions, "KHR_texture_transform"), false, material.name);
-    material.normal_map = layer(source.normalTexture.index, source.normalTexture.texCoord,
-                                extension(source.normalTexture.extensions, "KHR_texture_transform"), false, material.name);
+    material.metal_rough_map =
+        layer(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+              extension(pbr.metallicRoughnessTexture.extensions, "KHR_texture_transform"), false, material.name);
+    material.emissive_map =
+        layer(source.emissiveTexture.index, source.emissiveTexture.texCoord,
+              extension(source.emissiveTexture.extensions, "KHR_texture_transform"), true, material.name);
+    material.occlusion_map =
+        layer(source.occlusionTexture.index, source.occlusionTexture.texCoord,
+              extension(source.occlusionTexture.extensions, "KHR_texture_transform"), false, material.name);
+    material.normal_map =
+        layer(source.normalTexture.index, source.normalTexture.texCoord,
+              extension(source.normalTexture.extensions, "KHR_texture_transform"), false, material.name);
     material.normal_scale = static_cast<float>(source.normalTexture.scale);
     material.metal_rough = true;
     material.metallic = metallic;
@@ -222,8 +228,10 @@ Material MaterialConverter::convert(int index) {
     material.reflectivity = metallic * (1.0f - 0.5f * roughness);
 
     const tinygltf::Value* transmission_ext = extension(source.extensions, "KHR_materials_transmission");
-    float transmission = std::clamp(static_cast<float>(number(transmission_ext, "transmissionFactor", 0.0)), 0.0f, 1.0f);
-    float ior = std::max(1.0f, static_cast<float>(number(extension(source.extensions, "KHR_materials_ior"), "ior", 1.5)));
+    float transmission =
+        std::clamp(static_cast<float>(number(transmission_ext, "transmissionFactor", 0.0)), 0.0f, 1.0f);
+    float ior =
+        std::max(1.0f, static_cast<float>(number(extension(source.extensions, "KHR_materials_ior"), "ior", 1.5)));
     // Alpha is per hit (base texture and vertex alpha too): the kernel's coverage, not a transmission.
     material.alpha = std::clamp(base.w, 0.0f, 1.0f);
     material.alpha_cutoff = static_cast<float>(source.alphaCutoff);
@@ -240,7 +248,7 @@ Material MaterialConverter::convert(int index) {
         glm::vec3 attenuation = vec3_of(volume, "attenuationColor", glm::vec3(1.0f));
         float distance = static_cast<float>(number(volume, "attenuationDistance", 0.0));
         float thickness = static_cast<float>(number(volume, "thicknessFactor", 0.0));
-        material.ambient = glm::vec3(base);   // glTF tints transmitted light by the base colour
+        material.ambient = glm::vec3(base);  // glTF tints transmitted light by the base colour
         if (thickness > 0.0f && distance > 0.0f && std::isfinite(distance)) {
             // Beer-Lambert: light keeps attenuationColor after attenuationDistance inside the medium, so
             // sigma = -ln(colour) / distance, applied by the kernel over the distance each ray travels inside.
@@ -253,8 +261,8 @@ Material MaterialConverter::convert(int index) {
         // glTF thickness 0 (or no volume) means thin-walled: the seed's thin shell. A volume means the mesh
         // encloses solid glass: the seed's solid refraction (thickness 0).
         material.thickness = thickness > 0.0f ? 0.0f : kThinWalledThickness;
-        float dispersion = static_cast<float>(number(extension(source.extensions, "KHR_materials_dispersion"),
-                                                     "dispersion", 0.0));
+        float dispersion =
+            static_cast<float>(number(extension(source.extensions, "KHR_materials_dispersion"), "dispersion", 0.0));
         material.ior = dispersive_ior(ior, dispersion);
     } else {
         // Opaque: the kernel mixes metal and dielectric per hit (rt_surface_terms), Schlick from this F0.
@@ -262,8 +270,8 @@ Material MaterialConverter::convert(int index) {
         material.ior = glm::vec3(ior);
     }
 
-    float emissive_strength =
-        static_cast<float>(number(extension(source.extensions, "KHR_materials_emissive_strength"), "emissiveStrength", 1.0));
+    float emissive_strength = static_cast<float>(
+        number(extension(source.extensions, "KHR_materials_emissive_strength"), "emissiveStrength", 1.0));
     material.emissive = first3(source.emissiveFactor, glm::vec3(0.0f)) * emissive_strength;
     return material;
 }

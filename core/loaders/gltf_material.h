@@ -13,7 +13,7 @@
 namespace tinygltf {
 class Model;
 class Value;
-}
+}  // namespace tinygltf
 
 namespace prism::gltf {
 
@@ -40,7 +40,7 @@ private:
     std::string file_;
     Scene& scene_;
     std::map<int, uint32_t> materials_;
-    std::map<std::pair<int, bool>, uint32_t> textures_;   // (glTF texture, colour data) -> scene texture
+    std::map<std::pair<int, bool>, uint32_t> textures_;  // (glTF texture, colour data) -> scene texture
 };
 
 // KHR_materials_dispersion: per-channel IOR (red, green, blue) from the IOR at the d line (587.6 nm) and

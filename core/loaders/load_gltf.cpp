@@ -38,7 +38,7 @@ bool keep_encoded_image(tinygltf::Image* image, const int index, std::string* er
         return false;
     };
     if (size < 0) return refuse("byteLength out of range");
-    if (image->bufferView >= 0) {   // tinygltf has checked that the view and its buffer exist
+    if (image->bufferView >= 0) {  // tinygltf has checked that the view and its buffer exist
         const tinygltf::BufferView& view = loading.bufferViews.at(static_cast<size_t>(image->bufferView));
         const size_t available = loading.buffers.at(static_cast<size_t>(view.buffer)).data.size();
         if (view.byteOffset > available || view.byteLength > available - view.byteOffset)
@@ -54,8 +54,8 @@ bool keep_encoded_image(tinygltf::Image* image, const int index, std::string* er
 // the scene's folder (core/util/scene_read_rules.h), read without blocking. The first refusal is kept and becomes the
 // error, in Prism's words, instead of tinygltf's "File not found".
 struct ExternalFiles {
-    std::string file;   // the glTF, for messages
-    std::string base;   // its folder, absolute; tinygltf joins every URI onto it
+    std::string file;  // the glTF, for messages
+    std::string base;  // its folder, absolute; tinygltf joins every URI onto it
     std::optional<Error> refusal;
 
     // The URI as the file wrote it (percent-decoded by tinygltf), or nullopt for tinygltf's second guess, the
@@ -75,7 +75,7 @@ struct ExternalFiles {
             const bool absolute = !uri->empty() && uri->front() == '/';
             check_scene_reference(file, *uri, absolute ? std::filesystem::path(*uri) : std::filesystem::path(joined));
             std::error_code error;
-            if (!std::filesystem::exists(joined, error)) return false;   // tinygltf: "File not found : <uri>"
+            if (!std::filesystem::exists(joined, error)) return false;  // tinygltf: "File not found : <uri>"
             require_regular_file(joined);
         } catch (const Error& error) {
             refusal = error;
@@ -89,7 +89,7 @@ bool external_file_exists(const std::string& path, void* context) {
     return static_cast<ExternalFiles*>(context)->allowed(path);
 }
 
-std::string external_file_path(const std::string& path, void*) { return path; }   // no ~ or $VAR expansion
+std::string external_file_path(const std::string& path, void*) { return path; }  // no ~ or $VAR expansion
 
 bool read_external_file(std::vector<unsigned char>* out, std::string* error, const std::string& path, void* context) {
     auto& files = *static_cast<ExternalFiles*>(context);
@@ -125,12 +125,12 @@ std::string_view json_text(std::string_view bytes, bool binary) {
 
 // Deeper JSON than this is refused before tinygltf, which recurses once per level; real files nest about 8 deep.
 constexpr size_t kMaxJsonDepth = 64;
-constexpr size_t kBytesWorthReporting = size_t(8) << 20;   // glTF files that report their load's progress
+constexpr size_t kBytesWorthReporting = size_t(8) << 20;  // glTF files that report their load's progress
 
 glm::mat4 local_transform(const tinygltf::Node& node) {
     if (node.matrix.size() == 16) {
         glm::mat4 matrix;
-        for (int i = 0; i < 16; ++i) glm::value_ptr(matrix)[i] = static_cast<float>(node.matrix[i]);   // column-major
+        for (int i = 0; i < 16; ++i) glm::value_ptr(matrix)[i] = static_cast<float>(node.matrix[i]);  // column-major
         return matrix;
     }
     glm::mat4 matrix(1.0f);
@@ -138,7 +138,7 @@ glm::mat4 local_transform(const tinygltf::Node& node) {
         matrix = glm::translate(matrix, glm::vec3(node.translation[0], node.translation[1], node.translation[2]));
     if (node.rotation.size() == 4) {
         glm::quat rotation(static_cast<float>(node.rotation[3]), static_cast<float>(node.rotation[0]),
-                           static_cast<float>(node.rotation[1]), static_cast<float>(node.rotation[2]));   // w, x, y, z
+                           static_cast<float>(node.rotation[1]), static_cast<float>(node.rotation[2]));  // w, x, y, z
         matrix *= glm::mat4_cast(glm::normalize(rotation));
     }
     if (node.scale.size() == 3) matrix = glm::scale(matrix, glm::vec3(node.scale[0], node.scale[1], node.scale[2]));
@@ -148,7 +148,10 @@ glm::mat4 local_transform(const tinygltf::Node& node) {
 class GltfImporter {
 public:
     GltfImporter(const tinygltf::Model& model, std::string file, Scene& scene, bool report_progress)
-        : model_(model), file_(std::move(file)), scene_(scene), materials_(model, file_, scene),
+        : model_(model),
+          file_(std::move(file)),
+          scene_(scene),
+          materials_(model, file_, scene),
           report_progress_(report_progress) {}
 
     void import() {
@@ -192,7 +195,7 @@ private:
             const std::vector<int>& children = model_.nodes[top.node].children;
             if (top.next_child < children.size()) {
                 const int child = children[top.next_child++];
-                const glm::mat4 parent = top.world;   // `top` dangles once enter() grows the stack
+                const glm::mat4 parent = top.world;  // `top` dangles once enter() grows the stack
                 enter(child, parent, stack);
                 continue;
             }
@@ -236,7 +239,8 @@ private:
         bool morphs = false;
         for (const tinygltf::Primitive& primitive : mesh.primitives) morphs = morphs || !primitive.targets.empty();
         if ((node.skin < 0 && !morphs) || warned_animated_) return;
-        scene_.warnings.push_back(file_ + ": skins and morph targets are not applied; meshes are drawn in their rest pose");
+        scene_.warnings.push_back(file_ +
+                                  ": skins and morph targets are not applied; meshes are drawn in their rest pose");
         warned_animated_ = true;
     }
 
@@ -310,7 +314,8 @@ private:
         };
         if (gltf::FloatArray normals = read_attribute("NORMAL", 3, 3); normals.count) {
             out.normals.resize(vertex_count);
-            for (size_t i = 0; i < vertex_count; ++i) out.normals[i] = {normals.at(i, 0), normals.at(i, 1), normals.at(i, 2)};
+            for (size_t i = 0; i < vertex_count; ++i)
+                out.normals[i] = {normals.at(i, 0), normals.at(i, 1), normals.at(i, 2)};
         }
         if (gltf::FloatArray uv = read_attribute("TEXCOORD_0", 2, 2); uv.count) {
             out.uv0.resize(vertex_count);
@@ -339,7 +344,7 @@ private:
             for (uint32_t index : indices)
                 if (index >= vertex_count)
                     throw file_error(file_, what + ": index " + std::to_string(index) + " out of range (" +
-                                               std::to_string(vertex_count) + " vertices)");
+                                                std::to_string(vertex_count) + " vertices)");
         } else {
             indices.resize(vertex_count);
             for (size_t i = 0; i < vertex_count; ++i) indices[i] = static_cast<uint32_t>(i);
@@ -382,7 +387,7 @@ private:
     void add_camera(int camera_index, const glm::mat4& world) {
         if (camera_index >= static_cast<int>(model_.cameras.size()))
             throw file_error(file_, "camera " + std::to_string(camera_index) + " does not exist");
-        if (scene_.has_camera) return;   // the first camera instance wins
+        if (scene_.has_camera) return;  // the first camera instance wins
         const tinygltf::Camera& camera = model_.cameras[camera_index];
         if (camera.type != "perspective") {
             scene_.warnings.push_back(file_ + ": camera " + std::to_string(camera_index) +
@@ -428,8 +433,8 @@ private:
     Scene& scene_;
     gltf::MaterialConverter materials_;
     bool report_progress_;
-    std::map<std::tuple<int, int, bool>, uint32_t> meshes_;   // (mesh, primitive, mirrored) -> scene mesh
-    std::vector<NodeState> node_state_;                       // per node: unseen, on the current path, done
+    std::map<std::tuple<int, int, bool>, uint32_t> meshes_;  // (mesh, primitive, mirrored) -> scene mesh
+    std::vector<NodeState> node_state_;                      // per node: unseen, on the current path, done
     bool warned_non_triangles_ = false;
     bool warned_animated_ = false;
     bool warned_spot_ = false;
@@ -465,7 +470,7 @@ void load_gltf(const std::filesystem::path& path, Scene& scene) {
         ok = binary ? loader.LoadBinaryFromMemory(&model, &error, &warning, data, unsigned(bytes.size()), files.base)
                     : loader.LoadASCIIFromString(&model, &error, &warning, bytes.data(), unsigned(bytes.size()),
                                                  files.base);
-    } catch (const std::exception& exception) {   // tinygltf reports by return value, but its JSON layer may throw
+    } catch (const std::exception& exception) {  // tinygltf reports by return value, but its JSON layer may throw
         throw file_error(file, library_message(exception.what(), "malformed glTF"));
     }
     if (files.refusal) throw *files.refusal;
@@ -482,7 +487,7 @@ void load_gltf(const std::filesystem::path& path, Scene& scene) {
 
     // Progress for large files only: a small one loads at once, and one that fails leaves only its error line.
     const bool report_progress = bytes.size() >= kBytesWorthReporting;
-    if (report_progress) report_load_progress(0.3);   // parsed; the meshes and textures follow
+    if (report_progress) report_load_progress(0.3);  // parsed; the meshes and textures follow
     LoadProgressShare importing(0.3, 1.0);
     GltfImporter(model, file, scene, report_progress).import();
 }

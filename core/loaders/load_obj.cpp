@@ -35,7 +35,7 @@ std::string trim(std::string_view text) {
 // Where each material came from, and which of them name an IOR: tinyobjloader defaults Ni to 1 and cannot tell
 // "Ni 1" from no Ni at all, which decides whether a mirror gets a Fresnel falloff.
 struct MaterialOrigins {
-    std::vector<std::filesystem::path> mtl_file;   // per tinyobj material index
+    std::vector<std::filesystem::path> mtl_file;  // per tinyobj material index
     std::set<std::string> names_with_ior;
     std::vector<std::string> warnings;
 };
@@ -134,7 +134,7 @@ Material convert_material(const tinyobj::material_t& source, bool has_ior) {
         material.fresnel_bias = f0;
         material.fresnel_scale = 1.0f - f0;
     } else {
-        material.fresnel_bias = 1.0f;   // R_f = 1: reflectivity alone decides, as in the seed's plain mirrors
+        material.fresnel_bias = 1.0f;  // R_f = 1: reflectivity alone decides, as in the seed's plain mirrors
         material.fresnel_scale = 0.0f;
     }
     material.fresnel_power = 5.0f;
@@ -192,8 +192,8 @@ void load_obj(const std::filesystem::path& path, Scene& scene) {
                 throw file_error(mtl_file.string(), "material '" + source.name + "': texture '" +
                                                         shorten(source.diffuse_texname) + "' not found");
             check_scene_reference(mtl_file.string(), trim(source.diffuse_texname), texture_path);
-            auto [entry, inserted] = texture_by_file.try_emplace(texture_path,
-                                                                 static_cast<uint32_t>(scene.textures.size()));
+            auto [entry, inserted] =
+                texture_by_file.try_emplace(texture_path, static_cast<uint32_t>(scene.textures.size()));
             if (inserted) scene.textures.push_back(load_texture(texture_path, /*color_data=*/true));
             TextureLayer layer;
             layer.texture = entry->second;
@@ -207,7 +207,7 @@ void load_obj(const std::filesystem::path& path, Scene& scene) {
         }
         scene.materials.push_back(std::move(material));
     }
-    uint32_t default_material = UINT32_MAX;   // appended only when some face has no usemtl
+    uint32_t default_material = UINT32_MAX;  // appended only when some face has no usemtl
     auto material_for = [&](int obj_index) -> uint32_t {
         if (obj_index >= 0 && static_cast<size_t>(obj_index) < obj_materials.size())
             return material_base + static_cast<uint32_t>(obj_index);
@@ -257,7 +257,7 @@ void load_obj(const std::filesystem::path& path, Scene& scene) {
                 polygon.push_back(entry->second);
             }
             offset += count;
-            if (count < 3) continue;   // points and lines carry no surface (tinyobjloader warns)
+            if (count < 3) continue;  // points and lines carry no surface (tinyobjloader warns)
             const int material_id = face < shape.mesh.material_ids.size() ? shape.mesh.material_ids[face] : -1;
             const uint32_t material = material_for(material_id);
             for (size_t k = 1; k + 1 < count; ++k) {

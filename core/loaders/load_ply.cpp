@@ -115,11 +115,11 @@ enum class Scalar { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64 
 
 bool parse_scalar(std::string_view name, Scalar& type) {
     static constexpr std::pair<std::string_view, Scalar> names[] = {
-        {"char", Scalar::Int8},     {"int8", Scalar::Int8},      {"uchar", Scalar::UInt8},
-        {"uint8", Scalar::UInt8},   {"short", Scalar::Int16},    {"int16", Scalar::Int16},
-        {"ushort", Scalar::UInt16}, {"uint16", Scalar::UInt16},  {"int", Scalar::Int32},
-        {"int32", Scalar::Int32},   {"uint", Scalar::UInt32},    {"uint32", Scalar::UInt32},
-        {"float", Scalar::Float32}, {"float32", Scalar::Float32}, {"double", Scalar::Float64},
+        {"char", Scalar::Int8},      {"int8", Scalar::Int8},       {"uchar", Scalar::UInt8},
+        {"uint8", Scalar::UInt8},    {"short", Scalar::Int16},     {"int16", Scalar::Int16},
+        {"ushort", Scalar::UInt16},  {"uint16", Scalar::UInt16},   {"int", Scalar::Int32},
+        {"int32", Scalar::Int32},    {"uint", Scalar::UInt32},     {"uint32", Scalar::UInt32},
+        {"float", Scalar::Float32},  {"float32", Scalar::Float32}, {"double", Scalar::Float64},
         {"float64", Scalar::Float64}};
     for (const auto& [spelling, value] : names)
         if (spelling == name) {
@@ -131,10 +131,14 @@ bool parse_scalar(std::string_view name, Scalar& type) {
 
 size_t scalar_size(Scalar type) {
     switch (type) {
-    case Scalar::Int8: case Scalar::UInt8: return 1;
-    case Scalar::Int16: case Scalar::UInt16: return 2;
-    case Scalar::Int32: case Scalar::UInt32: case Scalar::Float32: return 4;
-    case Scalar::Float64: return 8;
+        case Scalar::Int8:
+        case Scalar::UInt8: return 1;
+        case Scalar::Int16:
+        case Scalar::UInt16: return 2;
+        case Scalar::Int32:
+        case Scalar::UInt32:
+        case Scalar::Float32: return 4;
+        case Scalar::Float64: return 8;
     }
     return 0;
 }
@@ -144,21 +148,21 @@ bool is_integer(Scalar type) { return type != Scalar::Float32 && type != Scalar:
 // What an 8/16/32-bit colour channel's largest value means (1.0); floats are taken as given.
 float colour_scale(Scalar type) {
     switch (type) {
-    case Scalar::Int8: return 1.0f / 127.0f;
-    case Scalar::UInt8: return 1.0f / 255.0f;
-    case Scalar::Int16: return 1.0f / 32767.0f;
-    case Scalar::UInt16: return 1.0f / 65535.0f;
-    case Scalar::Int32: return 1.0f / 2147483647.0f;
-    case Scalar::UInt32: return 1.0f / 4294967295.0f;
-    default: return 1.0f;
+        case Scalar::Int8: return 1.0f / 127.0f;
+        case Scalar::UInt8: return 1.0f / 255.0f;
+        case Scalar::Int16: return 1.0f / 32767.0f;
+        case Scalar::UInt16: return 1.0f / 65535.0f;
+        case Scalar::Int32: return 1.0f / 2147483647.0f;
+        case Scalar::UInt32: return 1.0f / 4294967295.0f;
+        default: return 1.0f;
     }
 }
 
 struct Property {
     std::string name;
     bool is_list = false;
-    Scalar count_type = Scalar::UInt8;   // lists only
-    Scalar type = Scalar::Float32;       // the value type (of the list's entries for lists)
+    Scalar count_type = Scalar::UInt8;  // lists only
+    Scalar type = Scalar::Float32;      // the value type (of the list's entries for lists)
 };
 
 struct Element {
@@ -172,7 +176,7 @@ enum class Format { Ascii, BinaryLittleEndian, BinaryBigEndian };
 struct Header {
     Format format = Format::Ascii;
     std::vector<Element> elements;
-    size_t body_offset = 0;   // first byte after the end_header line
+    size_t body_offset = 0;  // first byte after the end_header line
 };
 
 std::vector<std::string_view> split_words(std::string_view line) {
@@ -219,10 +223,14 @@ Header parse_header(const std::string& file, std::string_view bytes) {
         if (keyword == "format") {
             if (words.size() != 3) throw fail("malformed format line");
             if (words[2] != "1.0") throw fail("unsupported PLY version '" + std::string(words[2]) + "'");
-            if (words[1] == "ascii") header.format = Format::Ascii;
-            else if (words[1] == "binary_little_endian") header.format = Format::BinaryLittleEndian;
-            else if (words[1] == "binary_big_endian") header.format = Format::BinaryBigEndian;
-            else throw fail("unsupported PLY format '" + std::string(words[1]) + "'");
+            if (words[1] == "ascii")
+                header.format = Format::Ascii;
+            else if (words[1] == "binary_little_endian")
+                header.format = Format::BinaryLittleEndian;
+            else if (words[1] == "binary_big_endian")
+                header.format = Format::BinaryBigEndian;
+            else
+                throw fail("unsupported PLY format '" + std::string(words[1]) + "'");
             have_format = true;
         } else if (keyword == "element") {
             if (words.size() != 3) throw fail("malformed element line");
@@ -321,26 +329,26 @@ public:
 
     float read_float(Scalar type) {
         switch (type) {
-        case Scalar::Int8: return static_cast<float>(read<int8_t>());
-        case Scalar::UInt8: return static_cast<float>(read<uint8_t>());
-        case Scalar::Int16: return static_cast<float>(read<int16_t>());
-        case Scalar::UInt16: return static_cast<float>(read<uint16_t>());
-        case Scalar::Int32: return static_cast<float>(read<int32_t>());
-        case Scalar::UInt32: return static_cast<float>(read<uint32_t>());
-        case Scalar::Float32: return read<float>();
-        case Scalar::Float64: return static_cast<float>(read<double>());
+            case Scalar::Int8: return static_cast<float>(read<int8_t>());
+            case Scalar::UInt8: return static_cast<float>(read<uint8_t>());
+            case Scalar::Int16: return static_cast<float>(read<int16_t>());
+            case Scalar::UInt16: return static_cast<float>(read<uint16_t>());
+            case Scalar::Int32: return static_cast<float>(read<int32_t>());
+            case Scalar::UInt32: return static_cast<float>(read<uint32_t>());
+            case Scalar::Float32: return read<float>();
+            case Scalar::Float64: return static_cast<float>(read<double>());
         }
         return 0.0f;
     }
     int64_t read_integer(Scalar type) {
         switch (type) {
-        case Scalar::Int8: return read<int8_t>();
-        case Scalar::UInt8: return read<uint8_t>();
-        case Scalar::Int16: return read<int16_t>();
-        case Scalar::UInt16: return read<uint16_t>();
-        case Scalar::Int32: return read<int32_t>();
-        case Scalar::UInt32: return read<uint32_t>();
-        default: break;   // the header admits only integer types where integers are read
+            case Scalar::Int8: return read<int8_t>();
+            case Scalar::UInt8: return read<uint8_t>();
+            case Scalar::Int16: return read<int16_t>();
+            case Scalar::UInt16: return read<uint16_t>();
+            case Scalar::Int32: return read<int32_t>();
+            case Scalar::UInt32: return read<uint32_t>();
+            default: break;  // the header admits only integer types where integers are read
         }
         return 0;
     }
@@ -387,8 +395,8 @@ void skip_element(Source& source, const Element& element, uint64_t& index) {
 
 template <bool SwapBytes>
 void skip_element(BinarySource<SwapBytes>& source, const Element& element, uint64_t& index) {
-    const bool fixed_size = std::none_of(element.properties.begin(), element.properties.end(),
-                                         [](const Property& p) { return p.is_list; });
+    const bool fixed_size =
+        std::none_of(element.properties.begin(), element.properties.end(), [](const Property& p) { return p.is_list; });
     if (!fixed_size) {
         for (index = 0; index < element.count; ++index)
             for (const Property& property : element.properties) skip_property(source, property);
@@ -411,20 +419,35 @@ void skip_element(BinarySource<SwapBytes>& source, const Element& element, uint6
 enum Slot { X, Y, Z, NX, NY, NZ, Red, Green, Blue, Alpha, U, V, SlotCount, Ignored = SlotCount };
 
 Slot slot_for(const std::string& name) {
-    static const std::pair<const char*, Slot> names[] = {
-        {"x", X},         {"y", Y},          {"z", Z},         {"nx", NX},          {"ny", NY},
-        {"nz", NZ},       {"red", Red},      {"green", Green}, {"blue", Blue},      {"alpha", Alpha},
-        {"diffuse_red", Red}, {"diffuse_green", Green}, {"diffuse_blue", Blue}, {"u", U}, {"v", V},
-        {"s", U},         {"t", V},          {"texture_u", U}, {"texture_v", V},    {"texture_s", U},
-        {"texture_t", V}};
+    static const std::pair<const char*, Slot> names[] = {{"x", X},
+                                                         {"y", Y},
+                                                         {"z", Z},
+                                                         {"nx", NX},
+                                                         {"ny", NY},
+                                                         {"nz", NZ},
+                                                         {"red", Red},
+                                                         {"green", Green},
+                                                         {"blue", Blue},
+                                                         {"alpha", Alpha},
+                                                         {"diffuse_red", Red},
+                                                         {"diffuse_green", Green},
+                                                         {"diffuse_blue", Blue},
+                                                         {"u", U},
+                                                         {"v", V},
+                                                         {"s", U},
+                                                         {"t", V},
+                                                         {"texture_u", U},
+                                                         {"texture_v", V},
+                                                         {"texture_s", U},
+                                                         {"texture_t", V}};
     for (const auto& [spelling, slot] : names)
         if (name == spelling) return slot;
     return Ignored;
 }
 
 struct VertexLayout {
-    std::vector<Slot> slots;     // per property
-    std::vector<float> scales;   // per property: colour normalisation, else 1
+    std::vector<Slot> slots;    // per property
+    std::vector<float> scales;  // per property: colour normalisation, else 1
     bool has_normals = false, has_colors = false, has_alpha = false, has_uvs = false;
 };
 
@@ -433,15 +456,14 @@ VertexLayout vertex_layout(const std::string& file, const Element& element) {
     std::array<bool, SlotCount> present{};
     for (const Property& property : element.properties) {
         Slot slot = property.is_list ? Ignored : slot_for(property.name);
-        if (slot != Ignored && present[slot]) slot = Ignored;   // a repeated name: the first one wins
+        if (slot != Ignored && present[slot]) slot = Ignored;  // a repeated name: the first one wins
         if (slot != Ignored) present[slot] = true;
         layout.slots.push_back(slot);
         const bool colour = slot == Red || slot == Green || slot == Blue || slot == Alpha;
         layout.scales.push_back(colour ? colour_scale(property.type) : 1.0f);
     }
     for (Slot axis : {X, Y, Z})
-        if (!present[axis])
-            throw file_error(file, std::string("vertex element has no '") + "xyz"[axis] + "' property");
+        if (!present[axis]) throw file_error(file, std::string("vertex element has no '") + "xyz"[axis] + "' property");
     layout.has_normals = present[NX] && present[NY] && present[NZ];
     layout.has_colors = present[Red] && present[Green] && present[Blue];
     layout.has_alpha = present[Alpha];
@@ -469,8 +491,10 @@ void read_vertices(Source& source, const Element& element, const VertexLayout& l
         if (index % report_every == 0 && index > 0) report_load_progress(double(index) / double(element.count));
         for (size_t p = 0; p < property_count; ++p) {
             const Property& property = element.properties[p];
-            if (property.is_list) skip_property(source, property);
-            else values[layout.slots[p]] = source.read_float(property.type) * layout.scales[p];
+            if (property.is_list)
+                skip_property(source, property);
+            else
+                values[layout.slots[p]] = source.read_float(property.type) * layout.scales[p];
         }
         mesh.positions.emplace_back(values[X], values[Y], values[Z]);
         if (layout.has_normals) mesh.normals.emplace_back(values[NX], values[NY], values[NZ]);
@@ -544,7 +568,7 @@ size_t largest_body(const Header& header) {
     constexpr size_t kAsciiValueBytes = 32, kLongestList = 255;
     size_t total = header.body_offset;
     for (const Element& element : header.elements) {
-        size_t record = ascii ? 2 : 0;   // the line end
+        size_t record = ascii ? 2 : 0;  // the line end
         for (const Property& property : element.properties) {
             const size_t value = ascii ? kAsciiValueBytes : scalar_size(property.type);
             if (!property.is_list) {
@@ -574,8 +598,7 @@ Mesh read_body(const std::string& file, std::string_view bytes, const Header& he
     const auto list = std::find_if(faces->properties.begin(), faces->properties.end(), [](const Property& p) {
         return p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index");
     });
-    if (list == faces->properties.end())
-        throw file_error(file, "face element has no 'vertex_indices' list property");
+    if (list == faces->properties.end()) throw file_error(file, "face element has no 'vertex_indices' list property");
     if (!is_integer(list->type)) throw file_error(file, "face vertex indices must have an integer type");
     index_property = static_cast<size_t>(list - faces->properties.begin());
 
@@ -591,17 +614,20 @@ Mesh read_body(const std::string& file, std::string_view bytes, const Header& he
                                 (elements_before + double(element.count)) / std::max(elements, 1.0));
         elements_before += double(element.count);
         try {
-            if (&element == vertices) read_vertices(source, element, layout, mesh, index, report_every);
-            else if (&element == faces) read_faces(source, element, index_property, mesh, faces_read, index, report_every);
-            else skip_element(source, element, index);
+            if (&element == vertices)
+                read_vertices(source, element, layout, mesh, index, report_every);
+            else if (&element == faces)
+                read_faces(source, element, index_property, mesh, faces_read, index, report_every);
+            else
+                skip_element(source, element, index);
         } catch (const ParseFailure& failure) {
             const std::string where = element.name + " " + std::to_string(index);
             if (failure.truncated)
                 throw file_error(file, "truncated: " + where + " of " + std::to_string(element.count));
             if (header.format == Format::Ascii)
                 throw file_error(file, line_of(bytes, failure.position), where + " " + failure.cause);
-            throw file_error(file, where + " " + failure.cause + " (byte " +
-                                       std::to_string(failure.position - bytes.data()) + ")");
+            throw file_error(
+                file, where + " " + failure.cause + " (byte " + std::to_string(failure.position - bytes.data()) + ")");
         }
     }
     if (faces_read.largest_index >= static_cast<int64_t>(mesh.positions.size()))
@@ -620,7 +646,7 @@ Mesh load_ply(const std::filesystem::path& path) {
     const bool gzipped = looks_gzipped(bytes);
     if (gzipped) {
         LoadProgressShare inflating(0.0, kInflateShare);
-        std::optional<size_t> limit;   // known once the header has inflated
+        std::optional<size_t> limit;  // known once the header has inflated
         bytes = read_gzip_file(path, bytes, [&](std::string_view inflated) {
             if (limit) return *limit;
             const size_t keyword = inflated.find("end_header");
@@ -633,7 +659,7 @@ Mesh load_ply(const std::filesystem::path& path) {
                     if (inflated.size() > kMaxHeaderBytes) throw;
                 }
             }
-            if (inflated.size() > kMaxHeaderBytes) parse_header(file, inflated);   // throws: says what is wrong
+            if (inflated.size() > kMaxHeaderBytes) parse_header(file, inflated);  // throws: says what is wrong
             return std::numeric_limits<size_t>::max();
         });
     }
@@ -644,13 +670,13 @@ Mesh load_ply(const std::filesystem::path& path) {
     const char* end = bytes.data() + bytes.size();
     Mesh mesh;
     switch (header.format) {
-    case Format::Ascii: mesh = read_body(file, view, header, AsciiSource(body, end)); break;
-    case Format::BinaryLittleEndian:
-        mesh = read_body(file, view, header, BinarySource<std::endian::native == std::endian::big>(body, end));
-        break;
-    case Format::BinaryBigEndian:
-        mesh = read_body(file, view, header, BinarySource<std::endian::native == std::endian::little>(body, end));
-        break;
+        case Format::Ascii: mesh = read_body(file, view, header, AsciiSource(body, end)); break;
+        case Format::BinaryLittleEndian:
+            mesh = read_body(file, view, header, BinarySource<std::endian::native == std::endian::big>(body, end));
+            break;
+        case Format::BinaryBigEndian:
+            mesh = read_body(file, view, header, BinarySource<std::endian::native == std::endian::little>(body, end));
+            break;
     }
     std::string name = path.filename().string();
     if (name.size() > 3 && name.ends_with(".gz")) name.resize(name.size() - 3);

@@ -9,8 +9,8 @@
 
 namespace prism {
 
-// Positions always; normals (nx ny nz; computed smooth, area-weighted, when the file has none), colours (red green blue [alpha], uchar or float) and UVs (u v | s t |
-// texture_u texture_v) when present. Every triangle gets material slot 0.
+// Positions always; normals (nx ny nz; computed smooth, area-weighted, when the file has none), colours (red green blue
+// [alpha], uchar or float) and UVs (u v | s t | texture_u texture_v) when present. Every triangle gets material slot 0.
 Mesh load_ply(const std::filesystem::path& path);
 
 }  // namespace prism

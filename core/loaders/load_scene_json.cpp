@@ -52,7 +52,7 @@ private:
         const std::string text = read_input_file(path_);
         try {
             return json::parse(text);
-        } catch (const json::exception& error) {   // parse_error, and out_of_range for numbers like 1e999
+        } catch (const json::exception& error) {  // parse_error, and out_of_range for numbers like 1e999
             throw file_error(file_, "invalid JSON: " + library_message(error.what(), "malformed"));
         }
     }
@@ -68,7 +68,8 @@ private:
         return parent + "[" + std::to_string(index) + "]";
     }
 
-    void expect_keys(const json& object, const std::string& key_path, std::initializer_list<const char*> allowed) const {
+    void expect_keys(const json& object, const std::string& key_path,
+                     std::initializer_list<const char*> allowed) const {
         if (!object.is_object()) fail(key_path, "expected an object");
         for (const auto& item : object.items()) {
             // Not a structured binding: clang before 16 (the fuzz build's) cannot capture one in a lambda.
@@ -123,12 +124,13 @@ private:
         std::filesystem::path path = folder_ / name;
         std::error_code error;
         // Anything under the exact name counts as found (a FIFO is then refused as such, below).
-        bool exists = must_be_directory ? std::filesystem::is_directory(path, error)
-                                        : std::filesystem::exists(path, error);
+        bool exists =
+            must_be_directory ? std::filesystem::is_directory(path, error) : std::filesystem::exists(path, error);
         if (!exists) {
             std::filesystem::path found = find_file_case_insensitive(folder_, name);
-            if (found.empty()) fail(key_path, "no such " + std::string(must_be_directory ? "folder" : "file") + " '" +
-                                                  shorten_path(path.string()) + "'");
+            if (found.empty())
+                fail(key_path, "no such " + std::string(must_be_directory ? "folder" : "file") + " '" +
+                                   shorten_path(path.string()) + "'");
             path = found;
         }
         check_scene_reference(file_, name, path, key_path);
@@ -170,7 +172,8 @@ private:
             scene.environment.kind = EnvironmentKind::Constant;
         }
         // For a constant environment the colour is the sky; for maps it multiplies the map.
-        if (environment.contains("color")) scene.environment.color = number_or_vec3(environment["color"], "environment.color");
+        if (environment.contains("color"))
+            scene.environment.color = number_or_vec3(environment["color"], "environment.color");
         if (environment.contains("intensity"))
             scene.environment.intensity = number(environment["intensity"], "environment.intensity");
     }
@@ -192,7 +195,8 @@ private:
                 light.type = LightType::Directional;
                 if (!source.contains("direction"))
                     fail(join(key_path, "direction"), "a directional light needs a direction");
-                if (source.contains("position")) fail(join(key_path, "position"), "a directional light has no position");
+                if (source.contains("position"))
+                    fail(join(key_path, "position"), "a directional light has no position");
                 glm::vec3 direction = vec3(source["direction"], join(key_path, "direction"));
                 if (glm::length(direction) == 0.0f) fail(join(key_path, "direction"), "must not be zero");
                 light.direction = glm::normalize(direction);
@@ -200,7 +204,8 @@ private:
                 fail(join(key_path, "type"), "expected \"point\" or \"directional\"");
             }
             if (source.contains("color")) light.color = number_or_vec3(source["color"], join(key_path, "color"));
-            if (source.contains("intensity")) light.intensity = number(source["intensity"], join(key_path, "intensity"));
+            if (source.contains("intensity"))
+                light.intensity = number(source["intensity"], join(key_path, "intensity"));
             scene.lights.push_back(light);
         }
     }
@@ -221,7 +226,8 @@ private:
             if (source.contains("vertex_colors")) {
                 // How the model's vertex colours combine with `diffuse`: glTF multiplies, the seed replaced.
                 std::string rule = string(source["vertex_colors"], field("vertex_colors"));
-                if (rule != "multiply" && rule != "replace") fail(field("vertex_colors"), "expected multiply or replace");
+                if (rule != "multiply" && rule != "replace")
+                    fail(field("vertex_colors"), "expected multiply or replace");
                 material.vertex_colors_replace = rule == "replace";
             }
             if (source.contains("specular")) material.specular = number_or_vec3(source["specular"], field("specular"));
@@ -240,13 +246,16 @@ private:
             }
             if (source.contains("emissive")) material.emissive = number_or_vec3(source["emissive"], field("emissive"));
             // Without an explicit Fresnel term: Schlick's for anything that transmits, R_f = 1 for the rest.
-            if (material.transmittance > 0.0f) set_dielectric_fresnel(material, schlick_f0(material.ior.y));
-            else set_opaque_fresnel(material);
+            if (material.transmittance > 0.0f)
+                set_dielectric_fresnel(material, schlick_f0(material.ior.y));
+            else
+                set_opaque_fresnel(material);
             if (source.contains("fresnel")) {
                 const json& fresnel = source["fresnel"];
                 expect_keys(fresnel, field("fresnel"), {"bias", "scale", "power"});
                 std::string fresnel_path = field("fresnel");
-                if (fresnel.contains("bias")) material.fresnel_bias = number(fresnel["bias"], join(fresnel_path, "bias"));
+                if (fresnel.contains("bias"))
+                    material.fresnel_bias = number(fresnel["bias"], join(fresnel_path, "bias"));
                 if (fresnel.contains("scale"))
                     material.fresnel_scale = number(fresnel["scale"], join(fresnel_path, "scale"));
                 if (fresnel.contains("power"))
@@ -300,7 +309,8 @@ private:
             }
             if (source.contains("uv_set")) {
                 const json& set = source["uv_set"];
-                if (!set.is_number_unsigned() || set.get<unsigned>() > 1) fail(join(layer_path, "uv_set"), "expected 0 or 1");
+                if (!set.is_number_unsigned() || set.get<unsigned>() > 1)
+                    fail(join(layer_path, "uv_set"), "expected 0 or 1");
                 layer.uv_set = set.get<unsigned>();
             }
             material.textures.push_back(layer);
@@ -320,12 +330,13 @@ private:
                 if (rotate.contains("axis") || rotate.contains("degrees"))
                     fail(rotate_path, "give either quaternion or axis and degrees");
                 std::vector<float> q = numbers(rotate["quaternion"], join(rotate_path, "quaternion"), 4);
-                glm::quat rotation(q[3], q[0], q[1], q[2]);   // stored x, y, z, w like glTF
+                glm::quat rotation(q[3], q[0], q[1], q[2]);  // stored x, y, z, w like glTF
                 if (glm::length(rotation) == 0.0f) fail(join(rotate_path, "quaternion"), "must not be zero");
                 matrix *= glm::mat4_cast(glm::normalize(rotation));
             } else {
                 if (!rotate.contains("axis") || !rotate.contains("degrees"))
-                    fail(rotate_path, "expected {\"axis\": [x, y, z], \"degrees\": d} or {\"quaternion\": [x, y, z, w]}");
+                    fail(rotate_path,
+                         "expected {\"axis\": [x, y, z], \"degrees\": d} or {\"quaternion\": [x, y, z, w]}");
                 glm::vec3 axis = vec3(rotate["axis"], join(rotate_path, "axis"));
                 if (glm::length(axis) == 0.0f) fail(join(rotate_path, "axis"), "must not be zero");
                 float degrees = number(rotate["degrees"], join(rotate_path, "degrees"));
@@ -356,7 +367,7 @@ private:
     glm::mat4 read_matrix(const json& value, const std::string& key_path) const {
         std::vector<float> v = numbers(value, key_path, 16);
         glm::mat4 matrix;
-        std::copy(v.begin(), v.end(), glm::value_ptr(matrix));   // column-major, as glTF and GLM store it
+        std::copy(v.begin(), v.end(), glm::value_ptr(matrix));  // column-major, as glTF and GLM store it
         if (glm::determinant(glm::mat3(matrix)) == 0.0f) fail(key_path, "matrix is singular");
         return matrix;
     }
@@ -364,7 +375,7 @@ private:
     // One model file loaded once; later objects reuse its meshes as instances, a material override included
     // (Instance::material_override: the instances share the mesh).
     struct LoadedModel {
-        std::vector<Instance> instances;   // mesh indices already in the scene, transforms in model space
+        std::vector<Instance> instances;  // mesh indices already in the scene, transforms in model space
         std::vector<Light> lights;
     };
 
@@ -412,7 +423,8 @@ private:
             if (source.contains("transform") && source.contains("matrix"))
                 fail(key_path, "give either transform or matrix");
             glm::mat4 placement(1.0f);
-            if (source.contains("transform")) placement = read_transform(source["transform"], join(key_path, "transform"));
+            if (source.contains("transform"))
+                placement = read_transform(source["transform"], join(key_path, "transform"));
             if (source.contains("matrix")) placement = read_matrix(source["matrix"], join(key_path, "matrix"));
             std::string material;
             if (source.contains("material")) {
@@ -449,7 +461,7 @@ private:
     std::filesystem::path folder_;
     std::map<std::string, uint32_t> material_index_;
     std::map<std::string, uint32_t> texture_index_;
-    std::map<std::string, LoadedModel> models_;   // by file
+    std::map<std::string, LoadedModel> models_;  // by file
 };
 
 }  // namespace

@@ -59,25 +59,26 @@ void check_number(const std::string& file, size_t line, std::string_view keyword
 }
 
 // One index as written ("-5", "12"): an integer naming an existing element.
-void check_index(const std::string& file, size_t line, std::string_view statement, std::string_view written,
-                 Kind kind, int64_t defined_above, int64_t defined_in_file) {
+void check_index(const std::string& file, size_t line, std::string_view statement, std::string_view written, Kind kind,
+                 int64_t defined_above, int64_t defined_in_file) {
     int64_t index = 0;
     const auto [end, error] = std::from_chars(written.data(), written.data() + written.size(), index);
     if (error == std::errc::result_out_of_range && end == written.data() + written.size())
-        throw file_error(file, line, std::string(kKindName[kind]) + " index " + shorten(written, 40) +
-                                         " is out of range (" + std::to_string(defined_in_file) + " in the file)");
+        throw file_error(file, line,
+                         std::string(kKindName[kind]) + " index " + shorten(written, 40) + " is out of range (" +
+                             std::to_string(defined_in_file) + " in the file)");
     if (error != std::errc() || end != written.data() + written.size())
-        throw file_error(file, line, std::string(kKindName[kind]) + " index '" + shorten(written, 40) +
-                                         "' is not an integer");
-    const bool valid = index > 0 ? index <= defined_in_file && index <= INT32_MAX
-                                 : index < 0 && -index <= defined_above;
+        throw file_error(file, line,
+                         std::string(kKindName[kind]) + " index '" + shorten(written, 40) + "' is not an integer");
+    const bool valid =
+        index > 0 ? index <= defined_in_file && index <= INT32_MAX : index < 0 && -index <= defined_above;
     if (valid) return;
     if (index == 0)
         throw file_error(file, line, std::string(kKindName[kind]) + " index 0 is invalid (OBJ counts from 1)");
-    throw file_error(file, line, std::string(statement) + " references " + kKindName[kind] + " " + std::string(written) +
-                                     " but there are " +
-                                     std::to_string(index < 0 ? defined_above : defined_in_file) +
-                                     (index < 0 ? " above it" : ""));
+    throw file_error(file, line,
+                     std::string(statement) + " references " + kKindName[kind] + " " + std::string(written) +
+                         " but there are " + std::to_string(index < 0 ? defined_above : defined_in_file) +
+                         (index < 0 ? " above it" : ""));
 }
 
 }  // namespace
@@ -86,9 +87,12 @@ void check_obj_values(const std::string& file, std::string_view text) {
     std::array<int64_t, 3> in_file{0, 0, 0};
     for_each_line(text, [&](size_t, std::span<const std::string_view> words, bool continued) {
         if (continued) return;
-        if (words[0] == "v") ++in_file[kPosition];
-        else if (words[0] == "vt") ++in_file[kUv];
-        else if (words[0] == "vn") ++in_file[kNormal];
+        if (words[0] == "v")
+            ++in_file[kPosition];
+        else if (words[0] == "vt")
+            ++in_file[kUv];
+        else if (words[0] == "vn")
+            ++in_file[kNormal];
     });
     std::array<int64_t, 3> above{0, 0, 0};
     for_each_line(text, [&](size_t line, std::span<const std::string_view> words, bool continued) {

@@ -43,7 +43,7 @@ void add_default_lights(Scene& scene) {
     glm::vec3 view = scene.camera.target - scene.camera.position;
     float distance = glm::length(view);
     lamp.position = scene.camera.position + scene.camera.up * (0.25f * distance);
-    lamp.intensity = 0.5f * distance * distance;   // inverse-square falloff: about 0.5 at the target
+    lamp.intensity = 0.5f * distance * distance;  // inverse-square falloff: about 0.5 at the target
     scene.lights.push_back(sun);
     scene.lights.push_back(lamp);
 }
@@ -59,7 +59,7 @@ Scene load_scene(const std::string& spec, const LoadOptions& options) {
     } else {
         std::filesystem::path path = spec;
         ModelFormat format = model_format(path);
-        require_regular_file(path);   // a FIFO or device named .obj must not block or stream for ever
+        require_regular_file(path);  // a FIFO or device named .obj must not block or stream for ever
         if (format == ModelFormat::Unknown) throw file_error(spec, "unsupported scene format");
         SceneReadScope rules(path, options.allow_any_path);
         try {

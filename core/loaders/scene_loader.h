@@ -12,7 +12,7 @@
 namespace prism {
 
 struct LoadOptions {
-    std::filesystem::path data_dir = "../shared/scenes";   // where builtin:bunny/dragon find the Stanford models
+    std::filesystem::path data_dir = "../shared/scenes";  // where builtin:bunny/dragon find the Stanford models
     // Let the scene read files outside its own folder (absolute URIs, "../.."); core/util/scene_read_rules.h.
     bool allow_any_path = false;
     // Called with the fraction of the load done (0 to 1) as the loaders read (core/util/load_progress.h).
@@ -22,7 +22,8 @@ struct LoadOptions {
 Scene load_scene(const std::string& spec, const LoadOptions& options = {});
 
 // Checks what every backend relies on: indices in range, finite positions/normals/UVs, material and texture
-// references valid, at least one triangle (degenerate ones are allowed: build_device_scene leaves them out). Throws prism::Error naming the file and element.
+// references valid, at least one triangle (degenerate ones are allowed: build_device_scene leaves them out). Throws
+// prism::Error naming the file and element.
 void validate_scene(const Scene& scene);
 
 // Places the camera so the whole scene is in view (used for bare models and scenes without a camera).

@@ -47,9 +47,7 @@ public:
 private:
     [[noreturn]] void fail(const std::string& cause) const { throw file_error(source_, cause); }
 
-    std::string mesh_name(size_t m) const {
-        return labelled("mesh", m, scene_.meshes[m].name);
-    }
+    std::string mesh_name(size_t m) const { return labelled("mesh", m, scene_.meshes[m].name); }
 
     template <typename Attribute>
     void check_attribute(size_t m, const std::vector<Attribute>& values, const char* what) const {
@@ -95,9 +93,12 @@ private:
         for (size_t l = 0; l < material.textures.size(); ++l)
             check_layer(material.textures[l], name + ": texture layer " + std::to_string(l));
         const std::pair<const std::optional<TextureLayer>*, const char*> maps[] = {
-            {&material.metal_rough_map, "metallic-roughness map"}, {&material.emissive_map, "emissive map"},
-            {&material.occlusion_map, "occlusion map"}, {&material.normal_map, "normal map"},
-            {&material.specular_map, "specular map"}, {&material.specular_color_map, "specular colour map"}};
+            {&material.metal_rough_map, "metallic-roughness map"},
+            {&material.emissive_map, "emissive map"},
+            {&material.occlusion_map, "occlusion map"},
+            {&material.normal_map, "normal map"},
+            {&material.specular_map, "specular map"},
+            {&material.specular_color_map, "specular colour map"}};
         for (const auto& [map, what] : maps)
             if (*map) check_layer(**map, name + ": " + what);
     }
@@ -106,8 +107,7 @@ private:
         if (layer.texture >= scene_.textures.size())
             fail(name + " uses texture " + std::to_string(layer.texture) + " but there are " +
                  std::to_string(scene_.textures.size()) + " textures");
-        if (layer.uv_set > 1)
-            fail(name + " uses TEXCOORD_" + std::to_string(layer.uv_set) + " (only 0 and 1 exist)");
+        if (layer.uv_set > 1) fail(name + " uses TEXCOORD_" + std::to_string(layer.uv_set) + " (only 0 and 1 exist)");
     }
 
     void check_texture(size_t i) const {
@@ -123,9 +123,9 @@ private:
 
     void check_environment() const {
         const Environment& environment = scene_.environment;
-        const size_t needed = environment.kind == EnvironmentKind::CubeMap   ? 6
+        const size_t needed = environment.kind == EnvironmentKind::CubeMap    ? 6
                               : environment.kind == EnvironmentKind::Equirect ? 1
-                                                                             : 0;
+                                                                              : 0;
         if (environment.textures.size() < needed)
             fail("environment needs " + std::to_string(needed) + " texture(s) but has " +
                  std::to_string(environment.textures.size()));

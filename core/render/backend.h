@@ -54,7 +54,7 @@ StageLaunch stage_launch(Stage stage);
 struct StageTiming {
     Stage stage;
     uint32_t depth;
-    double milliseconds;   // device time (GPU timestamps) where the API has it
+    double milliseconds;  // device time (GPU timestamps) where the API has it
 };
 
 struct BackendInfo {
@@ -98,9 +98,9 @@ struct BackendSpec {
 BackendSpec parse_backend_spec(const std::string& text);
 
 struct BackendAvailability {
-    std::string name;       // "cpu", "cuda", ...
+    std::string name;  // "cpu", "cuda", ...
     bool available = false;
-    std::string detail;     // devices found, or why the backend is unavailable
+    std::string detail;  // devices found, or why the backend is unavailable
     std::vector<std::string> devices;
 };
 
@@ -111,7 +111,7 @@ struct BackendAvailability {
 struct BackendFactory {
     std::string name;
     std::function<std::unique_ptr<Backend>(const std::string& device_filter, const GlContextHandles* gl)>
-        create;   // throws prism::Error
+        create;  // throws prism::Error
     std::function<BackendAvailability()> probe;
 };
 

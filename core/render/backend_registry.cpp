@@ -9,24 +9,22 @@ namespace prism {
 const char* device_array_name(DeviceArray array) {
     switch (array) {
 #define RT_DATA_ARRAY(slot, type, name, access, role) \
-    case DeviceArray::name:                     \
+    case DeviceArray::name:                           \
         return #name;
 #include "kernels/data_arrays.h"
 #undef RT_DATA_ARRAY
-        default:
-            return "?";
+        default: return "?";
     }
 }
 
 size_t device_array_element_size(DeviceArray array) {
     switch (array) {
 #define RT_DATA_ARRAY(slot, type, name, access, role) \
-    case DeviceArray::name:                     \
+    case DeviceArray::name:                           \
         return sizeof(type);
 #include "kernels/data_arrays.h"
 #undef RT_DATA_ARRAY
-        default:
-            return 0;
+        default: return 0;
     }
 }
 

@@ -1,7 +1,7 @@
-// The bookkeeping every backend keeps for its device arrays (core/render/backend.h): each array's size, the range check of
-// reads and writes, and the memory budget (the device's memory, or PRISM_DEVICE_MEMORY_LIMIT where smaller), so
-// that every API applies the same rules and words its errors alike. A backend keeps what is particular to its API
-// (CUDA's free-memory query, OpenCL's and Vulkan's largest single allocation) beside it.
+// The bookkeeping every backend keeps for its device arrays (core/render/backend.h): each array's size, the range check
+// of reads and writes, and the memory budget (the device's memory, or PRISM_DEVICE_MEMORY_LIMIT where smaller), so that
+// every API applies the same rules and words its errors alike. A backend keeps what is particular to its API (CUDA's
+// free-memory query, OpenCL's and Vulkan's largest single allocation) beside it.
 #pragma once
 
 #include <array>
@@ -29,7 +29,7 @@ public:
     // the backend's padding), would not fit beside the others. Checks only: call `record` once it is allocated.
     void check_fits(DeviceArray array, size_t bytes, size_t device_bytes) const;
     void record(DeviceArray array, size_t bytes, size_t device_bytes);
-    void forget(DeviceArray array);   // released
+    void forget(DeviceArray array);  // released
 
     // Throws prism::Error "<api>: access past the end of array '<name>' (<offset>+<bytes> of <size> bytes)" unless
     // [offset, offset + bytes) lies inside the array as allocated.
@@ -49,7 +49,7 @@ private:
     std::array<size_t, device_array_count> device_bytes_{};
     std::array<bool, device_array_count> allocated_{};
     size_t budget_ = SIZE_MAX;
-    std::string budget_note_;   // " of memory of <device>" or " allowed on <device> (PRISM_DEVICE_MEMORY_LIMIT=N)"
+    std::string budget_note_;  // " of memory of <device>" or " allowed on <device> (PRISM_DEVICE_MEMORY_LIMIT=N)"
 };
 
 }  // namespace prism

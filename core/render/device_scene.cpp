@@ -39,8 +39,9 @@ void rebase_nodes(std::vector<BvhNode>& nodes, BvhLayout layout, uint32_t node_o
             if (upper_w != RT_ESCAPE_INTERIOR) {
                 uint32_t first = (upper_w & RT_ESCAPE_FIRST_MASK) + primitive_offset;
                 if (first > RT_ESCAPE_FIRST_MASK)
-                    throw Error("scene: more than 16,777,215 triangles do not fit the escape BVH layout "
-                                "(use the stack layout)");
+                    throw Error(
+                        "scene: more than 16,777,215 triangles do not fit the escape BVH layout "
+                        "(use the stack layout)");
                 node.upper.w = as_float((upper_w & ~RT_ESCAPE_FIRST_MASK) | first);
             }
         }
@@ -90,7 +91,7 @@ void block_wide_leaves(std::vector<BvhWideNode>& nodes, const std::vector<Triang
             uint32_t first = wide_lane_first(node, k), count = wide_lane_count(node, k);
             uint32_t first_block = uint32_t(blocks.size());
             for (uint32_t i = 0; i < count; i += 4) {
-                TriangleBlock block{};   // unused lanes: zero edges, never hit
+                TriangleBlock block{};  // unused lanes: zero edges, never hit
                 block.slot = block.primitive = block.instance = uint4{~0u, ~0u, ~0u, ~0u};
                 for (uint32_t l = 0; l < 4 && i + l < count; ++l) {
                     const TriangleGeometry& t = triangles[first + i + l];
@@ -134,8 +135,7 @@ Aabb transformed_bounds(const Aabb& box, const glm::mat4& m) {
     return out;
 }
 
-::Instance device_instance(const glm::mat4& transform, uint32_t root, uint32_t first_triangle,
-                           uint32_t first_shading) {
+::Instance device_instance(const glm::mat4& transform, uint32_t root, uint32_t first_triangle, uint32_t first_shading) {
     glm::mat4 inverse = glm::inverse(transform);
     ::Instance out{};
     // glm is column-major: row r of the 3x4 matrix is (m[0][r], m[1][r], m[2][r], m[3][r]).
@@ -160,7 +160,7 @@ void build_top_level(DeviceScene& device, const std::vector<glm::mat4>& transfor
     if (rebuild) {
         BvhBuildOptions options = device.bvh_options;
         options.max_leaf_size = 1;
-        options.wide_leaf_size = 1;   // a top-level leaf is one instance
+        options.wide_leaf_size = 1;  // a top-level leaf is one instance
         device.top_level = build_bvh(bounds, options);
     } else {
         // refit_bvh maps leaves through primitive_order, which still holds the instance order.
@@ -180,7 +180,8 @@ void build_top_level(DeviceScene& device, const std::vector<glm::mat4>& transfor
                      (m.alpha_mode == AlphaMode::Mask ? RT_MATERIAL_ALPHA_MASK : 0u) |
                      (m.alpha_mode == AlphaMode::Blend ? RT_MATERIAL_ALPHA_BLEND : 0u) |
                      (m.vertex_colors_replace ? RT_MATERIAL_VERTEX_REPLACE : 0u);
-    out.textures = uint4{first_layer, static_cast<uint32_t>(m.textures.size()), flags, std::bit_cast<uint32_t>(m.alpha)};
+    out.textures =
+        uint4{first_layer, static_cast<uint32_t>(m.textures.size()), flags, std::bit_cast<uint32_t>(m.alpha)};
     out.emissive.w = m.alpha_cutoff;
     out.absorption = to_float4(m.absorption, 0.0f);
     out.metal_rough = float4{m.metallic, m.roughness, m.occlusion_strength, m.normal_scale};
@@ -198,8 +199,8 @@ void build_top_level(DeviceScene& device, const std::vector<glm::mat4>& transfor
 // A material's texture stack, then its single-purpose maps in device_material's order.
 std::vector<prism::TextureLayer> material_layers(const prism::Material& m) {
     std::vector<prism::TextureLayer> layers = m.textures;
-    for (const auto* map : {&m.metal_rough_map, &m.emissive_map, &m.occlusion_map, &m.normal_map, &m.specular_map,
-                            &m.specular_color_map})
+    for (const auto* map :
+         {&m.metal_rough_map, &m.emissive_map, &m.occlusion_map, &m.normal_map, &m.specular_map, &m.specular_color_map})
         if (*map) layers.push_back(**map);
     return layers;
 }
@@ -242,7 +243,7 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
     // triangles keep their file order (degenerate ones left out).
     bool flatten = options.layout == BvhLayout::Wide && options.flatten_instances &&
                    flattening_fits(scene, options.flatten_growth_limit);
-    device.bvh_options.flatten_instances = flatten;   // what was built: the renderer's frame flag reads it
+    device.bvh_options.flatten_instances = flatten;  // what was built: the renderer's frame flag reads it
     device.mesh_bounds.resize(scene.meshes.size());
     // The meshes' builds report their share of every triangle the scene's BVHs will hold.
     double triangles_to_place = 0.0, triangles_placed = 0.0;
@@ -251,12 +252,14 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
         const Mesh& mesh = scene.meshes[m];
         MeshPlacement placement{static_cast<uint32_t>(device.vertices.size()),
                                 static_cast<uint32_t>(device.triangle_shading.size()),
-                                static_cast<uint32_t>(device.triangles.size()), {}};
+                                static_cast<uint32_t>(device.triangles.size()),
+                                {}};
         for (size_t v = 0; v < mesh.positions.size(); ++v) {
             Vertex vertex{};
             float vertex_flags = static_cast<float>((mesh.normals.empty() ? 0u : RT_VERTEX_HAS_NORMAL) |
                                                     (mesh.colors.empty() ? 0u : RT_VERTEX_HAS_COLOR));
-            vertex.normal = mesh.normals.empty() ? float4{0, 0, 0, vertex_flags} : to_float4(mesh.normals[v], vertex_flags);
+            vertex.normal =
+                mesh.normals.empty() ? float4{0, 0, 0, vertex_flags} : to_float4(mesh.normals[v], vertex_flags);
             vertex.color = mesh.colors.empty() ? float4{1, 1, 1, 1} : to_float4(mesh.colors[v]);
             glm::vec2 uv0 = mesh.uv0.empty() ? glm::vec2(0.0f) : mesh.uv0[v];
             glm::vec2 uv1 = mesh.uv1.empty() ? uv0 : mesh.uv1[v];
@@ -268,13 +271,13 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
         for (size_t t = 0; t < mesh.triangles.size(); ++t) {
             glm::uvec3 tri = mesh.triangles[t];
             uint32_t material = mesh.triangle_materials.empty() ? 0u : mesh.triangle_materials[t];
-            device.triangle_shading.push_back(TriangleShading{uint4{placement.first_vertex + tri.x,
-                                                                    placement.first_vertex + tri.y,
-                                                                    placement.first_vertex + tri.z, material}});
+            device.triangle_shading.push_back(
+                TriangleShading{uint4{placement.first_vertex + tri.x, placement.first_vertex + tri.y,
+                                      placement.first_vertex + tri.z, material}});
             glm::vec3 a = mesh.positions[tri.x], b = mesh.positions[tri.y], c = mesh.positions[tri.z];
             if (degenerate(a, b, c)) {
                 ++device.degenerate_triangles;
-                continue;   // empty bounds: the builder leaves it out
+                continue;  // empty bounds: the builder leaves it out
             }
             bounds[t].grow(a);
             bounds[t].grow(b);
@@ -297,8 +300,8 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
         for (uint32_t t : placement.bvh.primitive_order) {
             glm::uvec3 tri = mesh.triangles[t];
             glm::vec3 a = mesh.positions[tri.x], b = mesh.positions[tri.y], c = mesh.positions[tri.z];
-            device.triangles.push_back(TriangleGeometry{to_float4(a, as_float(t)), to_float4(b - a, 0.0f),
-                                                        to_float4(c - a, 0.0f)});
+            device.triangles.push_back(
+                TriangleGeometry{to_float4(a, as_float(t)), to_float4(b - a, 0.0f), to_float4(c - a, 0.0f)});
         }
         triangle_weighted_sah += double(placement.bvh.sah_cost) * placement.bvh.primitive_order.size();
         bvh_triangles += placement.bvh.primitive_order.size();
@@ -320,7 +323,8 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
         throw Error(scene.source + ": scene has no triangles that can be hit (all " +
                     std::to_string(device.degenerate_triangles) + " are degenerate or none exist)");
     if (kept.size() != scene.instances.size())
-        throw Error(scene.source + ": an instance's mesh has only degenerate triangles");   // keeps instance ids = scene ids
+        throw Error(scene.source +
+                    ": an instance's mesh has only degenerate triangles");  // keeps instance ids = scene ids
     build_top_level(device, transforms, true);
     // The layout's node array holds the top level first, then each mesh's BVH; the other array gets one unused
     // node (GPU APIs dislike empty buffers).
@@ -329,7 +333,7 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
         for (MeshPlacement& placement : placements) {
             first_triangle.push_back(placement.first_triangle);
             triangle_count.push_back(uint32_t(placement.bvh.primitive_order.size()));
-            placement.first_vertex = 0;   // reused below as the mesh's root: no mesh has its own
+            placement.first_vertex = 0;  // reused below as the mesh's root: no mesh has its own
         }
         build_flat_instances(device, scene, first_triangle, triangle_count, progress);
         BvhNode unused{};
@@ -345,16 +349,18 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
             block_wide_leaves(placement.bvh.wide_nodes, device.triangles, device.triangle_blocks);
             device.wide_nodes.insert(device.wide_nodes.end(), placement.bvh.wide_nodes.begin(),
                                      placement.bvh.wide_nodes.end());
-            placement.first_vertex = node_offset;   // reused below as the mesh's root node index
+            placement.first_vertex = node_offset;  // reused below as the mesh's root node index
         }
         // The traversal's fixed stack must hold the deepest path: the top level's, the leave marker, a mesh's.
         uint32_t mesh_bound = 0;
         for (const prism::Instance& instance : scene.instances)
-            mesh_bound = std::max(mesh_bound, wide_stack_bound(device.wide_nodes, placements[instance.mesh].first_vertex));
+            mesh_bound =
+                std::max(mesh_bound, wide_stack_bound(device.wide_nodes, placements[instance.mesh].first_vertex));
         uint32_t bound = wide_stack_bound(device.wide_nodes, 0) + 1 + mesh_bound;
         if (bound > RT_BVH_WIDE_STACK_SIZE)
-            throw Error(scene.source + ": the wide BVH needs " + std::to_string(bound) + " traversal stack entries, more than " +
-                        std::to_string(RT_BVH_WIDE_STACK_SIZE) + " (use the stack layout)");
+            throw Error(scene.source + ": the wide BVH needs " + std::to_string(bound) +
+                        " traversal stack entries, more than " + std::to_string(RT_BVH_WIDE_STACK_SIZE) +
+                        " (use the stack layout)");
         BvhNode unused{};
         set_node_box(unused, Aabb{});
         device.nodes.assign(1, unused);
@@ -366,7 +372,7 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
             uint32_t node_offset = static_cast<uint32_t>(device.nodes.size());
             rebase_nodes(placement.bvh.nodes, options.layout, node_offset, placement.first_triangle);
             device.nodes.insert(device.nodes.end(), placement.bvh.nodes.begin(), placement.bvh.nodes.end());
-            placement.first_vertex = node_offset;   // reused below as the mesh's root node index
+            placement.first_vertex = node_offset;  // reused below as the mesh's root node index
         }
         device.wide_nodes.assign(1, empty_wide_node());
         device.triangle_blocks.assign(1, TriangleBlock{});
@@ -391,8 +397,8 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
             }
             first_shading = entry->second;
         }
-        device.instances.push_back(device_instance(instance.transform, placement.first_vertex,
-                                                   placement.first_triangle, first_shading));
+        device.instances.push_back(
+            device_instance(instance.transform, placement.first_vertex, placement.first_triangle, first_shading));
     }
 
     // Materials and their texture stacks.
@@ -422,8 +428,9 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
     device.environment_kind = scene.environment.kind;
     device.environment_tint = scene.environment.color * scene.environment.intensity;
     device.environment_texture = static_cast<uint32_t>(device.texture_infos.size());
-    for (uint32_t texture : scene.environment.textures) device.texture_infos.push_back(device.texture_infos.at(texture));
-    if (device.texture_infos.empty()) {   // GPU APIs dislike empty buffers
+    for (uint32_t texture : scene.environment.textures)
+        device.texture_infos.push_back(device.texture_infos.at(texture));
+    if (device.texture_infos.empty()) {  // GPU APIs dislike empty buffers
         device.texture_infos.push_back(TextureInfo{uint4{0, 1, 1, RT_TEXENC_LINEAR8}});
     }
     if (device.texels.empty()) device.texels.push_back(0xffffffffu);
@@ -436,7 +443,7 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
                                         to_float4(light.color * light.intensity, 0.0f)});
     }
     device.light_count = static_cast<uint32_t>(device.lights.size());
-    if (device.lights.empty()) device.lights.push_back(::Light{});   // placeholder; the frame says 0 lights
+    if (device.lights.empty()) device.lights.push_back(::Light{});  // placeholder; the frame says 0 lights
     device.ambient_light = scene.ambient_light;
 
     if (!flatten) device.sah_cost = bvh_triangles ? float(triangle_weighted_sah / double(bvh_triangles)) : 0.0f;
@@ -448,8 +455,9 @@ void update_instance_transforms(DeviceScene& device, const std::vector<glm::mat4
     if (transforms.size() != device.instances.size())
         throw Error("update_instance_transforms: expected " + std::to_string(device.instances.size()) + " transforms");
     if (device.bvh_options.flatten_instances)
-        throw Error("update_instance_transforms: the instances of this scene are flattened into one BVH and cannot "
-                    "move (build it with BvhBuildOptions::flatten_instances off)");
+        throw Error(
+            "update_instance_transforms: the instances of this scene are flattened into one BVH and cannot "
+            "move (build it with BvhBuildOptions::flatten_instances off)");
     for (size_t i = 0; i < transforms.size(); ++i) {
         const uint4 info = device.instances[i].info;
         device.instances[i] = device_instance(transforms[i], info.x, info.y, info.z);

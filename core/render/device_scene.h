@@ -20,17 +20,17 @@ struct DeviceScene {
 
     BvhBuildOptions bvh_options;
     EnvironmentKind environment_kind = EnvironmentKind::Constant;
-    uint32_t environment_texture = 0;   // first of six (cube map) or the one (equirect), in texture_infos
+    uint32_t environment_texture = 0;  // first of six (cube map) or the one (equirect), in texture_infos
     glm::vec3 environment_tint{0.0f};
     glm::vec3 ambient_light{0.0f};
-    uint32_t light_count = 0;           // `lights` holds a placeholder when the scene has none
+    uint32_t light_count = 0;  // `lights` holds a placeholder when the scene has none
 
     // For `prism info` and the benchmarks.
-    size_t traced_triangles = 0;        // over instances, degenerate ones excluded
-    size_t degenerate_triangles = 0;    // over meshes
-    size_t top_level_nodes = 0;         // entries of the top level at the start of nodes (wide_nodes in the wide layout;
-                                        // 0 with flattened instances, whose wide_nodes are one world-space BVH)
-    float sah_cost = 0.0f;              // triangle-weighted mean SAH cost of the mesh BVHs
+    size_t traced_triangles = 0;      // over instances, degenerate ones excluded
+    size_t degenerate_triangles = 0;  // over meshes
+    size_t top_level_nodes = 0;       // entries of the top level at the start of nodes (wide_nodes in the wide layout;
+                                      // 0 with flattened instances, whose wide_nodes are one world-space BVH)
+    float sah_cost = 0.0f;            // triangle-weighted mean SAH cost of the mesh BVHs
     double bvh_build_ms = 0.0;
 
     // Top level, kept for refits: mesh object-space bounds and the built tree.

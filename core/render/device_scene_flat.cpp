@@ -64,7 +64,7 @@ void build_flat_instances(DeviceScene& device, const Scene& scene, const std::ve
             uint32_t first = wide_lane_first(node, k), count = wide_lane_count(node, k);
             uint32_t first_block = uint32_t(device.triangle_blocks.size());
             for (uint32_t i = 0; i < count; i += 4) {
-                TriangleBlock block{};   // unused lanes: zero edges, never hit
+                TriangleBlock block{};  // unused lanes: zero edges, never hit
                 block.slot = block.primitive = block.instance = uint4{~0u, ~0u, ~0u, ~0u};
                 for (uint32_t l = 0; l < 4 && i + l < count; ++l) {
                     const WorldTriangle& t = triangles[bvh.primitive_order[first + i + l]];
@@ -85,7 +85,7 @@ void build_flat_instances(DeviceScene& device, const Scene& scene, const std::ve
         throw Error(scene.source + ": the flattened wide BVH needs " + std::to_string(bound) +
                     " traversal stack entries, more than " + std::to_string(RT_BVH_WIDE_STACK_SIZE) +
                     " (use the stack layout)");
-    device.top_level_nodes = 0;   // no top level: moving an instance cannot refit anything
+    device.top_level_nodes = 0;  // no top level: moving an instance cannot refit anything
     device.sah_cost = bvh.sah_cost;
 }
 

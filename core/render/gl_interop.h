@@ -1,8 +1,8 @@
 // Buffer interop between a backend and the viewer's OpenGL context (docs/viewer.md, "Display paths"): the frame's
 // RGBA8 image goes from the backend's `image` array into a GL buffer on the device, with no trip through host
-// memory, and GL draws it from there. Handles travel as plain integers: core and the backends include no GL or X11 header, and
-// the viewer no GPU API header. The GPU API side of each path lives in backends/<api>/<api>_gl_interop.*, the GL
-// side in viewer/.
+// memory, and GL draws it from there. Handles travel as plain integers: core and the backends include no GL or X11
+// header, and the viewer no GPU API header. The GPU API side of each path lives in backends/<api>/<api>_gl_interop.*,
+// the GL side in viewer/.
 #pragma once
 
 #include <array>
@@ -16,13 +16,13 @@ namespace prism {
 // The viewer's GL context, given to a backend at creation when the viewer wants frames to stay on the device
 // (RenderEngine, create_backend). Each API uses what it needs and says why when something is missing.
 struct GlContextHandles {
-    uintptr_t x11_display = 0;   // Display* of the window (OpenCL: CL_GLX_DISPLAY_KHR); 0 when not X11
-    uintptr_t glx_context = 0;   // GLXContext (OpenCL: CL_GL_CONTEXT_KHR); 0 when not GLX
-    uintptr_t egl_display = 0;   // EGLDisplay of an offscreen context (OpenCL: CL_EGL_DISPLAY_KHR); 0 when not EGL
-    uintptr_t egl_context = 0;   // EGLContext (OpenCL: CL_GL_CONTEXT_KHR); 0 when not EGL
-    std::string renderer;        // GL_RENDERER, for messages
-    bool memory_object_fd = false;   // GL_EXT_memory_object_fd: GL can use an exported opaque fd as buffer memory
-    bool semaphore_fd = false;       // GL_EXT_semaphore_fd: GL can wait on and signal exported semaphores
+    uintptr_t x11_display = 0;      // Display* of the window (OpenCL: CL_GLX_DISPLAY_KHR); 0 when not X11
+    uintptr_t glx_context = 0;      // GLXContext (OpenCL: CL_GL_CONTEXT_KHR); 0 when not GLX
+    uintptr_t egl_display = 0;      // EGLDisplay of an offscreen context (OpenCL: CL_EGL_DISPLAY_KHR); 0 when not EGL
+    uintptr_t egl_context = 0;      // EGLContext (OpenCL: CL_GL_CONTEXT_KHR); 0 when not EGL
+    std::string renderer;           // GL_RENDERER, for messages
+    bool memory_object_fd = false;  // GL_EXT_memory_object_fd: GL can use an exported opaque fd as buffer memory
+    bool semaphore_fd = false;      // GL_EXT_semaphore_fd: GL can wait on and signal exported semaphores
     // GL_EXT_memory_object's GL_DEVICE_UUID_EXT (the first device) and GL_DRIVER_UUID_EXT; zero when unknown.
     // Memory exported by Vulkan is only valid in GL on the same device and driver.
     std::array<uint8_t, 16> device_uuid{};

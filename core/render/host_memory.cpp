@@ -41,7 +41,8 @@ struct Limit {
 Limit find_limit() {
     if (std::optional<uint64_t> limit = limit_from_environment()) return {*limit, "PRISM_HOST_MEMORY_LIMIT"};
     const long pages = ::sysconf(_SC_PHYS_PAGES), page_size = ::sysconf(_SC_PAGE_SIZE);
-    Limit limit{pages > 0 && page_size > 0 ? uint64_t(pages) * uint64_t(page_size) : UINT64_MAX, "this machine's memory"};
+    Limit limit{pages > 0 && page_size > 0 ? uint64_t(pages) * uint64_t(page_size) : UINT64_MAX,
+                "this machine's memory"};
     struct rlimit address_space {};
     if (::getrlimit(RLIMIT_AS, &address_space) == 0 && address_space.rlim_cur != RLIM_INFINITY &&
         address_space.rlim_cur < limit.bytes)
@@ -77,8 +78,8 @@ FrameArrays frame_arrays_of(const std::string& backend) {
 void check_host_memory(uint64_t bytes, const std::string& what) {
     const Limit limit = find_limit();
     if (bytes <= limit.bytes) return;
-    throw Error(what + ": needs about " + mib(bytes) + " of host memory, over the limit of " + mib(limit.bytes) +
-                " (" + limit.source + ")");
+    throw Error(what + ": needs about " + mib(bytes) + " of host memory, over the limit of " + mib(limit.bytes) + " (" +
+                limit.source + ")");
 }
 
 }  // namespace prism

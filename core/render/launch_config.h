@@ -9,6 +9,6 @@
 namespace prism {
 
 inline constexpr unsigned kWorkGroupsPerComputeUnit = 32;
-inline constexpr unsigned kWorkGroupSize = 128;   // also `local_size_x` in shaders/common.glsl
+inline constexpr unsigned kWorkGroupSize = 128;  // also `local_size_x` in shaders/common.glsl
 
 }  // namespace prism

@@ -48,8 +48,9 @@ ReferenceRenderer::ReferenceRenderer(const DeviceScene& scene, unsigned threads)
 FrameResult ReferenceRenderer::render(const Camera& camera, const RenderSettings& settings,
                                       const std::function<void(double)>& progress) {
     check_render_settings(settings);
-    check_host_memory(frame_host_bytes(settings, FrameArrays::HostReference),
-                      "a " + std::to_string(settings.width) + "x" + std::to_string(settings.height) + " frame on cpu-ref");
+    check_host_memory(
+        frame_host_bytes(settings, FrameArrays::HostReference),
+        "a " + std::to_string(settings.width) + "x" + std::to_string(settings.height) + " frame on cpu-ref");
     auto start = std::chrono::steady_clock::now();
     const PixelRect region = render_region(settings);
     const uint32_t pixels = region.pixels();

@@ -48,8 +48,9 @@ RenderEngine::RenderEngine(const std::string& backend_name, const DeviceScene& s
     BackendSpec spec = parse_backend_spec(name_);
     // The GPU kernels are built without the wide traversal (kernels/traverse.h says why).
     if (scene.bvh_options.layout == BvhLayout::Wide && spec.api != "cpu" && spec.api != "cpu-ref")
-        throw Error(name_ + ": the wide BVH layout is traced by the cpu backends only; use --bvh-layout stack, "
-                            "escape or auto");
+        throw Error(name_ +
+                    ": the wide BVH layout is traced by the cpu backends only; use --bvh-layout stack, "
+                    "escape or auto");
     if (spec.api == "cpu-ref") {
         unsigned threads = 0;
         if (!spec.device_filter.empty()) threads = static_cast<unsigned>(std::stoul(spec.device_filter));

@@ -34,7 +34,7 @@ public:
     FrameResult render(const Camera& camera, const RenderSettings& settings,
                        const std::function<void(double fraction)>& progress = {});
     std::vector<RayHit> trace(std::span<const RayQuery> rays, bool any_hit);
-    double last_trace_ms() const;   // intersect time of the last trace(): device timers where the API has them
+    double last_trace_ms() const;  // intersect time of the last trace(): device timers where the API has them
     // Moving instances: refit (or rebuild) the top level and re-upload it.
     void update_instances(DeviceScene& scene, const std::vector<glm::mat4>& transforms, bool rebuild);
 

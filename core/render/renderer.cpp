@@ -52,7 +52,7 @@ FrameParams make_frame_params(const DeviceScene& scene, const Camera& camera, co
     if (!(glm::length(forward) > 0.0f)) forward = glm::vec3(0, 0, -1);
     forward = glm::normalize(forward);
     glm::vec3 right = glm::cross(forward, camera.up);
-    if (!(glm::length(right) > 1e-6f)) right = glm::cross(forward, glm::vec3(0, 0, 1));   // looking along up
+    if (!(glm::length(right) > 1e-6f)) right = glm::cross(forward, glm::vec3(0, 0, 1));  // looking along up
     right = glm::normalize(right);
     glm::vec3 up = glm::cross(right, forward);
     float tan_half = std::tan(glm::radians(camera.vertical_fov_degrees) * 0.5f);
@@ -69,13 +69,13 @@ FrameParams make_frame_params(const DeviceScene& scene, const Camera& camera, co
     p.env = uint4{static_cast<uint32_t>(scene.environment_kind), scene.environment_texture, queue_capacity,
                   shadow_capacity};
     if (scene.instances.size() == 1 && scene.top_level.primitive_order.size() == 1) flags |= RT_FLAG_ONE_INSTANCE;
-    if (scene.bvh_options.flatten_instances) flags |= RT_FLAG_FLAT_INSTANCES;   // as built (build_device_scene)
+    if (scene.bvh_options.flatten_instances) flags |= RT_FLAG_FLAT_INSTANCES;  // as built (build_device_scene)
     if (std::any_of(scene.materials.begin(), scene.materials.end(), [](const ::Material& m) {
             return (m.textures.z & (RT_MATERIAL_ALPHA_MASK | RT_MATERIAL_ALPHA_BLEND)) != 0u;
         }))
         flags |= RT_FLAG_ALPHA_SHADOWS;
-    p.scene = uint4{static_cast<uint32_t>(scene.instances.size()), static_cast<uint32_t>(scene.bvh_options.layout),
-                    flags, 0};
+    p.scene =
+        uint4{static_cast<uint32_t>(scene.instances.size()), static_cast<uint32_t>(scene.bvh_options.layout), flags, 0};
     PixelRect region = render_region(settings);
     p.tile = uint4{region.x, region.y, region.width, region.height};
     return p;
@@ -190,7 +190,8 @@ FrameResult Renderer::render(const Camera& camera, const RenderSettings& setting
             result.stats.shadow_rays_per_depth.clear();
             for (uint32_t d = 0; d < params.size.z; ++d) {
                 result.stats.rays_per_depth.push_back(std::min(counters[RT_COUNTER_RAYS + d], capacity));
-                result.stats.shadow_rays_per_depth.push_back(std::min(counters[RT_COUNTER_SHADOWS + d], shadow_capacity));
+                result.stats.shadow_rays_per_depth.push_back(
+                    std::min(counters[RT_COUNTER_SHADOWS + d], shadow_capacity));
             }
             if (counters[RT_COUNTER_DROPPED] != 0)
                 throw Error("frame needs more than the largest ray queue (" + std::to_string(capacity) +
@@ -208,7 +209,7 @@ FrameResult Renderer::render(const Camera& camera, const RenderSettings& setting
 
 std::vector<RayHit> Renderer::trace(std::span<const RayQuery> rays, bool any_hit) {
     std::vector<RayHit> out(rays.size());
-    const uint32_t batch = 1u << 22;   // 4M rays: 256 MiB of rays + 128 MiB of hits
+    const uint32_t batch = 1u << 22;  // 4M rays: 256 MiB of rays + 128 MiB of hits
     RenderSettings settings;
     settings.width = 1;
     settings.height = 1;
@@ -224,8 +225,8 @@ std::vector<RayHit> Renderer::trace(std::span<const RayQuery> rays, bool any_hit
         for (uint32_t i = 0; i < n; ++i) {
             const RayQuery& q = rays[first + i];
             device_rays[i] = Ray{float4{q.origin[0], q.origin[1], q.origin[2], q.tmin},
-                                 float4{q.direction[0], q.direction[1], q.direction[2], q.tmax},
-                                 float4{0, 0, 0, 0}, uint4{i, RT_CHANNEL_ALL, 0, 0}};
+                                 float4{q.direction[0], q.direction[1], q.direction[2], q.tmax}, float4{0, 0, 0, 0},
+                                 uint4{i, RT_CHANNEL_ALL, 0, 0}};
         }
         std::vector<uint32_t> counters(RT_COUNTER_SLOTS, 0u);
         counters[RT_COUNTER_RAYS] = n;

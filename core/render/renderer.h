@@ -22,17 +22,17 @@ struct PixelRect {
 struct RenderSettings {
     uint32_t width = 1280;
     uint32_t height = 720;
-    uint32_t max_depth = 8;          // ray generations traced: 1 = primary rays only
-    float min_weight = 1e-4f;        // rays whose RGB weight is below this everywhere are not spawned
-    float queue_factor = 2.0f;       // ray queue capacity per pixel; grown automatically when a frame overflows
+    uint32_t max_depth = 8;     // ray generations traced: 1 = primary rays only
+    float min_weight = 1e-4f;   // rays whose RGB weight is below this everywhere are not spawned
+    float queue_factor = 2.0f;  // ray queue capacity per pixel; grown automatically when a frame overflows
     // What render() copies back into FrameResult. The viewer needs only the image for its host copy, and nothing
     // when the display copies the device's image array itself (GL interop). The linear radiance (16 bytes a pixel:
     // 33 MB at 1080p) only .hdr output and the bit-exactness tests need, so frames and benchmarks skip it.
     bool read_image = true;
     bool read_radiance = false;
     // The viewer's interop display: right after resolve the frame's `image` array is copied on the device into the
-    // buffer the backend shares with GL (GlInterop::copy_image, core/render/gl_interop.h), in the frame's own submission,
-    // so render() returning means GL may draw it. Needs a backend that offers GL interop.
+    // buffer the backend shares with GL (GlInterop::copy_image, core/render/gl_interop.h), in the frame's own
+    // submission, so render() returning means GL may draw it. Needs a backend that offers GL interop.
     bool copy_to_gl = false;
     // Only these pixels of the width x height image are rendered (a tile of a frame split over devices or MPI
     // ranks: core/render/tiles.h); empty (width 0) means the whole image. The rendered pixels are bit-identical to the
@@ -44,22 +44,22 @@ struct RenderSettings {
 PixelRect render_region(const RenderSettings& settings);
 
 struct FrameStats {
-    double frame_ms = 0.0;                    // wall time of the whole frame, upload of parameters to read-back
+    double frame_ms = 0.0;  // wall time of the whole frame, upload of parameters to read-back
     // Where the host's frame time went: recording/launching every stage, waiting for the device to finish them
     // (the first read-back waits), then reading the image back. Device time per stage is in `stages`.
     double enqueue_ms = 0.0, device_wait_ms = 0.0, readback_ms = 0.0;
-    std::vector<StageTiming> stages;          // per stage and depth (device timers where the API has them)
-    std::vector<uint32_t> rays_per_depth;     // closest-hit rays traced at each depth
+    std::vector<StageTiming> stages;       // per stage and depth (device timers where the API has them)
+    std::vector<uint32_t> rays_per_depth;  // closest-hit rays traced at each depth
     std::vector<uint32_t> shadow_rays_per_depth;
     uint32_t queue_capacity = 0;
-    uint32_t regrows = 0;                     // frames re-run with larger queues because one overflowed
+    uint32_t regrows = 0;  // frames re-run with larger queues because one overflowed
     uint64_t total_rays() const;
 };
 
 struct FrameResult {
-    uint32_t width = 0, height = 0;   // of the rendered region (the whole image unless settings.region is set)
-    std::vector<uint32_t> image;    // RGBA8 sRGB, row 0 at the top (empty when settings.read_image was false)
-    std::vector<float> radiance;    // linear RGBA (empty unless settings.read_radiance)
+    uint32_t width = 0, height = 0;  // of the rendered region (the whole image unless settings.region is set)
+    std::vector<uint32_t> image;     // RGBA8 sRGB, row 0 at the top (empty when settings.read_image was false)
+    std::vector<float> radiance;     // linear RGBA (empty unless settings.read_radiance)
     FrameStats stats;
 };
 
@@ -72,7 +72,7 @@ FrameParams make_frame_params(const DeviceScene& scene, const Camera& camera, co
 
 // One-line hit record of a ray query (the `prism rays` output, docs/ray-queries.md).
 struct RayHit {
-    float t;            // +inf on a miss
+    float t;  // +inf on a miss
     uint32_t instance;
     uint32_t primitive;
     float u, v;
@@ -108,7 +108,7 @@ private:
     uint32_t shadow_capacity_ = 0;
     uint32_t pixel_capacity_ = 0;
     double last_trace_ms_ = 0.0;
-    float learned_queue_factor_ = 0.0f;   // what an overflowing frame needed: later frames start there
+    float learned_queue_factor_ = 0.0f;  // what an overflowing frame needed: later frames start there
 };
 
 }  // namespace prism

@@ -7,9 +7,9 @@ namespace prism {
 void compute_smooth_normals(Mesh& mesh) {
     std::vector<glm::vec3> sums(mesh.positions.size(), glm::vec3(0.0f));
     for (const glm::uvec3& t : mesh.triangles) {
-        if (t.x >= sums.size() || t.y >= sums.size() || t.z >= sums.size()) continue;   // validate_scene reports it
+        if (t.x >= sums.size() || t.y >= sums.size() || t.z >= sums.size()) continue;  // validate_scene reports it
         glm::vec3 a = mesh.positions[t.x], b = mesh.positions[t.y], c = mesh.positions[t.z];
-        glm::vec3 n = glm::cross(b - a, c - a);   // length = twice the area: the weight
+        glm::vec3 n = glm::cross(b - a, c - a);  // length = twice the area: the weight
         if (!std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z)) continue;
         sums[t.x] += n;
         sums[t.y] += n;

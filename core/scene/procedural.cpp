@@ -32,7 +32,7 @@ glm::vec3 sky_color(glm::vec3 direction) {
     const glm::vec3 zenith{0.18f, 0.36f, 0.80f}, horizon{0.85f, 0.90f, 0.98f}, ground{0.22f, 0.20f, 0.17f};
     if (height >= 0.0f) {
         glm::vec3 sky = glm::mix(horizon, zenith, std::pow(height, 0.5f));
-        return sky + glm::vec3(0.15f) * std::exp(-height * 40.0f);   // a soft bright band just above the horizon
+        return sky + glm::vec3(0.15f) * std::exp(-height * 40.0f);  // a soft bright band just above the horizon
     }
     return glm::mix(horizon * 0.6f, ground, std::min(1.0f, -height * 6.0f));
 }
@@ -80,7 +80,7 @@ Mesh make_ground_plane(float size) {
     mesh.positions = {{-h, 0.0f, -h}, {h, 0.0f, -h}, {h, 0.0f, h}, {-h, 0.0f, h}};
     mesh.normals.assign(4, {0.0f, 1.0f, 0.0f});
     mesh.uv0 = {{0.0f, 0.0f}, {1.0f, 0.0f}, {1.0f, 1.0f}, {0.0f, 1.0f}};
-    mesh.triangles = {{0, 2, 1}, {0, 3, 2}};   // counter-clockwise seen from above
+    mesh.triangles = {{0, 2, 1}, {0, 3, 2}};  // counter-clockwise seen from above
     mesh.triangle_materials.assign(2, 0);
     return mesh;
 }

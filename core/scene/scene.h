@@ -16,13 +16,13 @@ namespace prism {
 struct Mesh {
     std::string name;
     std::vector<glm::vec3> positions;
-    std::vector<glm::vec3> normals;   // empty: flat (geometric) normals
-    std::vector<glm::vec2> uv0;       // TEXCOORD_0
-    std::vector<glm::vec2> uv1;       // TEXCOORD_1
-    std::vector<glm::vec4> colors;    // COLOR_0 / PLY colours, linear RGBA
-    std::vector<glm::vec4> tangents;  // TANGENT: xyz along +u, w = bitangent sign (normal maps need them)
-    std::vector<glm::uvec3> triangles;          // indices into positions, in file order after triangulation
-    std::vector<uint32_t> triangle_materials;   // one material index per triangle
+    std::vector<glm::vec3> normals;            // empty: flat (geometric) normals
+    std::vector<glm::vec2> uv0;                // TEXCOORD_0
+    std::vector<glm::vec2> uv1;                // TEXCOORD_1
+    std::vector<glm::vec4> colors;             // COLOR_0 / PLY colours, linear RGBA
+    std::vector<glm::vec4> tangents;           // TANGENT: xyz along +u, w = bitangent sign (normal maps need them)
+    std::vector<glm::uvec3> triangles;         // indices into positions, in file order after triangulation
+    std::vector<uint32_t> triangle_materials;  // one material index per triangle
 };
 
 // One placement of a mesh. The transform is rigid-or-affine object-to-world.
@@ -43,11 +43,11 @@ enum class TextureMode : uint32_t { Replace = 0, Decal = 1, Modulate = 2, Blend 
 enum class TextureEncoding : uint32_t { Srgb8 = 0, Linear8 = 1, Rgbe = 2 };
 
 struct Texture {
-    std::string name;   // file path or a description, for error messages
+    std::string name;  // file path or a description, for error messages
     int width = 0;
     int height = 0;
     TextureEncoding encoding = TextureEncoding::Srgb8;
-    std::vector<uint32_t> texels;   // packed RGBA8 (r in the low byte) or RGBE, row 0 at the top
+    std::vector<uint32_t> texels;  // packed RGBA8 (r in the low byte) or RGBE, row 0 at the top
 };
 
 // How texel coordinates outside the image wrap (glTF sampler wrapS/wrapT).
@@ -57,8 +57,8 @@ enum class TextureWrap : uint32_t { Repeat = 0, ClampToEdge = 1, MirroredRepeat 
 struct TextureLayer {
     uint32_t texture = 0;
     TextureMode mode = TextureMode::Modulate;
-    glm::vec4 environment_color{0.0f};   // T_e for GL_BLEND
-    uint32_t uv_set = 0;                 // 0: TEXCOORD_0, 1: TEXCOORD_1
+    glm::vec4 environment_color{0.0f};  // T_e for GL_BLEND
+    uint32_t uv_set = 0;                // 0: TEXCOORD_0, 1: TEXCOORD_1
     // KHR_texture_transform as a 2x3 affine matrix applied to (u, v, 1).
     glm::vec3 uv_row0{1.0f, 0.0f, 0.0f};
     glm::vec3 uv_row1{0.0f, 1.0f, 0.0f};
@@ -77,18 +77,18 @@ enum class AlphaMode : uint32_t { Opaque = 0, Mask = 1, Blend = 2 };
 struct Material {
     std::string name;
     glm::vec3 diffuse{0.8f};
-    bool use_vertex_colors = true;     // the mesh's vertex colours multiply `diffuse` (glTF's COLOR_0 rule)...
-    bool vertex_colors_replace = false;   // ...or replace it where the mesh has them (the seed's rule)
-    glm::vec3 specular{1.0f};          // S: attenuates reflected light
-    glm::vec3 ambient{1.0f};           // A: attenuates transmitted light
-    float reflectivity = 0.0f;         // r
-    float transmittance = 0.0f;        // t
-    float fresnel_bias = 1.0f;         // R_f = clamp(bias + scale * (1 + I.N)^power, 0, 1)
+    bool use_vertex_colors = true;       // the mesh's vertex colours multiply `diffuse` (glTF's COLOR_0 rule)...
+    bool vertex_colors_replace = false;  // ...or replace it where the mesh has them (the seed's rule)
+    glm::vec3 specular{1.0f};            // S: attenuates reflected light
+    glm::vec3 ambient{1.0f};             // A: attenuates transmitted light
+    float reflectivity = 0.0f;           // r
+    float transmittance = 0.0f;          // t
+    float fresnel_bias = 1.0f;           // R_f = clamp(bias + scale * (1 + I.N)^power, 0, 1)
     float fresnel_scale = 0.0f;
     float fresnel_power = 5.0f;
-    glm::vec3 ior{1.5f};               // per channel: different values give chromatic dispersion
-    float thickness = 0.0f;            // > 0: thin shell of this thickness (thesis 6.3.4); 0: solid
-    glm::vec3 absorption{0.0f};        // solid media: Beer-Lambert coefficients per unit length (glTF volume)
+    glm::vec3 ior{1.5f};         // per channel: different values give chromatic dispersion
+    float thickness = 0.0f;      // > 0: thin shell of this thickness (thesis 6.3.4); 0: solid
+    glm::vec3 absorption{0.0f};  // solid media: Beer-Lambert coefficients per unit length (glTF volume)
     glm::vec3 emissive{0.0f};
     std::vector<TextureLayer> textures;
 
@@ -99,28 +99,28 @@ struct Material {
     float metallic = 0.0f;
     float roughness = 1.0f;
     float occlusion_strength = 1.0f;
-    float normal_scale = 1.0f;         // glTF normalTexture.scale: multiplies the map's x and y
+    float normal_scale = 1.0f;  // glTF normalTexture.scale: multiplies the map's x and y
     // glTF alphaMode (kernels/material.h rt_coverage): alpha = `alpha` x the texture stack's alpha x vertex alpha.
     AlphaMode alpha_mode = AlphaMode::Opaque;
     float alpha = 1.0f;
-    float alpha_cutoff = 0.5f;         // Mask: the surface is there where alpha >= this
+    float alpha_cutoff = 0.5f;  // Mask: the surface is there where alpha >= this
     // Single-purpose maps, each read with its own uv set and transform; `mode` and `environment_color` unused.
-    std::optional<TextureLayer> metal_rough_map;   // linear: B = metallic, G = roughness
-    std::optional<TextureLayer> emissive_map;      // sRGB: multiplies `emissive`
-    std::optional<TextureLayer> occlusion_map;     // linear: R darkens the ambient term
-    std::optional<TextureLayer> normal_map;        // linear tangent-space normals
-    std::optional<TextureLayer> specular_map;      // linear: A scales the Fresnel term (KHR_materials_specular)
-    std::optional<TextureLayer> specular_color_map;   // sRGB: tints the dielectric reflection
+    std::optional<TextureLayer> metal_rough_map;     // linear: B = metallic, G = roughness
+    std::optional<TextureLayer> emissive_map;        // sRGB: multiplies `emissive`
+    std::optional<TextureLayer> occlusion_map;       // linear: R darkens the ambient term
+    std::optional<TextureLayer> normal_map;          // linear tangent-space normals
+    std::optional<TextureLayer> specular_map;        // linear: A scales the Fresnel term (KHR_materials_specular)
+    std::optional<TextureLayer> specular_color_map;  // sRGB: tints the dielectric reflection
 };
 
 enum class LightType : uint32_t { Point = 0, Directional = 1 };
 
 struct Light {
     LightType type = LightType::Point;
-    glm::vec3 position{0.0f};          // point lights
-    glm::vec3 direction{0.0f, -1.0f, 0.0f};   // directional: the direction light travels
+    glm::vec3 position{0.0f};                // point lights
+    glm::vec3 direction{0.0f, -1.0f, 0.0f};  // directional: the direction light travels
     glm::vec3 color{1.0f};
-    float intensity = 1.0f;            // point: candela-like (inverse-square falloff); directional: lux-like
+    float intensity = 1.0f;  // point: candela-like (inverse-square falloff); directional: lux-like
 };
 
 struct Camera {
@@ -134,7 +134,7 @@ enum class EnvironmentKind : uint32_t { Constant = 0, CubeMap = 1, Equirect = 2 
 
 struct Environment {
     EnvironmentKind kind = EnvironmentKind::Constant;
-    glm::vec3 color{0.05f};            // Constant: the colour; others: a multiplier
+    glm::vec3 color{0.05f};  // Constant: the colour; others: a multiplier
     float intensity = 1.0f;
     // CubeMap: six textures in the order +X (right), -X (left), +Y (up), -Y (down), +Z (front), -Z (back).
     // Equirect: one texture.
@@ -151,20 +151,20 @@ struct InstanceSpin {
 };
 
 struct Scene {
-    std::string source;                // what was loaded, for messages
+    std::string source;  // what was loaded, for messages
     std::vector<Mesh> meshes;
     std::vector<Instance> instances;
     std::vector<Material> materials;
     std::vector<Texture> textures;
     std::vector<Light> lights;
     Camera camera;
-    bool has_camera = false;           // false: frame_scene() places one
+    bool has_camera = false;  // false: frame_scene() places one
     Environment environment;
-    glm::vec3 ambient_light{0.1f};     // light that needs no shadow ray (the seed's ambient term)
+    glm::vec3 ambient_light{0.1f};  // light that needs no shadow ray (the seed's ambient term)
     std::vector<std::string> warnings;
-    std::vector<InstanceSpin> spins;   // instances that move over a sequence (core/scene/scene_motion.h)
+    std::vector<InstanceSpin> spins;  // instances that move over a sequence (core/scene/scene_motion.h)
 
-    size_t triangle_count() const;     // over instances (what is traced)
+    size_t triangle_count() const;  // over instances (what is traced)
 };
 
 }  // namespace prism

@@ -1,6 +1,6 @@
 #include "core/util/build_info.h"
 
-#include "git_commit.h"   // generated at build time by cmake/PrismGitCommit.cmake
+#include "git_commit.h"  // generated at build time by cmake/PrismGitCommit.cmake
 
 namespace prism {
 const char* build_commit() { return PRISM_GIT_COMMIT; }

@@ -28,8 +28,8 @@ enum class Setting {
 
 struct SettingInfo {
     Setting setting;
-    const char* name;     // "PRISM_CPU_ISA"
-    const char* effect;   // one line for users
+    const char* name;    // "PRISM_CPU_ISA"
+    const char* effect;  // one line for users
 };
 
 // The whole table, in the order above.

@@ -31,9 +31,7 @@ public:
 };
 
 // "<file>: <cause>" or "<file>:<line>: <cause>" — the shape every loader error takes.
-inline Error file_error(const std::string& file, const std::string& cause) {
-    return Error(file + ": " + cause);
-}
+inline Error file_error(const std::string& file, const std::string& cause) { return Error(file + ": " + cause); }
 inline Error file_error(const std::string& file, size_t line, const std::string& cause) {
     return Error(file + ":" + std::to_string(line) + ": " + cause);
 }

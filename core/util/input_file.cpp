@@ -50,8 +50,7 @@ void require_regular_file(const std::filesystem::path& path) {
 std::string read_input_file(const std::filesystem::path& path) {
     // O_NONBLOCK: opening a FIFO for reading would otherwise wait for a writer.
     Descriptor fd(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC));
-    if (fd.get() < 0)
-        throw file_error(path.string(), std::string("cannot open (") + std::strerror(errno) + ")");
+    if (fd.get() < 0) throw file_error(path.string(), std::string("cannot open (") + std::strerror(errno) + ")");
     struct stat status {};
     if (::fstat(fd.get(), &status) != 0)
         throw file_error(path.string(), std::string("cannot read (") + std::strerror(errno) + ")");

@@ -12,7 +12,8 @@ namespace prism {
 
 namespace {
 
-void write_temporary(const std::filesystem::path& path, const std::filesystem::path& temporary, std::string_view bytes) {
+void write_temporary(const std::filesystem::path& path, const std::filesystem::path& temporary,
+                     std::string_view bytes) {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     if (!out) throw Error(path.string() + ": cannot write (" + std::strerror(errno) + ")");
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));

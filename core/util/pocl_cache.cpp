@@ -52,7 +52,7 @@ std::string fallback_to_private_dir() {
     std::error_code error;
     // mkdtemp: a fresh 0700 folder per run, so no other user can plant kernels in it; not reused, not cached.
     std::string pattern = (fs::temp_directory_path(error) / "prism-pocl-XXXXXX").string();
-    if (error || !::mkdtemp(pattern.data())) return "";   // nothing better to offer: PoCL says what failed
+    if (error || !::mkdtemp(pattern.data())) return "";  // nothing better to offer: PoCL says what failed
     ::setenv("POCL_CACHE_DIR", pattern.c_str(), 1);
     static const std::string created = pattern;
     std::atexit([] {

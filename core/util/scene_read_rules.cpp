@@ -9,7 +9,7 @@ namespace {
 
 struct Rules {
     bool active = false;
-    std::filesystem::path root;   // canonical folder of the scene file
+    std::filesystem::path root;  // canonical folder of the scene file
     bool allow_any_path = false;
     uint64_t texture_bytes = 0;
 };
@@ -27,7 +27,7 @@ std::filesystem::path canonical_folder_of(const std::filesystem::path& file) {
 bool lies_within(const std::filesystem::path& path, const std::filesystem::path& folder) {
     auto p = path.begin();
     for (auto f = folder.begin(); f != folder.end(); ++f, ++p) {
-        if (f->empty()) continue;   // a trailing separator
+        if (f->empty()) continue;  // a trailing separator
         if (p == path.end() || *p != *f) return false;
     }
     return true;

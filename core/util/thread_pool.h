@@ -14,7 +14,7 @@ namespace prism {
 
 class ThreadPool {
 public:
-    explicit ThreadPool(unsigned threads = 0);   // 0: std::thread::hardware_concurrency()
+    explicit ThreadPool(unsigned threads = 0);  // 0: std::thread::hardware_concurrency()
     ~ThreadPool();
     ThreadPool(const ThreadPool&) = delete;
     ThreadPool& operator=(const ThreadPool&) = delete;

@@ -18,14 +18,27 @@
 
 typedef uint32_t uint;
 
+// A macro that closes the brace its partner opened: clang-format would split it.
+// clang-format off
 #define RT_STRUCT_BEGIN(name) struct name {
 #define RT_STRUCT_END(name) };
+// clang-format on
 
-struct float2 { float x, y; };
-struct float3 { float x, y, z; };
-struct float4 { float x, y, z, w; };
-struct uint2 { uint x, y; };
-struct uint4 { uint x, y, z, w; };
+struct float2 {
+    float x, y;
+};
+struct float3 {
+    float x, y, z;
+};
+struct float4 {
+    float x, y, z, w;
+};
+struct uint2 {
+    uint x, y;
+};
+struct uint4 {
+    uint x, y, z, w;
+};
 
 RT_FUNC float2 make_float2(float x, float y) { return float2{x, y}; }
 RT_FUNC float3 make_float3(float x, float y, float z) { return float3{x, y, z}; }
@@ -81,7 +94,7 @@ RT_FUNC int rt_max_i(int a, int b) { return a > b ? a : b; }
 // without an aliasing question; the compiler keeps the values in registers. min/max pick per lane as rt_min/rt_max
 // do (minps(b, a) is b < a ? b : a); a mask has bit k set for lane k.
 struct rt_float8 {
-    float4 lo, hi;   // lanes 0-3, 4-7
+    float4 lo, hi;  // lanes 0-3, 4-7
 };
 #if defined(__SSE2__)
 RT_FUNC __m128 rt_sse(float4 a) {
@@ -191,11 +204,11 @@ RT_FUNC float rt_int_as_float(int i) { return std::bit_cast<float>(i); }
 // Atomic add on a uint buffer element, returning the old value. atomic_ref keeps the buffers plain arrays.
 #define RT_ATOMIC_ADD(kg, array, i, value) (std::atomic_ref<uint>((kg).array[(i)]).fetch_add((value)))
 // A hint that elements [i, i + n) of a device array are needed soon (the wide traversal's pushed children).
-#define RT_PREFETCH(kg, array, i, n)                                                   \
-    do {                                                                               \
-        const char* rt_first_ = reinterpret_cast<const char*>(&(kg).array[(i)]);       \
-        for (size_t rt_o_ = 0; rt_o_ < sizeof((kg).array[0]) * (n); rt_o_ += 64)       \
-            __builtin_prefetch(rt_first_ + rt_o_);                                     \
+#define RT_PREFETCH(kg, array, i, n)                                             \
+    do {                                                                         \
+        const char* rt_first_ = reinterpret_cast<const char*>(&(kg).array[(i)]); \
+        for (size_t rt_o_ = 0; rt_o_ < sizeof((kg).array[0]) * (n); rt_o_ += 64) \
+            __builtin_prefetch(rt_first_ + rt_o_);                               \
     } while (0)
 
 // The grid loop of a stage entry. The cpu backend's thread pool runs it on every worker; each takes the next range
@@ -204,8 +217,8 @@ RT_FUNC float rt_int_as_float(int i) { return std::bit_cast<float>(i); }
 // follow; a 64-ray chunk each time cost a third of the two-thread query speed), down to `chunk` items at the end,
 // so a worker that drew slow rays (glass) does not finish long after the others.
 struct RtCpuGrid {
-    std::atomic<uint>* next;   // shared cursor for the current launch
-    uint chunk;                // the smallest range
+    std::atomic<uint>* next;  // shared cursor for the current launch
+    uint chunk;               // the smallest range
     uint workers;
 };
 // Defined here (an inline variable, zero-initialised) rather than `extern`: every stage build (SSE2, AVX2) then
@@ -224,9 +237,9 @@ static inline uint rt_cpu_take(uint n, uint* end) {
     }
     return begin;
 }
-#define RT_GRID_LOOP(i, n)                                                                                        \
-    for (uint rt_n_ = (n), rt_end_ = 0u, rt_begin_ = rt_cpu_take(rt_n_, &rt_end_); rt_begin_ < rt_n_;             \
-         rt_begin_ = rt_cpu_take(rt_n_, &rt_end_))                                                                \
+#define RT_GRID_LOOP(i, n)                                                                            \
+    for (uint rt_n_ = (n), rt_end_ = 0u, rt_begin_ = rt_cpu_take(rt_n_, &rt_end_); rt_begin_ < rt_n_; \
+         rt_begin_ = rt_cpu_take(rt_n_, &rt_end_))                                                    \
         for (uint i = rt_begin_; i < rt_end_; ++i)
 
 #endif

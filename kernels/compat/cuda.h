@@ -9,8 +9,11 @@
 
 typedef unsigned int uint;
 
+// A macro that closes the brace its partner opened: clang-format would split it.
+// clang-format off
 #define RT_STRUCT_BEGIN(name) struct name {
 #define RT_STRUCT_END(name) };
+// clang-format on
 
 RT_FUNC float3 operator+(float3 a, float3 b) { return make_float3(a.x + b.x, a.y + b.y, a.z + b.z); }
 RT_FUNC float3 operator-(float3 a, float3 b) { return make_float3(a.x - b.x, a.y - b.y, a.z - b.z); }
@@ -68,7 +71,12 @@ RT_FUNC uint rt_lane_u(uint4 v, uint k) { return k == 0u ? v.x : (k == 1u ? v.y 
 struct rt_float8 {
     float4 lo, hi;
 };
-RT_FUNC rt_float8 rt_make8(float4 lo, float4 hi) { rt_float8 r; r.lo = lo; r.hi = hi; return r; }
+RT_FUNC rt_float8 rt_make8(float4 lo, float4 hi) {
+    rt_float8 r;
+    r.lo = lo;
+    r.hi = hi;
+    return r;
+}
 RT_FUNC rt_float8 rt_splat8(float s) { return rt_make8(make_float4(s, s, s, s), make_float4(s, s, s, s)); }
 RT_FUNC rt_float8 rt_sub8(rt_float8 a, rt_float8 b) { return rt_make8(a.lo - b.lo, a.hi - b.hi); }
 RT_FUNC rt_float8 rt_mul8(rt_float8 a, rt_float8 b) { return rt_make8(a.lo * b.lo, a.hi * b.hi); }
@@ -97,7 +105,7 @@ RT_FUNC int rt_max_i(int a, int b) { return max(a, b); }
 #define RT_FETCH(kg, array, i) ((kg).array[(i)])
 #define RT_STORE(kg, array, i, value) ((kg).array[(i)] = (value))
 #define RT_ATOMIC_ADD(kg, array, i, value) atomicAdd(&(kg).array[(i)], (value))
-#define RT_PREFETCH(kg, array, i, n) ((void)0)   // a CPU cache hint; GPUs hide latency with other warps
+#define RT_PREFETCH(kg, array, i, n) ((void)0)  // a CPU cache hint; GPUs hide latency with other warps
 
 // Grid-stride loop: the backend launches a fixed grid sized to fill the GPU; the item count lives on the device.
 #define RT_GRID_LOOP(i, n) \

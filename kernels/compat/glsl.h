@@ -6,8 +6,11 @@
 #define RT_FUNC
 #define RT_CONST const
 
+// A macro that closes the brace its partner opened: clang-format would split it.
+// clang-format off
 #define RT_STRUCT_BEGIN(name) struct name {
 #define RT_STRUCT_END(name) };
+// clang-format on
 
 #define float2 vec2
 #define float3 vec3
@@ -71,7 +74,7 @@ uint rt_lane8_u(uvec4 lo, uvec4 hi, uint k) { return k < 4u ? lo[k] : hi[k - 4u]
 
 #define RT_INFINITY uintBitsToFloat(0x7f800000u)
 
-#if defined(RT_GLSL_ADDRESS)   // arrays through buffer device addresses (kernels/globals.h)
+#if defined(RT_GLSL_ADDRESS)  // arrays through buffer device addresses (kernels/globals.h)
 #define RT_FETCH(kg, array, i) (rt_array_##array().array##_at[(i)])
 #define RT_STORE(kg, array, i, value) (rt_array_##array().array##_at[(i)] = (value))
 #define RT_ATOMIC_ADD(kg, array, i, value) atomicAdd(rt_array_##array().array##_at[(i)], (value))
@@ -80,7 +83,7 @@ uint rt_lane8_u(uvec4 lo, uvec4 hi, uint k) { return k < 4u ? lo[k] : hi[k - 4u]
 #define RT_STORE(kg, array, i, value) (array[(i)] = (value))
 #define RT_ATOMIC_ADD(kg, array, i, value) atomicAdd(array[(i)], (value))
 #endif
-#define RT_PREFETCH(kg, array, i, n)   // a CPU cache hint; GPUs hide latency with other invocations
+#define RT_PREFETCH(kg, array, i, n)  // a CPU cache hint; GPUs hide latency with other invocations
 
 // The shader must declare layout(local_size_x = ...) BEFORE including kernels/: glslang compiles gl_WorkGroupSize
 // as (1, 1, 1), without a diagnostic, in functions defined before that declaration.

@@ -6,8 +6,11 @@
 #define RT_FUNC static inline
 #define RT_CONST __constant
 
+// A macro that closes the brace its partner opened: clang-format would split it.
+// clang-format off
 #define RT_STRUCT_BEGIN(name) typedef struct name {
 #define RT_STRUCT_END(name) } name;
+// clang-format on
 
 #define make_float2(x, y) ((float2)((x), (y)))
 #define make_float3(x, y, z) ((float3)((x), (y), (z)))
@@ -75,9 +78,8 @@ RT_FUNC uint rt_lowest_bit(uint x) { return 31u - clz(x & (0u - x)); }
 #define RT_FETCH(kg, array, i) ((kg).array[(i)])
 #define RT_STORE(kg, array, i, value) ((kg).array[(i)] = (value))
 #define RT_ATOMIC_ADD(kg, array, i, value) atomic_add(&(kg).array[(i)], (value))
-#define RT_PREFETCH(kg, array, i, n) ((void)0)   // a CPU cache hint; GPUs hide latency with other work-items
+#define RT_PREFETCH(kg, array, i, n) ((void)0)  // a CPU cache hint; GPUs hide latency with other work-items
 
-#define RT_GRID_LOOP(i, n) \
-    for (uint i = (uint)get_global_id(0), rt_n_ = (n); i < rt_n_; i += (uint)get_global_size(0))
+#define RT_GRID_LOOP(i, n) for (uint i = (uint)get_global_id(0), rt_n_ = (n); i < rt_n_; i += (uint)get_global_size(0))
 
 #endif
