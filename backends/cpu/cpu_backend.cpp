@@ -94,13 +94,17 @@ public:
     }
     void write(DeviceArray array, const void* data, size_t bytes, size_t offset) override {
         book_.check_range(array, bytes, offset);
+        if (bytes == 0) return;  // an empty array has no storage: memcpy must not see its null pointer
         std::memcpy(reinterpret_cast<char*>(buffers_[size_t(array)].data()) + offset, data, bytes);
     }
     void read(DeviceArray array, void* data, size_t bytes, size_t offset) override {
         book_.check_range(array, bytes, offset);
+        if (bytes == 0) return;
         std::memcpy(data, reinterpret_cast<const char*>(buffers_[size_t(array)].data()) + offset, bytes);
     }
-    void zero(DeviceArray array) override { std::memset(buffers_[size_t(array)].data(), 0, book_.size(array)); }
+    void zero(DeviceArray array) override {
+        if (book_.size(array) != 0) std::memset(buffers_[size_t(array)].data(), 0, book_.size(array));
+    }
 
     void enqueue(Stage stage, uint32_t depth) override {
         KernelGlobals kg = globals();
