@@ -11,20 +11,18 @@
 namespace prism::opencl {
 namespace {
 
-std::string platform_string(cl_platform_id platform, cl_platform_info what) {
+// A text property through clGetPlatformInfo or clGetDeviceInfo (the same two-call protocol), trimmed.
+template <typename Handle, typename Property>
+std::string info_string(cl_int (*query)(Handle, Property, size_t, void*, size_t*), Handle handle, Property what) {
     size_t size = 0;
-    if (clGetPlatformInfo(platform, what, 0, nullptr, &size) != CL_SUCCESS || size == 0) return "";
+    if (query(handle, what, 0, nullptr, &size) != CL_SUCCESS || size == 0) return "";
     std::string s(size, '\0');
-    if (clGetPlatformInfo(platform, what, size, s.data(), nullptr) != CL_SUCCESS) return "";
+    if (query(handle, what, size, s.data(), nullptr) != CL_SUCCESS) return "";
     return trim(s);
 }
 
-std::string device_string(cl_device_id device, cl_device_info what) {
-    size_t size = 0;
-    if (clGetDeviceInfo(device, what, 0, nullptr, &size) != CL_SUCCESS || size == 0) return "";
-    std::string s(size, '\0');
-    if (clGetDeviceInfo(device, what, size, s.data(), nullptr) != CL_SUCCESS) return "";
-    return trim(s);
+std::string platform_string(cl_platform_id platform, cl_platform_info what) {
+    return info_string(clGetPlatformInfo, platform, what);
 }
 
 template <typename T>
@@ -82,6 +80,10 @@ std::string trim(std::string s) {
     size_t first = 0;
     while (first < s.size() && std::isspace(static_cast<unsigned char>(s[first]))) ++first;
     return s.substr(first);
+}
+
+std::string device_string(cl_device_id device, cl_device_info what) {
+    return info_string(clGetDeviceInfo, device, what);
 }
 
 std::vector<DeviceEntry> enumerate_devices(std::string& why_none) {

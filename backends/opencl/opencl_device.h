@@ -1,6 +1,6 @@
 // OpenCL devices: every device of every platform (in the ICD loader's order), choosing one by index or name, a
 // context and profiling queue on it (shared with the viewer's GL where the driver can), and error names. Used by
-// the backend (opencl_backend.cpp), the program cache (opencl_program.h) and tests.
+// the backend (opencl_backend.cpp), the program cache (opencl_program.h), `prism bandwidth` and tests.
 #pragma once
 
 #include <CL/cl.h>
@@ -16,6 +16,8 @@ namespace prism::opencl {
 const char* cl_error_name(cl_int code);
 // Without leading and trailing white space (and the NULs OpenCL strings end with).
 std::string trim(std::string s);
+// A device's text property (CL_DEVICE_NAME, CL_DEVICE_EXTENSIONS, ...), trimmed; "" when the query fails.
+std::string device_string(cl_device_id device, cl_device_info what);
 
 struct DeviceEntry {
     cl_platform_id platform = nullptr;

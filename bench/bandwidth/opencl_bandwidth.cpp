@@ -9,13 +9,13 @@
 #include <chrono>
 #include <memory>
 
+#include "backends/opencl/opencl_device.h"
 #include "bench/bandwidth/api_runners.h"
 #include "bench/bandwidth/copy_device.h"
 #include "bench/bandwidth/pci_link.h"
 #include "bench/bandwidth/sizes.h"
 #include "bench/bandwidth/sweep.h"
 #include "core/util/error.h"
-#include "core/util/pocl_cache.h"
 #include "kernels/bandwidth_copy.h"
 
 // bandwidth_copy.cl with its includes inlined at build time (cmake/PrismEmbedText.cmake).
@@ -31,34 +31,9 @@ bool is_out_of_memory(cl_int status) {
            status == CL_OUT_OF_HOST_MEMORY || status == CL_INVALID_BUFFER_SIZE;
 }
 
-std::string device_string(cl_device_id device, cl_device_info what) {
-    size_t size = 0;
-    if (clGetDeviceInfo(device, what, 0, nullptr, &size) != CL_SUCCESS || size == 0) return "";
-    std::string text(size, '\0');
-    clGetDeviceInfo(device, what, size, text.data(), nullptr);
-    text.resize(text.find('\0') == std::string::npos ? text.size() : text.find('\0'));
-    return text;
-}
-
-std::string platform_string(cl_platform_id platform, cl_platform_info what) {
-    size_t size = 0;
-    if (clGetPlatformInfo(platform, what, 0, nullptr, &size) != CL_SUCCESS || size == 0) return "";
-    std::string text(size, '\0');
-    clGetPlatformInfo(platform, what, size, text.data(), nullptr);
-    text.resize(text.find('\0') == std::string::npos ? text.size() : text.find('\0'));
-    return text;
-}
-
-template <typename T>
-T device_value(cl_device_id device, cl_device_info what) {
-    T value{};
-    clGetDeviceInfo(device, what, sizeof value, &value, nullptr);
-    return value;
-}
-
 // PCI address through cl_khr_pci_bus_info, else NVIDIA's cl_nv_device_attribute_query.
 std::string opencl_pci_address(cl_device_id device) {
-    std::string extensions = device_string(device, CL_DEVICE_EXTENSIONS);
+    std::string extensions = opencl::device_string(device, CL_DEVICE_EXTENSIONS);
     if (extensions.find("cl_khr_pci_bus_info") != std::string::npos) {
         cl_device_pci_bus_info_khr info{};
         if (clGetDeviceInfo(device, CL_DEVICE_PCI_BUS_INFO_KHR, sizeof info, &info, nullptr) == CL_SUCCESS)
@@ -76,35 +51,33 @@ std::string opencl_pci_address(cl_device_id device) {
     return "";
 }
 
+// The context and profiling queue are the backend's (backends/opencl/opencl_device.h); the copy kernel is this
+// test's own.
 class OpenClDevice final : public CopyDevice {
 public:
-    OpenClDevice(cl_platform_id platform, cl_device_id device) : platform_(platform), device_(device) {
-        name_ = device_string(device, CL_DEVICE_NAME);
-        cl_int status = CL_SUCCESS;
-        context_ = clCreateContext(nullptr, 1, &device_, nullptr, nullptr, &status);
-        check(status, "clCreateContext");
-        queue_ = clCreateCommandQueue(context_, device_, CL_QUEUE_PROFILING_ENABLE, &status);
-        check(status, "clCreateCommandQueue");
+    explicit OpenClDevice(size_t index)
+        : cl_(std::to_string(index)),
+          entry_(cl_.entry()),
+          device_(entry_.device),
+          context_(cl_.context()),
+          queue_(cl_.queue()) {
         build_kernel();
     }
     ~OpenClDevice() override {
         release();
         if (kernel_) clReleaseKernel(kernel_);
         if (program_) clReleaseProgram(program_);
-        if (queue_) clReleaseCommandQueue(queue_);
-        if (context_) clReleaseContext(context_);
     }
 
     DeviceResult describe() const override {
         DeviceResult result;
         result.api = "opencl";
-        result.device = name_;
-        result.platform = platform_string(platform_, CL_PLATFORM_NAME);
-        result.driver = device_string(device_, CL_DRIVER_VERSION);
-        result.api_version = device_string(device_, CL_DEVICE_VERSION) + " (platform " +
-                             platform_string(platform_, CL_PLATFORM_VERSION) + ")";
+        result.device = entry_.device_name;
+        result.platform = entry_.platform_name;
+        result.driver = entry_.driver_version;
+        result.api_version = entry_.device_version + " (platform " + entry_.platform_version + ")";
         result.pci_address = opencl_pci_address(device_);
-        result.device_memory = device_value<cl_ulong>(device_, CL_DEVICE_GLOBAL_MEM_SIZE);
+        result.device_memory = entry_.global_memory;
         result.details = {"pinned: CL_MEM_ALLOC_HOST_PTR buffer, mapped once, passed to clEnqueueRead/WriteBuffer",
                           "D2D copy: clEnqueueCopyBuffer; timer: profiling events"};
         if (!kernel_error_.empty()) result.notes.push_back("kernel copy unavailable: " + kernel_error_);
@@ -112,8 +85,7 @@ public:
     }
 
     std::string cannot_fit(size_t bytes) const override {
-        cl_ulong max_alloc = device_value<cl_ulong>(device_, CL_DEVICE_MAX_MEM_ALLOC_SIZE);
-        cl_ulong global = device_value<cl_ulong>(device_, CL_DEVICE_GLOBAL_MEM_SIZE);
+        cl_ulong max_alloc = entry_.max_alloc, global = entry_.global_memory;
         if (bytes > max_alloc) return "larger than CL_DEVICE_MAX_MEM_ALLOC_SIZE (" + format_size(max_alloc) + ")";
         if (2 * bytes > global) return "two buffers exceed CL_DEVICE_GLOBAL_MEM_SIZE (" + format_size(global) + ")";
         return "";
@@ -192,13 +164,11 @@ public:
     }
 
 private:
-    void check(cl_int status, const char* call) const {
-        if (status != CL_SUCCESS)
-            throw Error("opencl " + name_ + ": " + call + " failed (" + std::to_string(status) + ")");
-    }
+    void check(cl_int status, const char* call) const { opencl::check(status, call, entry_); }
     void check_allocation(cl_int status, const char* what) const {
         if (is_out_of_memory(status))
-            throw SizeSkipped(std::string("out of device memory for ") + what + " (" + std::to_string(status) + ")");
+            throw SizeSkipped(std::string("out of device memory for ") + what + " (" + opencl::cl_error_name(status) +
+                              ")");
         check(status, what);
     }
     void* host_pointer(Memory host) const { return host == Memory::Pinned ? static_cast<void*>(pinned_) : pageable_; }
@@ -237,26 +207,26 @@ private:
             std::string log(size, '\0');
             clGetProgramBuildInfo(program_, device_, CL_PROGRAM_BUILD_LOG, size, log.data(), nullptr);
             std::string first_line = log.substr(0, log.find('\n'));
-            kernel_error_ = "clBuildProgram failed (" + std::to_string(status) + "): " + first_line;
+            kernel_error_ = std::string("clBuildProgram failed (") + opencl::cl_error_name(status) + "): " + first_line;
             return;
         }
         kernel_ = clCreateKernel(program_, "bandwidth_copy", &status);
         if (status != CL_SUCCESS) {
-            kernel_error_ = "clCreateKernel failed (" + std::to_string(status) + ")";
+            kernel_error_ = std::string("clCreateKernel failed (") + opencl::cl_error_name(status) + ")";
             kernel_ = nullptr;
             return;
         }
-        size_t kernel_limit = device_value<size_t>(device_, CL_DEVICE_MAX_WORK_GROUP_SIZE);
+        size_t kernel_limit = RT_BANDWIDTH_GROUP_SIZE;
         clGetKernelWorkGroupInfo(kernel_, device_, CL_KERNEL_WORK_GROUP_SIZE, sizeof kernel_limit, &kernel_limit,
                                  nullptr);
         group_size_ = std::min<size_t>(RT_BANDWIDTH_GROUP_SIZE, kernel_limit);
     }
 
-    cl_platform_id platform_;
+    opencl::ClDevice cl_;
+    const opencl::DeviceEntry& entry_;
     cl_device_id device_;
-    std::string name_;
-    cl_context context_ = nullptr;
-    cl_command_queue queue_ = nullptr;
+    cl_context context_;
+    cl_command_queue queue_;
     cl_program program_ = nullptr;
     cl_kernel kernel_ = nullptr;
     std::string kernel_error_;
@@ -271,32 +241,22 @@ private:
 
 ApiResult measure_opencl(const Plan& plan) {
     ApiResult api{"opencl", "", {}};
-    ensure_pocl_cache_dir();  // before PoCL initialises: it needs a usable cache folder
-    cl_uint platform_count = 0;
-    cl_int status = clGetPlatformIDs(0, nullptr, &platform_count);
-    if (status != CL_SUCCESS || platform_count == 0) {
-        api.unavailable_reason = "no OpenCL platform (clGetPlatformIDs: " + std::to_string(status) + ")";
+    std::string why_none;
+    std::vector<opencl::DeviceEntry> devices = opencl::enumerate_devices(why_none);
+    if (devices.empty()) {
+        api.unavailable_reason = why_none;
         return api;
     }
-    std::vector<cl_platform_id> platforms(platform_count);
-    clGetPlatformIDs(platform_count, platforms.data(), nullptr);
-    for (cl_platform_id platform : platforms) {
-        std::string platform_name = platform_string(platform, CL_PLATFORM_NAME);
-        cl_uint device_count = 0;
-        if (clGetDeviceIDs(platform, CL_DEVICE_TYPE_ALL, 0, nullptr, &device_count) != CL_SUCCESS) continue;
-        std::vector<cl_device_id> devices(device_count);
-        clGetDeviceIDs(platform, CL_DEVICE_TYPE_ALL, device_count, devices.data(), nullptr);
-        for (cl_device_id device : devices) {
-            std::string name = device_string(device, CL_DEVICE_NAME);
-            if (!plan.wants("opencl", platform_name, name)) continue;
-            try {
-                OpenClDevice copy_device(platform, device);
-                api.devices.push_back(sweep(copy_device, plan));
-            } catch (const Error& error) {
-                DeviceResult failed{"opencl", name, platform_name};
-                failed.notes.push_back(std::string("device skipped: ") + error.what());
-                api.devices.push_back(failed);
-            }
+    for (size_t i = 0; i < devices.size(); ++i) {
+        const opencl::DeviceEntry& entry = devices[i];
+        if (!plan.wants("opencl", entry.platform_name, entry.device_name)) continue;
+        try {
+            OpenClDevice copy_device(i);
+            api.devices.push_back(sweep(copy_device, plan));
+        } catch (const Error& error) {
+            DeviceResult failed{"opencl", entry.device_name, entry.platform_name};
+            failed.notes.push_back(std::string("device skipped: ") + error.what());
+            api.devices.push_back(failed);
         }
     }
     if (api.devices.empty()) api.unavailable_reason = "no OpenCL device matches the --device filters";

@@ -6,13 +6,13 @@
 #include <vulkan/vulkan.h>
 
 #include <algorithm>
-#include <bit>
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <map>
 #include <memory>
 
+#include "backends/vulkan/vulkan_context.h"
 #include "bench/bandwidth/api_runners.h"
 #include "bench/bandwidth/copy_device.h"
 #include "bench/bandwidth/pci_link.h"
@@ -27,44 +27,11 @@ namespace prism::bandwidth {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-std::string version_text(uint32_t version) {
-    return std::to_string(VK_API_VERSION_MAJOR(version)) + "." + std::to_string(VK_API_VERSION_MINOR(version)) + "." +
-           std::to_string(VK_API_VERSION_PATCH(version));
-}
+using vk::check;
 
 bool is_out_of_memory(VkResult result) {
     return result == VK_ERROR_OUT_OF_DEVICE_MEMORY || result == VK_ERROR_OUT_OF_HOST_MEMORY;
 }
-
-class Instance {
-public:
-    Instance() {
-        uint32_t version = VK_API_VERSION_1_0;
-        if (auto enumerate = reinterpret_cast<PFN_vkEnumerateInstanceVersion>(
-                vkGetInstanceProcAddr(nullptr, "vkEnumerateInstanceVersion")))
-            enumerate(&version);
-        if (version < VK_API_VERSION_1_2)
-            throw Error("Vulkan loader " + version_text(version) + " is older than the 1.2 this test needs");
-        VkApplicationInfo application{VK_STRUCTURE_TYPE_APPLICATION_INFO};
-        application.pApplicationName = "prism bandwidth";
-        application.apiVersion = VK_API_VERSION_1_2;
-        VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-        info.pApplicationInfo = &application;
-        VkResult result = vkCreateInstance(&info, nullptr, &instance_);
-        if (result != VK_SUCCESS) throw Error("vkCreateInstance failed (" + std::to_string(result) + ")");
-        instance_version_ = version;
-    }
-    ~Instance() { vkDestroyInstance(instance_, nullptr); }
-    Instance(const Instance&) = delete;
-    Instance& operator=(const Instance&) = delete;
-    VkInstance get() const { return instance_; }
-    uint32_t version() const { return instance_version_; }
-
-private:
-    VkInstance instance_ = VK_NULL_HANDLE;
-    uint32_t instance_version_ = 0;
-};
 
 struct Buffer {
     VkBuffer buffer = VK_NULL_HANDLE;
@@ -73,11 +40,8 @@ struct Buffer {
     bool coherent = true;
 };
 
-// Memory type choice: `required` flags must be there; then most `preferred` and fewest `avoided` flags win.
-struct MemoryWish {
-    VkMemoryPropertyFlags required, preferred, avoided;
-};
-
+// The instance, device list, memory-type choice and error text are the backend's (backends/vulkan/vulkan_context.h);
+// the queues, staging buffers and copy commands are this test's own.
 // One recorded command buffer plus the queue it runs on; re-recorded for each size.
 struct Command {
     VkCommandBuffer buffer = VK_NULL_HANDLE;
@@ -87,7 +51,8 @@ struct Command {
 
 class VulkanDevice final : public CopyDevice {
 public:
-    VulkanDevice(const Instance& instance, VkPhysicalDevice physical) : physical_(physical) {
+    explicit VulkanDevice(const vk::DeviceCandidate& candidate)
+        : physical_(candidate.handle), properties_(candidate.properties), driver_(candidate.driver) {
         read_properties();
         choose_queues();
         create_device();
@@ -115,7 +80,7 @@ public:
         result.device = properties_.deviceName;
         result.platform = driver_.driverName;
         result.driver = std::string(driver_.driverName) + " " + driver_.driverInfo;
-        result.api_version = "Vulkan " + version_text(properties_.apiVersion);
+        result.api_version = "Vulkan " + vk::api_version_string(properties_.apiVersion);
         result.pci_address = pci_address_;
         for (uint32_t i = 0; i < memory_.memoryHeapCount; ++i)
             if (memory_.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
@@ -217,64 +182,35 @@ public:
     }
 
 private:
-    void check(VkResult result, const char* call) const {
-        if (result != VK_SUCCESS)
-            throw Error(std::string("vulkan ") + properties_.deviceName + ": " + call + " failed (" +
-                        std::to_string(result) + ")");
-    }
-
     void read_properties() {
-        VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
-        driver_ = {VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
-        VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
-        VkPhysicalDevicePCIBusInfoPropertiesEXT pci{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PCI_BUS_INFO_PROPERTIES_EXT};
-        properties.pNext = &driver_;
-        driver_.pNext = &maintenance3;
-        bool has_pci = has_extension(VK_EXT_PCI_BUS_INFO_EXTENSION_NAME);
-        if (has_pci) maintenance3.pNext = &pci;
-        vkGetPhysicalDeviceProperties(physical_, &properties_);
         if (properties_.apiVersion < VK_API_VERSION_1_2)
             throw Error(std::string("vulkan ") + properties_.deviceName + ": device supports only Vulkan " +
-                        version_text(properties_.apiVersion) + ", 1.2 needed");
+                        vk::api_version_string(properties_.apiVersion) + ", 1.2 needed");
+        VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+        VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
+        VkPhysicalDevicePCIBusInfoPropertiesEXT pci{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PCI_BUS_INFO_PROPERTIES_EXT};
+        properties.pNext = &maintenance3;
+        bool has_pci = vk::has_device_extension(physical_, VK_EXT_PCI_BUS_INFO_EXTENSION_NAME);
+        if (has_pci) maintenance3.pNext = &pci;
         vkGetPhysicalDeviceProperties2(physical_, &properties);
-        properties_ = properties.properties;
-        driver_.pNext = nullptr;
         max_allocation_ = maintenance3.maxMemoryAllocationSize;
         if (has_pci) pci_address_ = pci_address(pci.pciDomain, pci.pciBus, pci.pciDevice, pci.pciFunction);
         vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
-        device_local_ = find_memory_type({VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT});
+        const uint32_t any = ~0u;
+        device_local_ = vk::find_memory_type(memory_, any, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0,
+                                             VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
         // Staging in system memory (not device-local BAR memory): what crosses the link is what we time.
-        upload_ = find_memory_type({VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT, VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
-                                    VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT});
-        readback_ = find_memory_type({VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
-                                      VK_MEMORY_PROPERTY_HOST_CACHED_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
-                                      VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT});
-        if (device_local_ < 0 || upload_ < 0 || readback_ < 0)
+        upload_ = vk::find_memory_type(memory_, any, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
+                                       VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+        readback_ = vk::find_memory_type(memory_, any, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
+                                         VK_MEMORY_PROPERTY_HOST_CACHED_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                                         VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+        if (device_local_ == UINT32_MAX || upload_ == UINT32_MAX || readback_ == UINT32_MAX)
             throw Error(std::string("vulkan ") + properties_.deviceName +
                         ": no device-local or host-visible memory type");
     }
 
-    bool has_extension(const char* name) const {
-        uint32_t count = 0;
-        vkEnumerateDeviceExtensionProperties(physical_, nullptr, &count, nullptr);
-        std::vector<VkExtensionProperties> extensions(count);
-        vkEnumerateDeviceExtensionProperties(physical_, nullptr, &count, extensions.data());
-        return std::any_of(extensions.begin(), extensions.end(),
-                           [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
-    }
-
-    int find_memory_type(MemoryWish wish) const {
-        int best = -1, best_score = -1000;
-        for (uint32_t i = 0; i < memory_.memoryTypeCount; ++i) {
-            VkMemoryPropertyFlags flags = memory_.memoryTypes[i].propertyFlags;
-            if ((flags & wish.required) != wish.required) continue;
-            int score = 2 * std::popcount(flags & wish.preferred) - std::popcount(flags & wish.avoided);
-            if (score > best_score) best = static_cast<int>(i), best_score = score;
-        }
-        return best;
-    }
-
-    uint32_t heap_of(int type) const { return memory_.memoryTypes[type].heapIndex; }
+    uint32_t heap_of(uint32_t type) const { return memory_.memoryTypes[type].heapIndex; }
 
     void choose_queues() {
         uint32_t count = 0;
@@ -406,7 +342,7 @@ private:
         check(vkAllocateDescriptorSets(device_, &set, &descriptor_set_), "vkAllocateDescriptorSets");
     }
 
-    Buffer create_buffer(VkBufferUsageFlags usage, int memory_type, const char* what) {
+    Buffer create_buffer(VkBufferUsageFlags usage, uint32_t memory_type, const char* what) {
         Buffer result;
         uint32_t families[2] = {compute_family_, transfer_family_};
         VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
@@ -428,7 +364,7 @@ private:
         }
         VkMemoryAllocateInfo allocate{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
         allocate.allocationSize = requirements.size;
-        allocate.memoryTypeIndex = static_cast<uint32_t>(memory_type);
+        allocate.memoryTypeIndex = memory_type;
         status = vkAllocateMemory(device_, &allocate, nullptr, &result.memory);
         if (status != VK_SUCCESS) {
             vkDestroyBuffer(device_, result.buffer, nullptr);
@@ -538,7 +474,7 @@ private:
     VkPhysicalDeviceMemoryProperties memory_{};
     VkDeviceSize max_allocation_ = 0;
     std::string pci_address_;
-    int device_local_ = -1, upload_ = -1, readback_ = -1;
+    uint32_t device_local_ = UINT32_MAX, upload_ = UINT32_MAX, readback_ = UINT32_MAX;
     uint32_t compute_family_ = 0, transfer_family_ = 0;
     bool dedicated_transfer_ = false, d2d_on_transfer_ = false;
     bool compute_timestamps_ = false, transfer_timestamps_ = false, host_query_reset_ = false;
@@ -567,30 +503,26 @@ private:
 
 ApiResult measure_vulkan(const Plan& plan) {
     ApiResult api{"vulkan", "", {}};
-    std::unique_ptr<Instance> instance;
+    std::unique_ptr<vk::Instance> instance;
+    std::vector<vk::DeviceCandidate> devices;
     try {
-        instance = std::make_unique<Instance>();
+        instance = std::make_unique<vk::Instance>(false);
+        devices = instance->devices();
     } catch (const Error& error) {
         api.unavailable_reason = error.what();
         return api;
     }
-    uint32_t count = 0;
-    vkEnumeratePhysicalDevices(instance->get(), &count, nullptr);
-    std::vector<VkPhysicalDevice> physical(count);
-    vkEnumeratePhysicalDevices(instance->get(), &count, physical.data());
-    if (count == 0) {
+    if (devices.empty()) {
         api.unavailable_reason = "no Vulkan device";
         return api;
     }
-    for (VkPhysicalDevice device : physical) {
-        VkPhysicalDeviceProperties properties;
-        vkGetPhysicalDeviceProperties(device, &properties);
-        if (!plan.wants("vulkan", "", properties.deviceName)) continue;
+    for (const vk::DeviceCandidate& device : devices) {
+        if (!plan.wants("vulkan", "", device.properties.deviceName)) continue;
         try {
-            VulkanDevice copy_device(*instance, device);
+            VulkanDevice copy_device(device);
             api.devices.push_back(sweep(copy_device, plan));
         } catch (const Error& error) {
-            DeviceResult failed{"vulkan", properties.deviceName};
+            DeviceResult failed{"vulkan", device.properties.deviceName};
             failed.notes.push_back(std::string("device skipped: ") + error.what());
             api.devices.push_back(failed);
         }
