@@ -94,21 +94,29 @@ RT_FUNC void rt_stage_shade(KernelGlobals kg, uint index, uint depth) {
 
 #define RT_SHADOW_LAYERS 8u  // cut-out or blended surfaces a shadow ray looks through before it counts as blocked
 
-// What of a shadow ray's contribution reaches its point: all of it unless something lies between (one any-hit
-// query). Where some material is cut out or blended (RT_FLAG_ALPHA_SHADOWS), the ray takes the surfaces between in
-// turn, nearest first, and keeps what each one's coverage leaves (MASK: all where cut out, none elsewhere; BLEND:
-// 1 - alpha), as the shade stage passes camera and secondary rays through them; after RT_SHADOW_LAYERS surfaces it
-// counts as blocked. Refractive surfaces block, as in the seed (Whitted shadows do not refract).
-RT_FUNC float3 rt_light_reaching(KernelGlobals kg, ShadowRay sr) {
-    FrameParams frame = RT_FETCH(kg, frame, 0u);
+// Whether some material is cut out or blended (RT_FLAG_ALPHA_SHADOWS): then the shadow_layers stage takes the
+// shadow rays instead of the shadow stage. Two stages, so that the one any-hit query of every other scene compiles
+// as it did before alpha shadows (a kernel holding both paths takes the registers of the larger one).
+RT_FUNC bool rt_alpha_shadows(KernelGlobals kg) {
+    FrameParams frame = RT_FETCH(kg, frame, 0u);  // whole: see rt_trace
+    return (frame.scene.z & RT_FLAG_ALPHA_SHADOWS) != 0u;
+}
+
+// All of a shadow ray's contribution reaches its point unless something lies between (one any-hit query).
+RT_FUNC float3 rt_light_unblocked(KernelGlobals kg, ShadowRay sr) {
+    Hit hit = rt_trace(kg, rt_xyz(sr.origin), rt_xyz(sr.direction), 0.0f, sr.direction.w, true);
+    return hit.tuv.x < RT_INFINITY ? make_float3(0.0f, 0.0f, 0.0f) : rt_xyz(sr.contribution);
+}
+
+// Where some material is cut out or blended, a shadow ray takes the surfaces between in turn, nearest first, and
+// keeps what each one's coverage leaves (MASK: all where cut out, none elsewhere; BLEND: 1 - alpha), as the shade
+// stage passes camera and secondary rays through them; after RT_SHADOW_LAYERS surfaces it counts as blocked.
+// Refractive surfaces block, as in the seed (Whitted shadows do not refract).
+RT_FUNC float3 rt_light_through_layers(KernelGlobals kg, ShadowRay sr) {
     float3 origin = rt_xyz(sr.origin);
     float3 direction = rt_xyz(sr.direction);
     float distance = sr.direction.w;
     float3 reaching = rt_xyz(sr.contribution);
-    if ((frame.scene.z & RT_FLAG_ALPHA_SHADOWS) == 0u) {
-        Hit hit = rt_trace(kg, origin, direction, 0.0f, distance, true);
-        return hit.tuv.x < RT_INFINITY ? make_float3(0.0f, 0.0f, 0.0f) : reaching;
-    }
     for (uint layer = 0u; layer < RT_SHADOW_LAYERS; ++layer) {
         Hit hit = rt_trace(kg, origin, direction, 0.0f, distance, false);
         if (!(hit.tuv.x < RT_INFINITY)) return reaching;
@@ -124,10 +132,23 @@ RT_FUNC float3 rt_light_reaching(KernelGlobals kg, ShadowRay sr) {
     return make_float3(0.0f, 0.0f, 0.0f);
 }
 
-// A light reaches the point unless something lies between (rt_light_reaching).
+// What of a shadow ray's contribution reaches its point, by the rule of the scene (cpu-ref; the GPU frame splits
+// the two rules into the shadow and shadow_layers stages).
+RT_FUNC float3 rt_light_reaching(KernelGlobals kg, ShadowRay sr) {
+    return rt_alpha_shadows(kg) ? rt_light_through_layers(kg, sr) : rt_light_unblocked(kg, sr);
+}
+
+// A light reaches the point unless something lies between.
 RT_FUNC void rt_stage_shadow(KernelGlobals kg, uint index, uint depth) {
     ShadowRay sr = RT_FETCH(kg, shadow_rays, index);
-    float3 reaching = rt_light_reaching(kg, sr);
+    float3 reaching = rt_light_unblocked(kg, sr);
+    if (rt_max3(reaching) > 0.0f) rt_accumulate(kg, sr.info.x, reaching);
+}
+
+// What a light leaves through the cut-out and blended surfaces between it and the point.
+RT_FUNC void rt_stage_shadow_layers(KernelGlobals kg, uint index, uint depth) {
+    ShadowRay sr = RT_FETCH(kg, shadow_rays, index);
+    float3 reaching = rt_light_through_layers(kg, sr);
     if (rt_max3(reaching) > 0.0f) rt_accumulate(kg, sr.info.x, reaching);
 }
 
@@ -156,7 +177,12 @@ RT_FUNC void rt_kernel_shade(KernelGlobals kg, uint depth) {
     RT_GRID_LOOP(i, rt_ray_count(kg, depth)) { rt_stage_shade(kg, i, depth); }
 }
 RT_FUNC void rt_kernel_shadow(KernelGlobals kg, uint depth) {
+    if (rt_alpha_shadows(kg)) return;
     RT_GRID_LOOP(i, rt_shadow_count(kg, depth)) { rt_stage_shadow(kg, i, depth); }
+}
+RT_FUNC void rt_kernel_shadow_layers(KernelGlobals kg, uint depth) {
+    if (!rt_alpha_shadows(kg)) return;
+    RT_GRID_LOOP(i, rt_shadow_count(kg, depth)) { rt_stage_shadow_layers(kg, i, depth); }
 }
 RT_FUNC void rt_kernel_resolve(KernelGlobals kg, uint depth) {
     RT_GRID_LOOP(i, rt_pixel_count(kg)) { rt_stage_resolve(kg, i); }

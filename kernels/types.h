@@ -218,8 +218,8 @@ RT_STRUCT_END(Light)
 // The wide layout with its instances flattened (static scenes, core/render/device_scene_flat.cpp): wide_nodes hold one
 // world-space BVH over every instance's triangles, and each block lane names its instance.
 #define RT_FLAG_FLAT_INSTANCES 8u
-// Some material is cut out or blended (glTF alphaMode MASK/BLEND): shadow rays look at what they hit
-// (rt_light_reaching) instead of stopping at the first surface.
+// Some material is cut out or blended (glTF alphaMode MASK/BLEND): the shadow_layers stage traces the shadow rays,
+// looking at what they hit (rt_light_through_layers), instead of the shadow stage's one any-hit query.
 #define RT_FLAG_ALPHA_SHADOWS 16u
 
 // One per frame (array of one element). The camera basis is precomputed on the host.

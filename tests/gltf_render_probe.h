@@ -41,9 +41,11 @@ inline std::string write_test_png(const std::string& name, int width, int height
 }
 
 // Loads the glTF file alone (no default lights), looks at the z = 0 plane from (0, 0, distance) and renders it on
-// cpu-ref; `edit` may change the scene first (lights, environment, ambient light).
+// `backend` (cpu-ref unless a test asks for another); `edit` may change the scene first (lights, environment,
+// ambient light).
 template <typename Edit>
-ProbeImage render_gltf(const std::filesystem::path& file, Edit edit, uint32_t size = 64, uint32_t depth = 4) {
+ProbeImage render_gltf(const std::filesystem::path& file, Edit edit, uint32_t size = 64, uint32_t depth = 4,
+                       const std::string& backend = "cpu-ref") {
     Scene scene;
     load_gltf(file, scene);
     scene.camera.position = {0.0f, 0.0f, 3.0f};
@@ -56,7 +58,7 @@ ProbeImage render_gltf(const std::filesystem::path& file, Edit edit, uint32_t si
     settings.width = size;
     settings.height = size;
     settings.max_depth = depth;
-    RenderEngine engine("cpu-ref", device);
+    RenderEngine engine(backend, device);
     return ProbeImage{engine.render(scene.camera, settings)};
 }
 

@@ -248,7 +248,23 @@ TEST(GltfMaterialMaps, AlphaMaskCutsOutAndBlendMixes) {
 // Shadows through cut-outs: a MASK quad half cut out, half above the cutoff, floats 0.5 in front of a white
 // floor, lit along -z. Through the cut-out half the camera sees the floor lit (the shadow ray passes the cut-out as
 // the camera ray did); a BLEND quad at alpha 0.5 lets half the light through to the floor behind it.
-TEST(GltfMaterialMaps, ShadowRaysPassCutOutsAndBlendedSurfaces) {
+// On every backend: these scenes' shadow rays are the shadow_layers stage's (kernels/stages.h), a kernel of its own
+// that no other test scene launches with work.
+class AlphaShadows : public ::testing::TestWithParam<std::string> {
+protected:
+    void SetUp() override {
+        std::string reason;
+        if (!test::backend_spec_runs_here(GetParam(), &reason)) GTEST_SKIP() << reason;
+        test::begin_backend_checks(GetParam());
+    }
+    void TearDown() override {
+        if (IsSkipped()) return;
+        std::vector<std::string> messages = test::backend_check_messages(GetParam());
+        EXPECT_TRUE(messages.empty()) << (messages.empty() ? "" : messages.front());
+    }
+};
+
+TEST_P(AlphaShadows, ShadowRaysPassCutOutsAndBlendedSurfaces) {
     auto build = [](const std::string& name, json mode_and_factor, bool textured) {
         GltfBuilder gltf = alpha_quad(mode_and_factor, textured);
         gltf.document["materials"].push_back(  // material 1: a white floor that does not mirror
@@ -271,22 +287,29 @@ TEST(GltfMaterialMaps, ShadowRaysPassCutOutsAndBlendedSurfaces) {
         scene.environment.color = glm::vec3(0.0f);
     };
     // The floor point (-0.5, 0, 0) is seen through the cut-out half; its shadow ray leaves along +z through it.
-    test::ProbeImage mask = test::render_gltf(
-        build("shadow_mask.gltf", {{"mode", "MASK"}, {"factor", {1, 1, 1, 1}}}, true), light_along_minus_z);
+    test::ProbeImage mask = test::render_gltf(build("shadow_mask-" + test::test_name_of(GetParam()) + ".gltf",
+                                                    {{"mode", "MASK"}, {"factor", {1, 1, 1, 1}}}, true),
+                                              light_along_minus_z, 64, 4, GetParam());
     test::Rgb through = at_world(mask, -0.5f, 0.0f);
     EXPECT_GT(through.r, 200) << "the floor behind a cut-out is lit";
     EXPECT_GT(through.g, 200);
     EXPECT_GT(at_world(mask, 0.5f, 0.0f).r, 200);  // the solid half: red, lit
     EXPECT_LT(at_world(mask, 0.5f, 0.0f).g, 60);
     // BLEND at alpha 0.5: half the quad's red over the floor, which gets half the light (sRGB of 0.5 is 188).
-    test::ProbeImage blend = test::render_gltf(
-        build("shadow_blend.gltf", {{"mode", "BLEND"}, {"factor", {1, 0, 0, 0.5}}}, false), light_along_minus_z);
+    test::ProbeImage blend = test::render_gltf(build("shadow_blend-" + test::test_name_of(GetParam()) + ".gltf",
+                                                     {{"mode", "BLEND"}, {"factor", {1, 0, 0, 0.5}}}, false),
+                                               light_along_minus_z, 64, 4, GetParam());
     test::Rgb mixed = blend.at_ndc(0.0f, 0.0f);
     // Linear: red 0.5 (the quad) + 0.5 x 0.5 (the floor, half lit) = 0.75; green and blue 0.25.
     EXPECT_NEAR(mixed.r, 225, 8);
     EXPECT_NEAR(mixed.g, 137, 8);
     EXPECT_NEAR(mixed.b, 137, 8);
 }
+
+INSTANTIATE_TEST_SUITE_P(Backends, AlphaShadows,
+                         ::testing::Values("cpu-ref", "cpu", "cuda", test::test_device("opencl"),
+                                           test::test_device("vulkan")),
+                         [](const auto& info) { return test::test_name_of(info.param); });
 
 // An opaque dielectric mirrors a bright sky by Schlick's Fresnel: a few % head-on, far more at a grazing angle;
 // KHR_materials_specular's specularFactor 0 turns the reflection off.
