@@ -4,14 +4,6 @@
 #include "fuzz/fuzz_support.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-    const auto& dir = prism::fuzz::scratch_dir();
-    const auto files = prism::fuzz::split_two_files(prism::fuzz::as_text(data, size), "#prism-fuzz-bin");
-    prism::fuzz::write_file(dir / "fuzz.gltf", files.first);
-    std::error_code ignored;
-    if (files.found)
-        prism::fuzz::write_file(dir / "fuzz.bin", files.second);
-    else
-        std::filesystem::remove(dir / "fuzz.bin", ignored);
-    prism::fuzz::load_and_build(dir / "fuzz.gltf");
+    prism::fuzz::load_two_files(data, size, "#prism-fuzz-bin", "fuzz.gltf", "fuzz.bin");
     return 0;
 }

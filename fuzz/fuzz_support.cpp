@@ -105,6 +105,19 @@ TwoFiles split_two_files(std::string_view input, std::string_view separator) {
     return {input.substr(0, at), input.substr(at + line.size()), true};
 }
 
+void load_two_files(const uint8_t* data, size_t size, std::string_view separator, const std::string& main,
+                    const std::string& companion) {
+    const std::filesystem::path& dir = scratch_dir();
+    const TwoFiles files = split_two_files(as_text(data, size), separator);
+    write_file(dir / main, files.first);
+    std::error_code ignored;
+    if (files.found)
+        write_file(dir / companion, files.second);
+    else
+        std::filesystem::remove(dir / companion, ignored);
+    load_and_build(dir / main);
+}
+
 void load_and_build_or_throw(const std::filesystem::path& scene_file) {
     LoadOptions options;
     options.data_dir = scratch_dir() / "no-data";  // bare models get the constant sky, not a cube map from disk

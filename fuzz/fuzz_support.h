@@ -32,6 +32,11 @@ struct TwoFiles {
 };
 TwoFiles split_two_files(std::string_view input, std::string_view separator);
 
+// The two files of one input written as `main` and `companion` in the scratch folder (without the separator the
+// companion is removed: a missing MTL or .bin is an input too), then `main` loaded and built (load_and_build).
+void load_two_files(const uint8_t* data, size_t size, std::string_view separator, const std::string& main,
+                    const std::string& companion);
+
 // The whole `prism render` path up to the upload: load_scene (loader, validation, framing) and
 // build_device_scene (BVHs, texel arrays). Bad input must end in prism::Error; checked as above.
 void load_and_build(const std::filesystem::path& scene_file);

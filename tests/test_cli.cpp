@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <memory>
 #include <random>
@@ -92,41 +93,46 @@ TEST(Cli, InfoReportsTheDragonTriangleCount) {
     EXPECT_NE(r.output.find("\"triangles\": 871414"), std::string::npos) << r.output.substr(0, 2000);
 }
 
-TEST(Cli, TruncatedPlyFailsCleanly) {
-    std::string bunny = read_bytes(prism::test::scene("stanford/bunny.ply"));
-    fs::path truncated = prism::test::write_file("truncated-bunny.ply", bunny.substr(0, bunny.size() / 2));
-    expect_clean_failure(truncated.string(), "truncated-bunny.ply");
+namespace {
+
+// Models a user may point prism at, each refused in one line naming the file: a real model truncated, random
+// bytes under each model extension, a PLY face with an index past its vertices and a PLY vertex that is NaN.
+struct HostileModel {
+    std::string name;
+    std::function<std::string()> bytes;
+};
+void PrintTo(const HostileModel& model, std::ostream* os) { *os << model.name; }
+
+std::string truncated(const std::string& model, size_t numerator, size_t denominator) {
+    std::string bytes = read_bytes(prism::test::scene(model));
+    return bytes.substr(0, bytes.size() * numerator / denominator);
 }
 
-TEST(Cli, RandomBytesNamedAsModelsFailCleanly) {
-    unsigned seed = 1;
-    for (const char* name : {"random.glb", "random.gltf", "random.ply", "random.obj"}) {
-        fs::path file = prism::test::write_file(name, random_bytes(4096, seed++));
-        expect_clean_failure(file.string(), name);
-    }
+const std::string kTrianglePlyHeader =
+    "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+    "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+
+class CliHostileModel : public ::testing::TestWithParam<HostileModel> {};
+
+}  // namespace
+
+TEST_P(CliHostileModel, FailsCleanly) {
+    fs::path file = prism::test::write_file(GetParam().name, GetParam().bytes());
+    expect_clean_failure(file.string(), GetParam().name);
 }
 
-TEST(Cli, TruncatedGlbFailsCleanly) {
-    std::string glb = read_bytes(prism::test::scene("gltf/Box/Box.glb"));
-    fs::path file = prism::test::write_file("truncated-box.glb", glb.substr(0, glb.size() * 2 / 3));
-    expect_clean_failure(file.string(), "truncated-box.glb");
-}
-
-TEST(Cli, OutOfRangeIndexFailsCleanly) {
-    fs::path file = prism::test::write_file(
-        "bad-index.ply",
-        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-        "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
-    expect_clean_failure(file.string(), "bad-index.ply");
-}
-
-TEST(Cli, NanVertexFailsCleanly) {
-    fs::path file = prism::test::write_file(
-        "nan-vertex.ply",
-        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-        "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\nnan 1 0\n3 0 1 2\n");
-    expect_clean_failure(file.string(), "nan-vertex.ply");
-}
+INSTANTIATE_TEST_SUITE_P(
+    Files, CliHostileModel,
+    ::testing::Values(
+        HostileModel{"truncated-bunny.ply", [] { return truncated("stanford/bunny.ply", 1, 2); }},
+        HostileModel{"truncated-box.glb", [] { return truncated("gltf/Box/Box.glb", 2, 3); }},
+        HostileModel{"random.glb", [] { return random_bytes(4096, 1); }},
+        HostileModel{"random.gltf", [] { return random_bytes(4096, 2); }},
+        HostileModel{"random.ply", [] { return random_bytes(4096, 3); }},
+        HostileModel{"random.obj", [] { return random_bytes(4096, 4); }},
+        HostileModel{"bad-index.ply", [] { return kTrianglePlyHeader + "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"; }},
+        HostileModel{"nan-vertex.ply", [] { return kTrianglePlyHeader + "0 0 0\n1 0 0\nnan 1 0\n3 0 1 2\n"; }}),
+    [](const auto& info) { return prism::test::test_name_of(info.param.name); });
 
 TEST(Cli, MissingSceneFailsCleanly) { expect_clean_failure("/nonexistent/model.ply", "/nonexistent/model.ply"); }
 

@@ -71,26 +71,22 @@ TEST(EmbreeOracle, CpuBackendStackLayoutAgreesOnBunny) {
     check_against_embree("stanford/bunny.ply", "cpu", 1000000, "stack");
 }
 
-#ifdef PRISM_HAVE_OPENCL
-TEST(EmbreeOracle, OpenclAgreesOnBunny) {
-    std::string device = prism::test::test_device("opencl"), reason;
-    if (!prism::test::device_present("opencl", device.substr(7), &reason)) GTEST_SKIP() << reason;
-    check_against_embree("stanford/bunny.ply", device, 1000000);
-}
-#endif
-#ifdef PRISM_HAVE_VULKAN
-TEST(EmbreeOracle, VulkanAgreesOnBunny) {
-    std::string device = prism::test::test_device("vulkan"), reason;
-    if (!prism::test::device_present("vulkan", device.substr(7), &reason)) GTEST_SKIP() << reason;
-    check_against_embree("stanford/bunny.ply", device, 1000000);
-}
-#endif
-#ifdef PRISM_HAVE_CUDA
-TEST(EmbreeOracle, CudaAgreesOnDragon) {
+// The GPU backends through RenderEngine::trace, on the tree the renderer builds for them: CUDA on the dragon,
+// OpenCL and Vulkan (which CI runs on PoCL and lavapipe) on the bunny.
+class EmbreeOracleOnGpu : public ::testing::TestWithParam<std::pair<std::string, std::string>> {};
+
+TEST_P(EmbreeOracleOnGpu, AgreesOnTheModel) {
+    const auto& [backend, model] = GetParam();
     std::string reason;
-    if (!prism::test::backend_available("cuda", &reason)) GTEST_SKIP() << "no CUDA device: " << reason;
-    check_against_embree("stanford/dragon.ply.gz", "cuda", 1000000);
+    if (!prism::test::backend_spec_runs_here(backend, &reason)) GTEST_SKIP() << reason;
+    check_against_embree(model, backend, 1000000);
 }
-#endif
+
+INSTANTIATE_TEST_SUITE_P(
+    Backends, EmbreeOracleOnGpu,
+    ::testing::Values(std::pair<std::string, std::string>{"cuda", "stanford/dragon.ply.gz"},
+                      std::pair<std::string, std::string>{prism::test::test_device("opencl"), "stanford/bunny.ply"},
+                      std::pair<std::string, std::string>{prism::test::test_device("vulkan"), "stanford/bunny.ply"}),
+    [](const auto& info) { return prism::test::test_name_of(info.param.first); });
 
 #endif  // PRISM_HAVE_EMBREE

@@ -74,12 +74,19 @@ TEST(ImageIo, HdrRoundTripKeepsValues) {
     }
 }
 
+// A file of ../shared/scenes, loaded and checked for its size and encoding (all texels there).
+Texture load_real_texture(const std::string& name, int width, int height, TextureEncoding encoding) {
+    Texture texture = load_texture(test::scene(name));
+    EXPECT_EQ(texture.width, width);
+    EXPECT_EQ(texture.height, height);
+    EXPECT_EQ(texture.encoding, encoding);
+    EXPECT_EQ(texture.texels.size(), size_t(width) * size_t(height));
+    texture.texels.resize(size_t(width) * size_t(height));  // the checks below read every texel
+    return texture;
+}
+
 TEST(ImageIo, LoadsRealEquirectHdr) {
-    Texture texture = load_texture(test::scene("env/venice_sunset_1k.hdr"));
-    EXPECT_EQ(texture.width, 1024);
-    EXPECT_EQ(texture.height, 512);
-    EXPECT_EQ(texture.encoding, TextureEncoding::Rgbe);
-    ASSERT_EQ(texture.texels.size(), size_t(1024 * 512));
+    Texture texture = load_real_texture("env/venice_sunset_1k.hdr", 1024, 512, TextureEncoding::Rgbe);
     // A sunset sky is bright somewhere and never all black.
     float brightest = 0.0f;
     for (uint32_t texel : texture.texels) {
@@ -92,11 +99,7 @@ TEST(ImageIo, LoadsRealEquirectHdr) {
 }
 
 TEST(ImageIo, LoadsRealCubeMapFace) {
-    Texture face = load_texture(test::scene("env/cubemap-miramar/right.png"));
-    EXPECT_EQ(face.width, 1024);
-    EXPECT_EQ(face.height, 1024);
-    EXPECT_EQ(face.encoding, TextureEncoding::Srgb8);
-    ASSERT_EQ(face.texels.size(), size_t(1024 * 1024));
+    Texture face = load_real_texture("env/cubemap-miramar/right.png", 1024, 1024, TextureEncoding::Srgb8);
     EXPECT_EQ(face.texels[0] >> 24, 255u) << "faces have no alpha channel: stb fills it opaque";
 }
 

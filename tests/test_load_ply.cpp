@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <fstream>
 #include <functional>
 #include <sstream>
@@ -55,24 +56,17 @@ void append_binary(std::string& out, double value, bool big_endian) {
 }
 
 void append_scalar(std::string& out, const std::string& type, double value, bool big_endian) {
-    if (type == "char" || type == "int8")
-        append_binary<int8_t>(out, value, big_endian);
-    else if (type == "uchar" || type == "uint8")
-        append_binary<uint8_t>(out, value, big_endian);
-    else if (type == "short" || type == "int16")
-        append_binary<int16_t>(out, value, big_endian);
-    else if (type == "ushort" || type == "uint16")
-        append_binary<uint16_t>(out, value, big_endian);
-    else if (type == "int" || type == "int32")
-        append_binary<int32_t>(out, value, big_endian);
-    else if (type == "uint" || type == "uint32")
-        append_binary<uint32_t>(out, value, big_endian);
-    else if (type == "float" || type == "float32")
-        append_binary<float>(out, value, big_endian);
-    else if (type == "double" || type == "float64")
-        append_binary<double>(out, value, big_endian);
-    else
-        throw std::logic_error("test writer: unknown type " + type);
+    using Append = void (*)(std::string&, double, bool);
+    static const std::map<std::string, Append> by_type = {
+        {"char", append_binary<int8_t>},     {"int8", append_binary<int8_t>},     {"uchar", append_binary<uint8_t>},
+        {"uint8", append_binary<uint8_t>},   {"short", append_binary<int16_t>},   {"int16", append_binary<int16_t>},
+        {"ushort", append_binary<uint16_t>}, {"uint16", append_binary<uint16_t>}, {"int", append_binary<int32_t>},
+        {"int32", append_binary<int32_t>},   {"uint", append_binary<uint32_t>},   {"uint32", append_binary<uint32_t>},
+        {"float", append_binary<float>},     {"float32", append_binary<float>},   {"double", append_binary<double>},
+        {"float64", append_binary<double>}};
+    auto append = by_type.find(type);
+    if (append == by_type.end()) throw std::logic_error("test writer: unknown type " + type);
+    append->second(out, value, big_endian);
 }
 
 std::string write_ply(const std::string& format, const std::vector<PlyElement>& elements) {

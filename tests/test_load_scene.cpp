@@ -11,12 +11,7 @@ namespace prism {
 namespace {
 
 std::string error_message(const std::string& spec) {
-    try {
-        load_scene(spec);
-    } catch (const Error& error) {
-        return error.what();
-    }
-    return "no error";
+    return test::error_message([&] { (void)load_scene(spec); });
 }
 
 TEST(LoadScene, MissingAndUnsupportedFiles) {

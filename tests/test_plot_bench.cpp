@@ -89,33 +89,39 @@ std::string worker(int rank, int index, const std::string& backend, const std::s
            R"(, "worker": )" + std::to_string(index) + "}";
 }
 
+// A frame split into tiles, and a sequence split by frames, over the given workers (worker() rows).
+std::string tiled_stats(double frame_ms, const std::string& backend, double wall_ms, const std::string& workers) {
+    return render_stats(frame_ms, backend,
+                        R"(, "ranks": 1, "tile_size": 64, "tiles": 15, "wall_ms": )" + std::to_string(wall_ms) +
+                            R"(, "workers": [)" + workers + "]");
+}
+std::string sequence_stats(double sequence_ms, const std::string& backend, double wall_ms, const std::string& workers) {
+    return render_stats(
+        sequence_ms, backend,
+        R"(, "frames": {"first": 0, "last": 11, "pattern": "t/f%04d.png"}, "ranks": 1, "sequence_ms": )" +
+            std::to_string(sequence_ms) + R"(, "wall_ms": )" + std::to_string(wall_ms) + R"(, "workers": [)" + workers +
+            "]");
+}
+
 TEST(PlotBench, DrawsTheScalingOfSplitRenders) {
     SKIP_WITHOUT_MATPLOTLIB();
     const std::string gpu = "NVIDIA H100 80GB HBM3", host = "AMD EPYC (16 threads, avx2)";
     fs::path frame = prism::test::write_file("scale-cuda.json", render_stats(80.0, "cuda"));
-    fs::path sequence = prism::test::write_file(
-        "scale-turntable-cuda.json", render_stats(960.0, "cuda",
-                                                  R"(, "frames": {"first": 0, "last": 11, "pattern": "t/f%04d.png"},
-          "ranks": 1, "sequence_ms": 960.0, "wall_ms": 1100.0, "workers": [)" +
-                                                      worker(0, 0, "cuda", gpu, "frames", 12, 959.0) + "]"));
+    fs::path sequence =
+        prism::test::write_file("scale-turntable-cuda.json",
+                                sequence_stats(960.0, "cuda", 1100.0, worker(0, 0, "cuda", gpu, "frames", 12, 959.0)));
     fs::path cuda_cpu = prism::test::write_file(
         "scale-cuda-cpu.json",
-        render_stats(72.0, "cuda,cpu",
-                     R"(, "ranks": 1, "tile_size": 64, "tiles": 15, "wall_ms": 90.0, "workers": [)" +
-                         worker(0, 0, "cuda", gpu, "tiles", 13, 70.0) + ", " +
-                         worker(0, 1, "cpu", host, "tiles", 2, 71.0) + "]"));
-    fs::path all = prism::test::write_file(
-        "scale-cuda-all.json",
-        render_stats(42.0, "cuda:all",
-                     R"(, "ranks": 1, "tile_size": 64, "tiles": 15, "wall_ms": 60.0, "workers": [)" +
-                         worker(0, 0, "cuda:0", gpu, "tiles", 8, 41.0) + ", " +
-                         worker(0, 1, "cuda:1", gpu, "tiles", 7, 40.0) + "]"));
-    fs::path turntable = prism::test::write_file(
-        "scale-turntable-cuda-cpu.json", render_stats(900.0, "cuda,cpu",
-                                                      R"(, "frames": {"first": 0, "last": 11, "pattern": "t/f%04d.png"},
-          "ranks": 1, "sequence_ms": 900.0, "wall_ms": 1000.0, "workers": [)" +
-                                                          worker(0, 0, "cuda", gpu, "frames", 11, 880.0) + ", " +
-                                                          worker(0, 1, "cpu", host, "frames", 1, 890.0) + "]"));
+        tiled_stats(72.0, "cuda,cpu", 90.0,
+                    worker(0, 0, "cuda", gpu, "tiles", 13, 70.0) + ", " + worker(0, 1, "cpu", host, "tiles", 2, 71.0)));
+    fs::path all = prism::test::write_file("scale-cuda-all.json",
+                                           tiled_stats(42.0, "cuda:all", 60.0,
+                                                       worker(0, 0, "cuda:0", gpu, "tiles", 8, 41.0) + ", " +
+                                                           worker(0, 1, "cuda:1", gpu, "tiles", 7, 40.0)));
+    fs::path turntable = prism::test::write_file("scale-turntable-cuda-cpu.json",
+                                                 sequence_stats(900.0, "cuda,cpu", 1000.0,
+                                                                worker(0, 0, "cuda", gpu, "frames", 11, 880.0) + ", " +
+                                                                    worker(0, 1, "cpu", host, "frames", 1, 890.0)));
     fs::path out = prism::test::temp_dir("plot-bench") / "scale.png";
     fs::remove(out);
     EXPECT_NO_THROW(prism::bench::run_plot_script({cuda_cpu, all, turntable}, out, "test", {frame, sequence}));

@@ -32,12 +32,7 @@ Scene load_anywhere(const std::filesystem::path& path) {
 }
 
 std::string error_message(const std::filesystem::path& path) {
-    try {
-        load_anywhere(path);
-    } catch (const Error& error) {
-        return error.what();
-    }
-    return "no error";
+    return test::error_message([&] { (void)load_anywhere(path); });
 }
 
 const Instance* find_instance(const Scene& scene, const std::string& name) {

@@ -50,6 +50,23 @@ CommandResult view_with_input(const std::string& arguments, const std::string& i
     return prism::test::run_prism("view " + arguments, "xvfb-run -a sh '" + script.string() + "'");
 }
 
+// `prism view` of the small scene under Xvfb without the panel, scripted by `arguments` (--frames, --keys ...), and
+// the --stats JSON it wrote (null when it failed).
+struct ScriptedView {
+    CommandResult result;
+    nlohmann::json stats;
+};
+ScriptedView scripted_view(const std::string& name, const std::string& arguments) {
+    std::filesystem::path stats = prism::test::temp_dir("viewer-live") / (name + ".json");
+    std::filesystem::remove(stats);
+    ScriptedView view{
+        prism::test::run_prism("view " + kSmall + " --no-panel " + arguments + " --stats '" + stats.string() + "'",
+                               "xvfb-run -a"),
+        nullptr};
+    if (std::filesystem::exists(stats)) view.stats = read_json(stats);
+    return view;
+}
+
 glm::vec3 json_vec3(const nlohmann::json& value) {
     return {value.at(0).get<float>(), value.at(1).get<float>(), value.at(2).get<float>()};
 }
@@ -78,11 +95,8 @@ TEST(ViewerLive, HeldKeyMovesTheCameraByTheTimeItIsHeld) {
 // The script goes through the same held-key path: W held for 1.5 s moves the camera by exactly 1.5 s of speed.
 TEST(ViewerLive, ScriptedHoldMovesByItsTime) {
     REQUIRE_XVFB();
-    std::filesystem::path stats = prism::test::temp_dir("viewer-live") / "scripted.json";
-    CommandResult result = prism::test::run_prism(
-        "view " + kSmall + " --no-panel --frames 2 --keys 0:W:1.5 --stats '" + stats.string() + "'", "xvfb-run -a");
+    auto [result, json] = scripted_view("scripted", "--frames 2 --keys 0:W:1.5");
     ASSERT_EQ(result.exit_code, 0) << result.output;
-    nlohmann::json json = read_json(stats);
     glm::vec3 start{0.0f, 2.2f, 5.5f};
     float speed = json["camera"]["fly_speed"];
     EXPECT_NEAR(glm::length(json_vec3(json["camera"]["position"]) - start), 1.5f * speed, 1e-3f * speed);
@@ -141,11 +155,8 @@ TEST(ViewerLive, DropLoadsTheFileAndABadOneOnlySaysWhy) {
 // the camera.
 TEST(ViewerLive, FrameAndReloadKeys) {
     REQUIRE_XVFB();
-    std::filesystem::path stats = prism::test::temp_dir("viewer-live") / "frame-reload.json";
-    CommandResult result = prism::test::run_prism(
-        "view " + kSmall + " --no-panel --frames 3 --keys 0:F,1:L --stats '" + stats.string() + "'", "xvfb-run -a");
+    auto [result, json] = scripted_view("frame-reload", "--frames 3 --keys 0:F,1:L");
     ASSERT_EQ(result.exit_code, 0) << result.output;
-    nlohmann::json json = read_json(stats);
     EXPECT_EQ(json["files_loaded"], 1) << result.output;
     EXPECT_EQ(json["load_errors"], 0) << result.output;
     glm::vec3 target = json_vec3(json["camera"]["target"]);
@@ -251,15 +262,11 @@ TEST(ViewerLive, StillWindowRendersNoNewFrames) {
 // Moving renders below full resolution (a fixed quarter here), and the frame after the move is full size again.
 TEST(ViewerLive, MovingRendersSmallerThenRefines) {
     REQUIRE_XVFB();
-    std::filesystem::path dir = prism::test::temp_dir("viewer-live");
     for (int frames : {1, 2}) {
-        std::filesystem::path stats = dir / ("scale-" + std::to_string(frames) + ".json");
-        CommandResult result =
-            prism::test::run_prism("view " + kSmall + " --no-panel --interactive-scale 0.25 --keys 0:D:0.5 --frames " +
-                                       std::to_string(frames) + " --stats '" + stats.string() + "'",
-                                   "xvfb-run -a");
+        auto [result, json] =
+            scripted_view("scale-" + std::to_string(frames),
+                          "--interactive-scale 0.25 --keys 0:D:0.5 --frames " + std::to_string(frames));
         ASSERT_EQ(result.exit_code, 0) << result.output;
-        nlohmann::json json = read_json(stats);
         EXPECT_EQ(json["width"], frames == 1 ? 40 : 160) << result.output;  // the last frame's size
         EXPECT_EQ(json["height"], frames == 1 ? 23 : 90);
         EXPECT_EQ(json["window"]["width"], 160);

@@ -1,6 +1,7 @@
 #include "core/loaders/environment_maps.h"
 
 #include <array>
+#include <vector>
 
 #include "core/util/error.h"
 #include "core/image/image_io.h"
@@ -20,6 +21,18 @@ std::filesystem::path find_face(const std::filesystem::path& folder, const char*
     return {};
 }
 
+// The scene's environment becomes a map of `kind` over these images (sRGB, or RGBE .hdr), added to its textures.
+void use_environment_map(Scene& scene, EnvironmentKind kind, const std::vector<std::filesystem::path>& files) {
+    Environment environment;
+    environment.kind = kind;
+    environment.color = glm::vec3(1.0f);
+    for (const std::filesystem::path& file : files) {
+        scene.textures.push_back(load_texture(file, true));
+        environment.textures.push_back(static_cast<uint32_t>(scene.textures.size() - 1));
+    }
+    scene.environment = environment;
+}
+
 }  // namespace
 
 bool is_cube_map_folder(const std::filesystem::path& folder) {
@@ -33,27 +46,19 @@ bool is_cube_map_folder(const std::filesystem::path& folder) {
 void load_cube_map(const std::filesystem::path& folder, Scene& scene) {
     std::error_code error;
     if (!std::filesystem::is_directory(folder, error)) throw file_error(folder.string(), "no such cube-map folder");
-    Environment environment;
-    environment.kind = EnvironmentKind::CubeMap;
-    environment.color = glm::vec3(1.0f);
+    std::vector<std::filesystem::path> faces;
     for (const char* face : kFaceNames) {
-        std::filesystem::path file = find_face(folder, face);
-        if (file.empty()) throw file_error((folder / (std::string(face) + ".png")).string(), "cube-map face not found");
-        scene.textures.push_back(load_texture(file, true));
-        environment.textures.push_back(static_cast<uint32_t>(scene.textures.size() - 1));
+        faces.push_back(find_face(folder, face));
+        if (faces.back().empty())
+            throw file_error((folder / (std::string(face) + ".png")).string(), "cube-map face not found");
     }
-    scene.environment = environment;
+    use_environment_map(scene, EnvironmentKind::CubeMap, faces);
 }
 
 void load_equirect_map(const std::filesystem::path& file, Scene& scene) {
     std::error_code error;
     if (!std::filesystem::is_regular_file(file, error)) throw file_error(file.string(), "no such file");
-    Environment environment;
-    environment.kind = EnvironmentKind::Equirect;
-    environment.color = glm::vec3(1.0f);
-    scene.textures.push_back(load_texture(file, true));
-    environment.textures.push_back(static_cast<uint32_t>(scene.textures.size() - 1));
-    scene.environment = environment;
+    use_environment_map(scene, EnvironmentKind::Equirect, {file});
 }
 
 }  // namespace prism

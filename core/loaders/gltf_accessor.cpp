@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
+#include <type_traits>
 
 #include <tiny_gltf.h>
 
@@ -40,28 +42,21 @@ T load_unaligned(const uint8_t* bytes) {
 }
 
 // Normalized integers follow the glTF spec: unsigned c / max, signed max(c / max, -1).
+template <typename T>
+double integer(const uint8_t* bytes, bool normalized) {
+    double c = load_unaligned<T>(bytes);
+    if (!normalized) return c;
+    double scaled = c / static_cast<double>(std::numeric_limits<T>::max());
+    return std::is_signed_v<T> ? std::max(scaled, -1.0) : scaled;
+}
+
 double decode(const uint8_t* bytes, int component_type, bool normalized) {
     switch (component_type) {
-        case TINYGLTF_COMPONENT_TYPE_BYTE: {
-            double c = load_unaligned<int8_t>(bytes);
-            return normalized ? std::max(c / 127.0, -1.0) : c;
-        }
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
-            double c = load_unaligned<uint8_t>(bytes);
-            return normalized ? c / 255.0 : c;
-        }
-        case TINYGLTF_COMPONENT_TYPE_SHORT: {
-            double c = load_unaligned<int16_t>(bytes);
-            return normalized ? std::max(c / 32767.0, -1.0) : c;
-        }
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-            double c = load_unaligned<uint16_t>(bytes);
-            return normalized ? c / 65535.0 : c;
-        }
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
-            double c = load_unaligned<uint32_t>(bytes);
-            return normalized ? c / 4294967295.0 : c;
-        }
+        case TINYGLTF_COMPONENT_TYPE_BYTE: return integer<int8_t>(bytes, normalized);
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return integer<uint8_t>(bytes, normalized);
+        case TINYGLTF_COMPONENT_TYPE_SHORT: return integer<int16_t>(bytes, normalized);
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return integer<uint16_t>(bytes, normalized);
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return integer<uint32_t>(bytes, normalized);
         default: return load_unaligned<float>(bytes);
     }
 }

@@ -185,22 +185,17 @@ Material MaterialConverter::convert(int index) {
     material.diffuse = glm::vec3(base);
     material.use_vertex_colors = true;
 
-    if (auto base_layer =
-            layer(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
-                  extension(pbr.baseColorTexture.extensions, "KHR_texture_transform"), true, material.name))
-        material.textures.push_back(*base_layer);
-    material.metal_rough_map =
-        layer(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
-              extension(pbr.metallicRoughnessTexture.extensions, "KHR_texture_transform"), false, material.name);
-    material.emissive_map =
-        layer(source.emissiveTexture.index, source.emissiveTexture.texCoord,
-              extension(source.emissiveTexture.extensions, "KHR_texture_transform"), true, material.name);
-    material.occlusion_map =
-        layer(source.occlusionTexture.index, source.occlusionTexture.texCoord,
-              extension(source.occlusionTexture.extensions, "KHR_texture_transform"), false, material.name);
-    material.normal_map =
-        layer(source.normalTexture.index, source.normalTexture.texCoord,
-              extension(source.normalTexture.extensions, "KHR_texture_transform"), false, material.name);
+    // A texture reference of the material (tinygltf's TextureInfo, NormalTextureInfo or OcclusionTextureInfo) as a
+    // layer; colour textures are sRGB, data textures linear.
+    auto layer_of = [&](const auto& info, bool srgb) {
+        return layer(info.index, info.texCoord, extension(info.extensions, "KHR_texture_transform"), srgb,
+                     material.name);
+    };
+    if (auto base_layer = layer_of(pbr.baseColorTexture, true)) material.textures.push_back(*base_layer);
+    material.metal_rough_map = layer_of(pbr.metallicRoughnessTexture, false);
+    material.emissive_map = layer_of(source.emissiveTexture, true);
+    material.occlusion_map = layer_of(source.occlusionTexture, false);
+    material.normal_map = layer_of(source.normalTexture, false);
     material.normal_scale = static_cast<float>(source.normalTexture.scale);
     material.metal_rough = true;
     material.metallic = metallic;

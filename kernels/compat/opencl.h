@@ -23,32 +23,7 @@
 // has bit k set for lane k; rt_float8 is two float4 halves (lanes 0-3, 4-7). OpenCL C 1.2 has clz but no ctz.
 #define rt_min4(a, b) fmin((a), (b))
 #define rt_max4(a, b) fmax((a), (b))
-RT_FUNC uint rt_mask_le4(float4 a, float4 b) {
-    return (a.x <= b.x ? 1u : 0u) | (a.y <= b.y ? 2u : 0u) | (a.z <= b.z ? 4u : 0u) | (a.w <= b.w ? 8u : 0u);
-}
-RT_FUNC uint rt_mask_lt4(float4 a, float4 b) {
-    return (a.x < b.x ? 1u : 0u) | (a.y < b.y ? 2u : 0u) | (a.z < b.z ? 4u : 0u) | (a.w < b.w ? 8u : 0u);
-}
-RT_FUNC float rt_lane(float4 v, uint k) { return k == 0u ? v.x : (k == 1u ? v.y : (k == 2u ? v.z : v.w)); }
-RT_FUNC uint rt_lane_u(uint4 v, uint k) { return k == 0u ? v.x : (k == 1u ? v.y : (k == 2u ? v.z : v.w)); }
-typedef struct rt_float8 {
-    float4 lo;
-    float4 hi;
-} rt_float8;
-RT_FUNC rt_float8 rt_make8(float4 lo, float4 hi) {
-    rt_float8 r;
-    r.lo = lo;
-    r.hi = hi;
-    return r;
-}
-RT_FUNC rt_float8 rt_splat8(float s) { return rt_make8((float4)(s), (float4)(s)); }
-RT_FUNC rt_float8 rt_sub8(rt_float8 a, rt_float8 b) { return rt_make8(a.lo - b.lo, a.hi - b.hi); }
-RT_FUNC rt_float8 rt_mul8(rt_float8 a, rt_float8 b) { return rt_make8(a.lo * b.lo, a.hi * b.hi); }
-RT_FUNC rt_float8 rt_min8(rt_float8 a, rt_float8 b) { return rt_make8(fmin(a.lo, b.lo), fmin(a.hi, b.hi)); }
-RT_FUNC rt_float8 rt_max8(rt_float8 a, rt_float8 b) { return rt_make8(fmax(a.lo, b.lo), fmax(a.hi, b.hi)); }
-RT_FUNC uint rt_mask_le8(rt_float8 a, rt_float8 b) { return rt_mask_le4(a.lo, b.lo) | (rt_mask_le4(a.hi, b.hi) << 4); }
-RT_FUNC float rt_lane8(rt_float8 v, uint k) { return k < 4u ? rt_lane(v.lo, k) : rt_lane(v.hi, k - 4u); }
-RT_FUNC uint rt_lane8_u(uint4 lo, uint4 hi, uint k) { return k < 4u ? rt_lane_u(lo, k) : rt_lane_u(hi, k - 4u); }
+#include "scalar_lanes.h"
 RT_FUNC uint rt_lowest_bit(uint x) { return 31u - clz(x & (0u - x)); }
 #define rt_abs(a) fabs(a)
 #define rt_sqrt(a) sqrt(a)
