@@ -6,9 +6,9 @@
 // AVX or SSE registers).
 //
 // The wide traversal is compiled for the cpu backends only (RT_WIDE_TRAVERSAL). A GPU kernel gets one register
-// count, the largest any of its paths needs, whichever layout a frame uses: with the wide path inside, CUDA's
-// intersect kernel went from 66 to 112 registers (shadow 60 to 101) and the dragon at 1080p from 83 to 112 ms on
-// the H100, and tracing the wide layout there was slower than the stack layout as well (docs/kernels.md).
+// count, the largest any of its paths needs, whichever layout a frame uses, so a wide path inside would slow every
+// GPU frame, and tracing the wide layout on a GPU was slower than the stack layout as well (measured in
+// docs/kernels.md).
 #ifndef RT_TRAVERSE_H
 #define RT_TRAVERSE_H
 #if defined(RT_CPU)

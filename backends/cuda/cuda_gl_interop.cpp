@@ -129,8 +129,8 @@ struct VirtualMemoryApi {
 
 // CUDA-GL through external memory: CUDA allocates the shared buffer (cuMemCreate, exportable as a POSIX fd), GL
 // imports it (GL_EXT_memory_object_fd) as the buffer it draws from, and the frame's copy into it is one
-// cudaMemcpyAsync on the stream — no per-frame cudaGraphicsMapResources/Unmap, which on the H100 cost the render
-// about 0.5 ms a frame. No semaphore crosses over (CUDA exports none, GL exports none): the frame's own
+// cudaMemcpyAsync on the stream — no per-frame cudaGraphicsMapResources/Unmap, which cost the render measurably
+// (docs/viewer.md). No semaphore crosses over (CUDA exports none, GL exports none): the frame's own
 // synchronisation (its counters read) orders GL's draw after the copy, and a GL fence the host waits on right
 // before the next copy orders that copy after GL's draw.
 class CudaExternalGlInterop final : public GlInterop {

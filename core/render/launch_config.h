@@ -1,9 +1,8 @@
 // The launch shape every GPU backend uses (docs/fairness.md): a fixed grid of work-groups per compute unit (SM on
 // NVIDIA), each of kWorkGroupSize invocations, and grid-stride loops over counts that live on the device.
 // 32 groups per compute unit rather than one resident wave: with grid-stride loops a grid larger than what fits at
-// once leaves a tail of groups that start late (Nsight Compute on the H100, dragon intersect at 8 groups per SM,
-// 66 registers: 7 resident, the 8th a partial wave estimated at up to 50% of the launch); many small waves make that
-// tail short whatever each compiler's register count is.
+// once leaves a tail of groups that start late (a partial wave; Nsight Compute measurements in docs/fairness.md);
+// many small waves make that tail short whatever each compiler's register count is.
 #pragma once
 
 namespace prism {
