@@ -34,18 +34,19 @@ RT_FUNC float3 rt_cubemap_lookup(float3 d) {
 
 RT_FUNC float3 rt_environment(KernelGlobals kg, float3 direction) {
     FrameParams frame = RT_FETCH(kg, frame, 0u);
-    float3 tint = rt_xyz(frame.environment) * frame.environment.w;
-    uint kind = frame.env.x;
+    float3 tint = rt_xyz(frame.environment) * frame.environment_intensity;
+    uint kind = frame.environment_kind;
     if (kind == RT_ENV_CUBEMAP) {
         float3 f = rt_cubemap_lookup(direction);
-        return rt_xyz(rt_sample_texture(kg, frame.env.y + rt_uint(f.x), make_float2(f.y, f.z), RT_SAMPLER_REPEAT)) *
+        return rt_xyz(rt_sample_texture(kg, frame.environment_texture + rt_uint(f.x), make_float2(f.y, f.z),
+                                        RT_SAMPLER_REPEAT)) *
                tint;
     }
     if (kind == RT_ENV_EQUIRECT) {
         float3 d = normalize(direction);
         float u = 0.5f + rt_atan2(d.x, -d.z) * (0.5f / RT_PI);
         float v = rt_acos(rt_min(rt_max(d.y, -1.0f), 1.0f)) * (1.0f / RT_PI);
-        return rt_xyz(rt_sample_texture(kg, frame.env.y, make_float2(u, v), RT_SAMPLER_REPEAT)) * tint;
+        return rt_xyz(rt_sample_texture(kg, frame.environment_texture, make_float2(u, v), RT_SAMPLER_REPEAT)) * tint;
     }
     return tint;
 }

@@ -30,8 +30,8 @@ RT_FUNC float2 rt_apply_uv_transform(TextureLayer layer, float2 uv) {
 
 // The texture of one texture_layers entry at a surface point: its uv set, its KHR_texture_transform.
 RT_FUNC float4 rt_sample_layer(KernelGlobals kg, TextureLayer layer, float4 uv) {
-    float2 coords = layer.info.z == 1u ? make_float2(uv.z, uv.w) : make_float2(uv.x, uv.y);
-    return rt_sample_texture(kg, layer.info.x, rt_apply_uv_transform(layer, coords), layer.info.w);
+    float2 coords = layer.uv_set == 1u ? make_float2(uv.z, uv.w) : make_float2(uv.x, uv.y);
+    return rt_sample_texture(kg, layer.texture_index, rt_apply_uv_transform(layer, coords), layer.sampling);
 }
 
 // The diffuse colour C at a surface point: the material colour and the interpolated vertex colour, then each
@@ -41,15 +41,15 @@ RT_FUNC float4 rt_sample_layer(KernelGlobals kg, TextureLayer layer, float4 uv) 
 RT_FUNC float3 rt_diffuse_color(KernelGlobals kg, Material material, float4 vertex_color, float4 uv, bool has_colors) {
     float3 c = rt_xyz(material.diffuse);
     if (material.diffuse.w != 0.0f) {
-        bool replace = (material.textures.z & RT_MATERIAL_VERTEX_REPLACE) != 0u;
+        bool replace = (material.flags & RT_MATERIAL_VERTEX_REPLACE) != 0u;
         c = replace ? (has_colors ? rt_xyz(vertex_color) : c) : c * rt_xyz(vertex_color);
     }
-    uint first = material.textures.x;
-    uint count = material.textures.y;
+    uint first = material.first_layer;
+    uint count = material.layer_count;
     for (uint k = 0u; k < count; ++k) {
         TextureLayer layer = RT_FETCH(kg, texture_layers, first + k);
         float4 t = rt_sample_layer(kg, layer, uv);
-        c = rt_texture_environment(layer.info.y, c, t, rt_xyz(layer.environment_color));
+        c = rt_texture_environment(layer.mode, c, t, rt_xyz(layer.environment_color));
     }
     return c;
 }
@@ -57,12 +57,12 @@ RT_FUNC float3 rt_diffuse_color(KernelGlobals kg, Material material, float4 vert
 // How much of the surface is there (glTF alphaMode): 1 for opaque materials; MASK gives 0 or 1 against the cutoff,
 // BLEND the alpha itself. Alpha is the factor times the texture stack's alpha (modulated) times the vertex alpha.
 RT_FUNC float rt_coverage(KernelGlobals kg, Material material, float4 vertex_color, float4 uv) {
-    uint flags = material.textures.z;
+    uint flags = material.flags;
     if ((flags & (RT_MATERIAL_ALPHA_MASK | RT_MATERIAL_ALPHA_BLEND)) == 0u) return 1.0f;
-    float alpha = rt_as_float(material.textures.w);
+    float alpha = material.alpha;
     if (material.diffuse.w != 0.0f) alpha = alpha * vertex_color.w;
-    for (uint k = 0u; k < material.textures.y; ++k) {
-        TextureLayer layer = RT_FETCH(kg, texture_layers, material.textures.x + k);
+    for (uint k = 0u; k < material.layer_count; ++k) {
+        TextureLayer layer = RT_FETCH(kg, texture_layers, material.first_layer + k);
         alpha = alpha * rt_sample_layer(kg, layer, uv).w;
     }
     if ((flags & RT_MATERIAL_ALPHA_MASK) != 0u) return alpha >= material.emissive.w ? 1.0f : 0.0f;
@@ -94,15 +94,15 @@ RT_FUNC SurfaceTerms rt_surface_terms(KernelGlobals kg, Material m, float3 color
     SurfaceTerms terms;
     float4 white = make_float4(1.0f, 1.0f, 1.0f, 1.0f);
     // KHR_materials_specular's textures: A scales the whole Fresnel term, RGB tints the dielectric reflection.
-    float specular_texel = rt_sample_map(kg, m.specular_maps.x, uv, white).w;
-    float3 specular_tint = rt_xyz(rt_sample_map(kg, m.specular_maps.y, uv, white));
+    float specular_texel = rt_sample_map(kg, m.specular_map, uv, white).w;
+    float3 specular_tint = rt_xyz(rt_sample_map(kg, m.specular_color_map, uv, white));
     terms.specular = rt_float4(rt_xyz(m.specular) * specular_tint, m.specular.w);
     terms.fresnel = make_float4(rt_fresnel_reflection(m.fresnel, i_dot_n) * specular_texel, 0.0f, 0.0f, 0.0f);
-    terms.emission = rt_float4(rt_xyz(m.emissive) * rt_xyz(rt_sample_map(kg, m.maps.y, uv, white)), 1.0f);
-    if ((m.textures.z & RT_MATERIAL_METAL_ROUGH) != 0u) {
-        float4 texel = rt_sample_map(kg, m.maps.x, uv, white);
-        float metallic = m.metal_rough.x * texel.z;
-        float gloss = 1.0f - 0.5f * (m.metal_rough.y * texel.y);
+    terms.emission = rt_float4(rt_xyz(m.emissive) * rt_xyz(rt_sample_map(kg, m.emissive_map, uv, white)), 1.0f);
+    if ((m.flags & RT_MATERIAL_METAL_ROUGH) != 0u) {
+        float4 texel = rt_sample_map(kg, m.metal_rough_map, uv, white);
+        float metallic = m.metallic * texel.z;
+        float gloss = 1.0f - 0.5f * (m.roughness * texel.y);
         if (m.ambient.w > 0.0f) {
             terms.specular = rt_float4(rt_lerp3(rt_xyz(terms.specular), color, metallic), m.specular.w);
         } else {
@@ -112,8 +112,8 @@ RT_FUNC SurfaceTerms rt_surface_terms(KernelGlobals kg, Material m, float3 color
             terms.specular = rt_float4(r > 0.0f ? reflected * (1.0f / r) : rt_xyz(terms.specular), r);
             terms.fresnel.x = 1.0f;
         }
-        float occlusion = rt_sample_map(kg, m.maps.z, uv, white).x;
-        terms.emission.w = 1.0f + m.metal_rough.z * (occlusion - 1.0f);
+        float occlusion = rt_sample_map(kg, m.occlusion_map, uv, white).x;
+        terms.emission.w = 1.0f + m.occlusion_strength * (occlusion - 1.0f);
     }
     return terms;
 }

@@ -23,18 +23,19 @@ RT_STRUCT_BEGIN(Surface)
     float4 geometric;  // geometric normal; w = 1 when the ray arrives from outside (the front side)
     float4 vertex_color;
     float4 uv;  // TEXCOORD_0 in xy, TEXCOORD_1 in zw
-    uint4 ids;  // x = material, y = RT_VERTEX_HAS_COLOR when the mesh has vertex colours
+    uint material;
+    uint has_vertex_color;  // RT_VERTEX_HAS_COLOR when the mesh has vertex colours, else 0
 RT_STRUCT_END(Surface)
 
 // `shading_normal` false leaves the shading normal at the geometric one (no vertex normals, no normal map): what a
 // shadow ray needs to know of a surface it meets (where it is, its material, uv and vertex colour) costs less.
 RT_FUNC Surface rt_surface_at(KernelGlobals kg, float3 direction, Hit hit, bool shading_normal) {
-    Instance inst = RT_FETCH(kg, instances, hit.ids.x);
-    TriangleGeometry geometry = RT_FETCH(kg, triangles, hit.ids.z);
-    TriangleShading shading = RT_FETCH(kg, triangle_shading, inst.info.z + hit.ids.y);
-    Vertex a = RT_FETCH(kg, vertices, shading.vertices.x);
-    Vertex b = RT_FETCH(kg, vertices, shading.vertices.y);
-    Vertex c = RT_FETCH(kg, vertices, shading.vertices.z);
+    Instance inst = RT_FETCH(kg, instances, hit.instance);
+    TriangleGeometry geometry = RT_FETCH(kg, triangles, hit.slot);
+    TriangleShading shading = RT_FETCH(kg, triangle_shading, inst.first_shading + hit.primitive);
+    Vertex a = RT_FETCH(kg, vertices, shading.vertex0);
+    Vertex b = RT_FETCH(kg, vertices, shading.vertex1);
+    Vertex c = RT_FETCH(kg, vertices, shading.vertex2);
     float u = hit.tuv.y;
     float v = hit.tuv.z;
     float w = 1.0f - u - v;
@@ -53,8 +54,8 @@ RT_FUNC Surface rt_surface_at(KernelGlobals kg, float3 direction, Hit hit, bool 
     }
     // A normal map tilts the shading normal in the frame of the interpolated tangent, bitangent and normal
     // (glTF: tangent along +u, bitangent = cross(normal, tangent) * sign; texel 0.5 is no tilt).
-    Material material = RT_FETCH(kg, materials, shading.vertices.w);
-    if (shading_normal && material.maps.w != RT_NONE && a.tangent.w != 0.0f) {
+    Material material = RT_FETCH(kg, materials, shading.material);
+    if (shading_normal && material.normal_map != RT_NONE && a.tangent.w != 0.0f) {
         float3 t_object = rt_xyz(a.tangent) * w + rt_xyz(b.tangent) * u + rt_xyz(c.tangent) * v;
         float3 t_world =
             rt_transform_vector(inst.object_to_world0, inst.object_to_world1, inst.object_to_world2, t_object);
@@ -63,8 +64,8 @@ RT_FUNC Surface rt_surface_at(KernelGlobals kg, float3 direction, Hit hit, bool 
             t_world = normalize(t_world);
             float3 bitangent = cross(n, t_world) * (a.tangent.w < 0.0f ? -1.0f : 1.0f);
             float4 uv4 = a.uv * w + b.uv * u + c.uv * v;
-            float4 texel = rt_sample_layer(kg, RT_FETCH(kg, texture_layers, material.maps.w), uv4);
-            float scale = material.metal_rough.w;
+            float4 texel = rt_sample_layer(kg, RT_FETCH(kg, texture_layers, material.normal_map), uv4);
+            float scale = material.normal_scale;
             float3 tilt =
                 make_float3((2.0f * texel.x - 1.0f) * scale, (2.0f * texel.y - 1.0f) * scale, 2.0f * texel.z - 1.0f);
             float3 mapped = t_world * tilt.x + bitangent * tilt.y + n * tilt.z;
@@ -87,7 +88,8 @@ RT_FUNC Surface rt_surface_at(KernelGlobals kg, float3 direction, Hit hit, bool 
     s.geometric = rt_float4(ng_facing, front ? 1.0f : 0.0f);
     s.vertex_color = a.color * w + b.color * u + c.color * v;
     s.uv = a.uv * w + b.uv * u + c.uv * v;
-    s.ids = make_uint4(shading.vertices.w, vertex_flags & RT_VERTEX_HAS_COLOR, 0u, 0u);
+    s.material = shading.material;
+    s.has_vertex_color = vertex_flags & RT_VERTEX_HAS_COLOR;
     return s;
 }
 
@@ -102,7 +104,7 @@ RT_STRUCT_BEGIN(ShadeResult)
     float4 normal;        // xyz: shading normal facing the ray
     float4 geometric;     // xyz: geometric normal facing the ray
     Ray children[RT_MAX_CHILDREN];
-    uint4 counts;  // x = number of children
+    uint child_count;
 RT_STRUCT_END(ShadeResult)
 
 RT_FUNC Ray rt_make_ray(float3 origin, float3 direction, float3 weight, uint pixel, uint mask, uint depth) {
@@ -110,7 +112,10 @@ RT_FUNC Ray rt_make_ray(float3 origin, float3 direction, float3 weight, uint pix
     r.origin = rt_float4(origin, 0.0f);
     r.direction = rt_float4(direction, RT_INFINITY);
     r.weight = rt_float4(weight, 0.0f);
-    r.info = make_uint4(pixel, mask, depth, 0u);
+    r.pixel = pixel;
+    r.channels = mask;
+    r.depth = depth;
+    r.unused = 0u;
     return r;
 }
 
@@ -148,7 +153,7 @@ RT_FUNC ShadeResult rt_shade(KernelGlobals kg, Ray ray, Hit hit) {
     FrameParams frame = RT_FETCH(kg, frame, 0u);
     float3 d = rt_xyz(ray.direction);
     Surface s = rt_surface(kg, rt_xyz(ray.origin), d, hit);
-    Material m = RT_FETCH(kg, materials, s.ids.x);
+    Material m = RT_FETCH(kg, materials, s.material);
     float3 n = rt_xyz(s.normal);
     float3 ng = rt_xyz(s.geometric);
     // A partly covered surface (alpha) shades with the covered share of the ray's weight; the rest passes on.
@@ -161,11 +166,11 @@ RT_FUNC ShadeResult rt_shade(KernelGlobals kg, Ray ray, Hit hit) {
     }
     float3 weight = arriving * coverage;
     float3 passing = arriving * (1.0f - coverage);
-    uint pixel = ray.info.x;
-    uint mask = ray.info.y;
-    uint depth = ray.info.z;
+    uint pixel = ray.pixel;
+    uint mask = ray.channels;
+    uint depth = ray.depth;
 
-    float3 color = rt_diffuse_color(kg, m, s.vertex_color, s.uv, s.ids.y != 0u);
+    float3 color = rt_diffuse_color(kg, m, s.vertex_color, s.uv, s.has_vertex_color != 0u);
     SurfaceTerms terms = rt_surface_terms(kg, m, color, s.uv, dot(d, n));
     float reflectivity = terms.specular.w;
     float transmittance = m.ambient.w;
@@ -180,10 +185,10 @@ RT_FUNC ShadeResult rt_shade(KernelGlobals kg, Ray ray, Hit hit) {
     result.lit_origin = rt_float4(rt_offset_ray_origin(rt_xyz(s.position), ng), 0.0f);
     result.normal = s.normal;
     result.geometric = s.geometric;
-    result.counts = make_uint4(0u, 0u, 0u, 0u);
+    result.child_count = 0u;
     uint count = 0u;
-    if (depth + 1u < frame.size.z) {
-        float min_weight = frame.ambient_light.w;
+    if (depth + 1u < frame.max_depth) {
+        float min_weight = frame.min_weight;
         if (rt_max3(passing) > min_weight) {
             float3 through = rt_offset_ray_origin(rt_xyz(s.position), -ng);
             result.children[count] = rt_make_ray(through, d, passing, pixel, mask, depth + 1u);
@@ -216,7 +221,7 @@ RT_FUNC ShadeResult rt_shade(KernelGlobals kg, Ray ray, Hit hit) {
             }
         }
     }
-    result.counts.x = count;
+    result.child_count = count;
     return result;
 }
 
@@ -247,7 +252,10 @@ RT_FUNC ShadowRay rt_shadow_ray(KernelGlobals kg, ShadeResult shade, uint index,
     sr.direction = rt_float4(to_light, distance);
     float3 contribution = rt_xyz(shade.light_weight) * rt_xyz(light.color) * (rt_max(cosine, 0.0f) * falloff);
     sr.contribution = rt_float4(contribution, cosine > 0.0f && rt_max3(contribution) > 0.0f ? 1.0f : 0.0f);
-    sr.info = make_uint4(pixel, 0u, 0u, 0u);
+    sr.pixel = pixel;
+    sr.unused0 = 0u;
+    sr.unused1 = 0u;
+    sr.unused2 = 0u;
     return sr;
 }
 

@@ -10,30 +10,30 @@
 #include "shade.h"
 #include "traverse.h"
 
-RT_FUNC uint rt_queue_base(FrameParams frame, uint depth) { return (depth & 1u) * frame.env.z; }
+RT_FUNC uint rt_queue_base(FrameParams frame, uint depth) { return (depth & 1u) * frame.ray_capacity; }
 
 RT_FUNC uint rt_ray_count(KernelGlobals kg, uint depth) {
-    return rt_min_u(RT_FETCH(kg, counters, RT_COUNTER_RAYS + depth), RT_FETCH(kg, frame, 0u).env.z);
+    return rt_min_u(RT_FETCH(kg, counters, RT_COUNTER_RAYS + depth), RT_FETCH(kg, frame, 0u).ray_capacity);
 }
 
 RT_FUNC uint rt_shadow_count(KernelGlobals kg, uint depth) {
-    return rt_min_u(RT_FETCH(kg, counters, RT_COUNTER_SHADOWS + depth), RT_FETCH(kg, frame, 0u).env.w);
+    return rt_min_u(RT_FETCH(kg, counters, RT_COUNTER_SHADOWS + depth), RT_FETCH(kg, frame, 0u).shadow_capacity);
 }
 
 RT_FUNC uint rt_pixel_count(KernelGlobals kg) {
     FrameParams frame = RT_FETCH(kg, frame, 0u);
-    return frame.tile.z * frame.tile.w;
+    return frame.tile_width * frame.tile_height;
 }
 
 // Primary rays through pixel centres of a pinhole camera (thesis 6.3: "rays share the camera position").
 // `index` counts the pixels of the frame's tile; the ray carries it, so accumulation and the image are per tile.
 RT_FUNC Ray rt_primary_ray(FrameParams frame, uint index) {
-    uint x = frame.tile.x + index % frame.tile.z;
-    uint y = frame.tile.y + index / frame.tile.z;
-    float tan_half = frame.camera_position.w;
-    float aspect = frame.camera_forward.w;
-    float px = (2.0f * (rt_float(x) + 0.5f) / rt_float(frame.size.x) - 1.0f) * tan_half * aspect;
-    float py = (1.0f - 2.0f * (rt_float(y) + 0.5f) / rt_float(frame.size.y)) * tan_half;
+    uint x = frame.tile_x + index % frame.tile_width;
+    uint y = frame.tile_y + index / frame.tile_width;
+    float tan_half = frame.tan_half_fov;
+    float aspect = frame.aspect;
+    float px = (2.0f * (rt_float(x) + 0.5f) / rt_float(frame.width) - 1.0f) * tan_half * aspect;
+    float py = (1.0f - 2.0f * (rt_float(y) + 0.5f) / rt_float(frame.height)) * tan_half;
     float3 dir =
         normalize(rt_xyz(frame.camera_forward) + rt_xyz(frame.camera_right) * px + rt_xyz(frame.camera_up) * py);
     return rt_make_ray(rt_xyz(frame.camera_position), dir, rt_splat3(1.0f), index, RT_CHANNEL_ALL, 0u);
@@ -47,7 +47,7 @@ RT_FUNC void rt_stage_generate(KernelGlobals kg, uint index) {
 RT_FUNC void rt_stage_intersect(KernelGlobals kg, uint index, uint depth) {
     FrameParams frame = RT_FETCH(kg, frame, 0u);
     Ray ray = RT_FETCH(kg, rays, rt_queue_base(frame, depth) + index);
-    bool any_hit = (frame.scene.z & RT_FLAG_ANY_HIT) != 0u;
+    bool any_hit = (frame.flags & RT_FLAG_ANY_HIT) != 0u;
     Hit hit = rt_trace(kg, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w, ray.direction.w, any_hit);
     RT_STORE(kg, hits, index, hit);
 }
@@ -58,7 +58,7 @@ RT_FUNC void rt_stage_miss(KernelGlobals kg, uint index, uint depth) {
     if (hit.tuv.x < RT_INFINITY) return;
     FrameParams frame = RT_FETCH(kg, frame, 0u);
     Ray ray = RT_FETCH(kg, rays, rt_queue_base(frame, depth) + index);
-    rt_accumulate(kg, ray.info.x, rt_xyz(ray.weight) * rt_environment(kg, rt_xyz(ray.direction)));
+    rt_accumulate(kg, ray.pixel, rt_xyz(ray.weight) * rt_environment(kg, rt_xyz(ray.direction)));
 }
 
 // Appends to a queue; a full queue drops the item and counts it (reported, and asserted zero in the tests).
@@ -78,16 +78,16 @@ RT_FUNC void rt_stage_shade(KernelGlobals kg, uint index, uint depth) {
     FrameParams frame = RT_FETCH(kg, frame, 0u);
     Ray ray = RT_FETCH(kg, rays, rt_queue_base(frame, depth) + index);
     ShadeResult shade = rt_shade(kg, ray, hit);
-    rt_accumulate(kg, ray.info.x, rt_xyz(shade.emitted));
-    for (uint l = 0u; l < frame.size.w; ++l) {
-        ShadowRay sr = rt_shadow_ray(kg, shade, l, ray.info.x);
+    rt_accumulate(kg, ray.pixel, rt_xyz(shade.emitted));
+    for (uint l = 0u; l < frame.light_count; ++l) {
+        ShadowRay sr = rt_shadow_ray(kg, shade, l, ray.pixel);
         if (sr.contribution.w == 0.0f) continue;
-        uint slot = rt_queue_slot(kg, RT_COUNTER_SHADOWS + depth, frame.env.w);
+        uint slot = rt_queue_slot(kg, RT_COUNTER_SHADOWS + depth, frame.shadow_capacity);
         if (slot != RT_NONE) RT_STORE(kg, shadow_rays, slot, sr);
     }
     uint next_base = rt_queue_base(frame, depth + 1u);
-    for (uint c = 0u; c < shade.counts.x; ++c) {
-        uint slot = rt_queue_slot(kg, RT_COUNTER_RAYS + depth + 1u, frame.env.z);
+    for (uint c = 0u; c < shade.child_count; ++c) {
+        uint slot = rt_queue_slot(kg, RT_COUNTER_RAYS + depth + 1u, frame.ray_capacity);
         if (slot != RT_NONE) RT_STORE(kg, rays, next_base + slot, shade.children[c]);
     }
 }
@@ -99,7 +99,7 @@ RT_FUNC void rt_stage_shade(KernelGlobals kg, uint index, uint depth) {
 // as it did before alpha shadows (a kernel holding both paths takes the registers of the larger one).
 RT_FUNC bool rt_alpha_shadows(KernelGlobals kg) {
     FrameParams frame = RT_FETCH(kg, frame, 0u);  // whole: see rt_trace
-    return (frame.scene.z & RT_FLAG_ALPHA_SHADOWS) != 0u;
+    return (frame.flags & RT_FLAG_ALPHA_SHADOWS) != 0u;
 }
 
 // All of a shadow ray's contribution reaches its point unless something lies between (one any-hit query).
@@ -121,7 +121,7 @@ RT_FUNC float3 rt_light_through_layers(KernelGlobals kg, ShadowRay sr) {
         Hit hit = rt_trace(kg, origin, direction, 0.0f, distance, false);
         if (!(hit.tuv.x < RT_INFINITY)) return reaching;
         Surface s = rt_surface_at(kg, direction, hit, false);
-        Material m = RT_FETCH(kg, materials, s.ids.x);
+        Material m = RT_FETCH(kg, materials, s.material);
         reaching = reaching * (1.0f - rt_coverage(kg, m, s.vertex_color, s.uv));
         if (!(rt_max3(reaching) > 0.0f)) break;
         // On from the surface's far side, the rest of the way (a directional light's stays infinite).
@@ -142,14 +142,14 @@ RT_FUNC float3 rt_light_reaching(KernelGlobals kg, ShadowRay sr) {
 RT_FUNC void rt_stage_shadow(KernelGlobals kg, uint index, uint depth) {
     ShadowRay sr = RT_FETCH(kg, shadow_rays, index);
     float3 reaching = rt_light_unblocked(kg, sr);
-    if (rt_max3(reaching) > 0.0f) rt_accumulate(kg, sr.info.x, reaching);
+    if (rt_max3(reaching) > 0.0f) rt_accumulate(kg, sr.pixel, reaching);
 }
 
 // What a light leaves through the cut-out and blended surfaces between it and the point.
 RT_FUNC void rt_stage_shadow_layers(KernelGlobals kg, uint index, uint depth) {
     ShadowRay sr = RT_FETCH(kg, shadow_rays, index);
     float3 reaching = rt_light_through_layers(kg, sr);
-    if (rt_max3(reaching) > 0.0f) rt_accumulate(kg, sr.info.x, reaching);
+    if (rt_max3(reaching) > 0.0f) rt_accumulate(kg, sr.pixel, reaching);
 }
 
 // Fixed point to linear radiance (for .hdr output) and to 8-bit sRGB (PNG, display). No tone curve: values

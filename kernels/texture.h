@@ -52,12 +52,12 @@ RT_FUNC int rt_wrap(int i, int size, uint mode) {
 }
 
 RT_FUNC float4 rt_texel(KernelGlobals kg, TextureInfo info, int x, int y, uint sampling) {
-    int width = rt_int(info.info.y);
-    int height = rt_int(info.info.z);
+    int width = rt_int(info.width);
+    int height = rt_int(info.height);
     int wx = rt_wrap(x, width, sampling & 3u);
     int wy = rt_wrap(y, height, (sampling >> 2u) & 3u);
-    uint offset = info.info.x + rt_uint(wy * width + wx);
-    return rt_decode_texel(RT_FETCH(kg, texels, offset), info.info.w);
+    uint offset = info.first_texel + rt_uint(wy * width + wx);
+    return rt_decode_texel(RT_FETCH(kg, texels, offset), info.encoding);
 }
 
 // Bilinear (or nearest with RT_SAMPLER_NEAREST) with the sampler's wrap modes (RT_SAMPLER_REPEAT: repeat both
@@ -65,8 +65,8 @@ RT_FUNC float4 rt_texel(KernelGlobals kg, TextureInfo info, int x, int y, uint s
 // a minification filter counts as its base filter.
 RT_FUNC float4 rt_sample_texture(KernelGlobals kg, uint texture, float2 uv, uint sampling) {
     TextureInfo info = RT_FETCH(kg, texture_infos, texture);
-    float x = uv.x * rt_float(info.info.y) - 0.5f;
-    float y = uv.y * rt_float(info.info.z) - 0.5f;
+    float x = uv.x * rt_float(info.width) - 0.5f;
+    float y = uv.y * rt_float(info.height) - 0.5f;
     if (!(rt_abs(x) < 1e8f && rt_abs(y) < 1e8f)) return make_float4(0.0f, 0.0f, 0.0f, 1.0f);  // NaN or huge uv
     if ((sampling & RT_SAMPLER_NEAREST) != 0u)
         return rt_texel(kg, info, rt_int(rt_floor(x + 0.5f)), rt_int(rt_floor(y + 0.5f)), sampling);

@@ -48,19 +48,24 @@ RT_FUNC TraversalRay rt_ray_to_object(Instance inst, TraversalRay world) {
 RT_FUNC Hit rt_no_hit() {
     Hit h;
     h.tuv = make_float4(RT_INFINITY, 0.0f, 0.0f, 0.0f);
-    h.ids = make_uint4(RT_NONE, RT_NONE, RT_NONE, 0u);
+    h.instance = RT_NONE;
+    h.primitive = RT_NONE;
+    h.slot = RT_NONE;
+    h.unused = 0u;
     return h;
 }
 
 // Tests the triangles [first, first + count) and returns the closer hit (or `best` unchanged).
-// ids.z keeps the triangle's slot in `triangles` so shading can rebuild its geometric normal.
+// The hit keeps the triangle's slot in `triangles` so shading can rebuild its geometric normal.
 RT_FUNC Hit rt_intersect_leaf(KernelGlobals kg, Hit best, TraversalRay ray, uint instance, uint first, uint count) {
     for (uint k = 0u; k < count; ++k) {
         TriangleGeometry tri = RT_FETCH(kg, triangles, first + k);
         float4 h = rt_intersect_triangle(tri, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w, best.tuv.x);
         if (h.x < best.tuv.x) {
             best.tuv = make_float4(h.x, h.y, h.z, 0.0f);
-            best.ids = make_uint4(instance, rt_as_uint(tri.v0.w), first + k, 0u);
+            best.instance = instance;
+            best.primitive = rt_as_uint(tri.v0.w);
+            best.slot = first + k;
         }
     }
     return best;
@@ -85,8 +90,9 @@ RT_FUNC Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, ui
             float t = rt_lane(hits.t, k);
             if (t < best.tuv.x) {
                 best.tuv = make_float4(t, rt_lane(hits.u, k), rt_lane(hits.v, k), 0.0f);
-                uint hit_instance = instance == RT_INSTANCE_PER_LANE ? rt_lane_u(block.instance, k) : instance;
-                best.ids = make_uint4(hit_instance, rt_lane_u(block.primitive, k), rt_lane_u(block.slot, k), 0u);
+                best.instance = instance == RT_INSTANCE_PER_LANE ? rt_lane_u(block.instance, k) : instance;
+                best.primitive = rt_lane_u(block.primitive, k);
+                best.slot = rt_lane_u(block.slot, k);
             }
         }
     }
@@ -137,7 +143,7 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
             // A top-level leaf holds one instance: enter its mesh BVH in object space.
             Instance inst = RT_FETCH(kg, instances, first);
             TraversalRay object_ray = rt_ray_to_object(inst, world);
-            uint root = inst.info.x;
+            uint root = inst.root;
             if (sp < rt_uint(RT_BVH_STACK_SIZE) &&
                 rt_intersect_node(RT_FETCH(kg, nodes, root), rt_xyz(object_ray.origin),
                                   rt_xyz(object_ray.inv_direction), tmin, best.tuv.x) < RT_INFINITY) {
@@ -151,7 +157,7 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
             }
         } else {
             best = rt_intersect_leaf(kg, best, ray, instance, first, count);
-            if (any_hit && best.ids.x != RT_NONE) return best;
+            if (any_hit && best.instance != RT_NONE) return best;
         }
         if (descended) continue;
         // Pop the next node that can still hold a closer hit.
@@ -168,7 +174,7 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
             }
         }
     }
-    if (best.ids.x == RT_NONE) best.tuv.x = RT_INFINITY;
+    if (best.instance == RT_NONE) best.tuv.x = RT_INFINITY;
     return best;
 }
 
@@ -208,23 +214,23 @@ RT_FUNC Hit rt_trace_escape(KernelGlobals kg, float3 origin, float3 direction, f
             ray = rt_ray_to_object(inst, world);
             instance = leaf_first;
             top_resume = escape;
-            index = inst.info.x;
+            index = inst.root;
             end = rt_as_uint(RT_FETCH(kg, nodes, index).lower.w);
         } else {
             best =
                 rt_intersect_leaf(kg, best, ray, instance, info & RT_ESCAPE_FIRST_MASK, info >> RT_ESCAPE_COUNT_SHIFT);
-            if (any_hit && best.ids.x != RT_NONE) return best;
+            if (any_hit && best.instance != RT_NONE) return best;
             index = escape;
         }
     }
-    if (best.ids.x == RT_NONE) best.tuv.x = RT_INFINITY;
+    if (best.instance == RT_NONE) best.tuv.x = RT_INFINITY;
     return best;
 }
 
 #if defined(RT_WIDE_TRAVERSAL)
 // An instance whose transform is the identity keeps the world ray (and its inverse direction) as it is.
 RT_FUNC TraversalRay rt_wide_ray_to_object(Instance inst, TraversalRay world) {
-    return (inst.info.w & RT_INSTANCE_IDENTITY) != 0u ? world : rt_ray_to_object(inst, world);
+    return (inst.flags & RT_INSTANCE_IDENTITY) != 0u ? world : rt_ray_to_object(inst, world);
 }
 
 // A pushed entry is visited later: start loading its node or its leaf's triangles now.
@@ -266,7 +272,7 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
         instance = 0u;
         Instance inst = RT_FETCH(kg, instances, 0u);
         ray = rt_wide_ray_to_object(inst, world);
-        current = inst.info.x;
+        current = inst.root;
     }
     bool going = true;
     while (going) {
@@ -351,7 +357,7 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
                 instance = first;
                 Instance inst = RT_FETCH(kg, instances, instance);
                 ray = rt_wide_ray_to_object(inst, world);
-                current = inst.info.x;
+                current = inst.root;
                 // The leave marker restores the world ray for the entries below it; with none, the walk ends
                 // with this instance and needs no marker (a ray that enters one instance only).
                 if (sp > 0u && sp < rt_uint(RT_BVH_WIDE_STACK_SIZE)) {
@@ -363,7 +369,7 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
             } else {
                 uint count = (current & 7u) + 1u;
                 best = rt_intersect_blocks(kg, best, ray, instance, first, count);
-                if (any_hit && best.ids.x != RT_NONE) return best;
+                if (any_hit && best.instance != RT_NONE) return best;
             }
         }
         if (descend) continue;
@@ -381,7 +387,7 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
             }
         }
     }
-    if (best.ids.x == RT_NONE) best.tuv.x = RT_INFINITY;
+    if (best.instance == RT_NONE) best.tuv.x = RT_INFINITY;
     return best;
 }
 
@@ -389,13 +395,14 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
 
 RT_FUNC Hit rt_trace(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit) {
     // The frame is loaded whole: Mesa 22.3's lavapipe, in the Vulkan backend's buffer-address mode, read
-    // RT_FETCH(kg, frame, 0u).scene.y as scene.x (the instance count) after the stage had loaded the frame.
+    // the frame's bvh_layout (a single field fetched from the frame array) as its instance count after the stage had
+    // loaded the frame.
     FrameParams frame = RT_FETCH(kg, frame, 0u);
-    uint bvh_layout = frame.scene.y;
+    uint bvh_layout = frame.bvh_layout;
 #if defined(RT_WIDE_TRAVERSAL)
     if (bvh_layout == RT_BVH_LAYOUT_WIDE)
-        return rt_trace_wide(kg, origin, direction, tmin, tmax, any_hit, (frame.scene.z & RT_FLAG_ONE_INSTANCE) != 0u,
-                             (frame.scene.z & RT_FLAG_FLAT_INSTANCES) != 0u);
+        return rt_trace_wide(kg, origin, direction, tmin, tmax, any_hit, (frame.flags & RT_FLAG_ONE_INSTANCE) != 0u,
+                             (frame.flags & RT_FLAG_FLAT_INSTANCES) != 0u);
 #endif
     // (A GPU backend never receives a wide scene: RenderEngine refuses it.)
     if (bvh_layout == RT_BVH_LAYOUT_ESCAPE) return rt_trace_escape(kg, origin, direction, tmin, tmax, any_hit);

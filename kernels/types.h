@@ -1,5 +1,6 @@
-// Every struct that lives in a device buffer. Rules (docs/kernels.md): only 4-byte scalars and 16-byte float4/uint4
-// members, sizes a multiple of 16, never a bare float3 (12 bytes in C++/CUDA, 16 in OpenCL, 16-aligned in GLSL).
+// Every struct that lives in a device buffer. Rules (docs/kernels.md): only 16-byte float4/uint4 members and 4-byte
+// scalars in rows of four, ids and counts as named members, sizes a multiple of 16, never a bare float3 (12 bytes in
+// C++/CUDA, 16 in OpenCL, 16-aligned in GLSL).
 // tests/ checks each struct's size and member offsets in all four languages against layout_table.h.
 #ifndef RT_TYPES_H
 #define RT_TYPES_H
@@ -21,7 +22,7 @@ RT_STRUCT_END(BvhNode)
 // Wide layout (the `wide_nodes` array; `nodes` then holds one unused node): 8-ary nodes collapsed from the binary
 // SAH tree, the eight child boxes stored per axis (members ending in 0: lanes 0-3, in 1: lanes 4-7; lane k =
 // child k), so a traversal tests all eight children with vector arithmetic (one AVX register, or two SSE ones, on
-// the cpu backend). Node 0 is the top-level root; a mesh's root is its Instance's info.x.
+// the cpu backend). Node 0 is the top-level root; a mesh's root is its Instance's root.
 //  lower_x0 .. upper_z1: child boxes; an unused (or empty) lane holds +inf in all six, a box the wide slab test
 //                        always rejects (its entry distance is +inf or its exit -inf)
 //  child0/1 lane k: an interior child: its node index; a leaf: RT_WIDE_LEAF | first << 3 | (count - 1), count
@@ -88,10 +89,13 @@ RT_STRUCT_BEGIN(TriangleBlock)
     uint4 instance;
 RT_STRUCT_END(TriangleBlock)
 
-// Per-triangle shading data in file order per mesh: indices into the vertex arrays.
-//  vertices.xyz = global vertex indices, vertices.w = material index
+// Per-triangle shading data in file order per mesh: its three vertices (global indices into `vertices`) and its
+// material.
 RT_STRUCT_BEGIN(TriangleShading)
-    uint4 vertices;
+    uint vertex0;
+    uint vertex1;
+    uint vertex2;
+    uint material;
 RT_STRUCT_END(TriangleShading)
 
 // Per-vertex shading attributes. normal.w = RT_VERTEX_* bits as a float: whether the mesh has vertex normals (else
@@ -104,9 +108,6 @@ RT_STRUCT_BEGIN(Vertex)
 RT_STRUCT_END(Vertex)
 
 // An instance of a mesh (thesis 6.2: the Node Primitive). Rows of 3x4 affine matrices.
-//  info.x = root of the mesh's BVH in nodes (in wide_nodes for the wide layout),
-//  info.y = first triangle of the mesh in triangles, info.z = first entry of the mesh in triangle_shading,
-//  info.w = RT_INSTANCE_* bits
 RT_STRUCT_BEGIN(Instance)
     float4 world_to_object0;
     float4 world_to_object1;
@@ -114,7 +115,10 @@ RT_STRUCT_BEGIN(Instance)
     float4 object_to_world0;
     float4 object_to_world1;
     float4 object_to_world2;
-    uint4 info;
+    uint root;            // root of the mesh's BVH in nodes (in wide_nodes for the wide layout)
+    uint first_triangle;  // the mesh's first triangle in triangles
+    uint first_shading;   // the mesh's first entry in triangle_shading
+    uint flags;           // RT_INSTANCE_* bits
 RT_STRUCT_END(Instance)
 
 #define RT_INSTANCE_MIRRORED 1u  // the transform mirrors (det < 0; informative)
@@ -123,14 +127,10 @@ RT_STRUCT_END(Instance)
 // ---- Materials and textures ----------------------------------------------------------------------------------
 // The seed's material (thesis 6.3, eq. 6.7). See core/scene/scene.h Material for the meaning of each field.
 //  diffuse.w = 1 to use vertex colours, specular.w = reflectivity r, ambient.w = transmittance t
-//  fresnel = (bias, scale, power, thickness), ior.xyz = per-channel IOR
-//  textures.x = first layer in texture_layers, textures.y = layer count, textures.z = RT_MATERIAL_* flags,
-//  textures.w = as_uint(alpha factor); emissive.w = alpha cutoff (RT_MATERIAL_ALPHA_MASK)
-//  metal_rough = (metallic factor, roughness factor, occlusion strength, normal scale): glTF's metallic-roughness
-//  model,
-//                read when RT_MATERIAL_METAL_ROUGH is set (material.h says how it maps onto the seed's terms)
-//  maps = texture_layers entries (RT_NONE: none) of the metallic-roughness (B = metallic, G = roughness),
-//         emissive (multiplies `emissive`), occlusion (R) and normal textures
+//  fresnel = (bias, scale, power, thickness), ior.xyz = per-channel IOR, emissive.w = alpha cutoff
+//  (RT_MATERIAL_ALPHA_MASK)
+// glTF's metallic-roughness model is read when RT_MATERIAL_METAL_ROUGH is set (material.h says how it maps onto
+// the seed's terms). The *_map members are texture_layers entries (RT_NONE: none).
 RT_STRUCT_BEGIN(Material)
     float4 diffuse;
     float4 specular;
@@ -138,12 +138,23 @@ RT_STRUCT_BEGIN(Material)
     float4 fresnel;
     float4 ior;
     float4 emissive;
-    uint4 textures;
-    float4 metal_rough;
-    uint4 maps;
-    float4 absorption;    // xyz: Beer-Lambert coefficients per unit length inside a solid medium (0: clear)
-    uint4 specular_maps;  // texture_layers entries (RT_NONE: none) of KHR_materials_specular's specularTexture
-                          // (A scales the Fresnel term) and specularColorTexture (RGB tints it); zw unused
+    uint first_layer;  // the base colour's layers: first in texture_layers, and how many
+    uint layer_count;
+    uint flags;       // RT_MATERIAL_* bits
+    float alpha;      // glTF alpha factor
+    float metallic;   // metallic factor
+    float roughness;  // roughness factor
+    float occlusion_strength;
+    float normal_scale;
+    uint metal_rough_map;  // B = metallic, G = roughness
+    uint emissive_map;     // multiplies `emissive`
+    uint occlusion_map;    // R
+    uint normal_map;
+    float4 absorption;        // xyz: Beer-Lambert coefficients per unit length inside a solid medium (0: clear)
+    uint specular_map;        // KHR_materials_specular's specularTexture: A scales the Fresnel term
+    uint specular_color_map;  // its specularColorTexture: RGB tints it
+    uint unused0;
+    uint unused1;
 RT_STRUCT_END(Material)
 
 #define RT_VERTEX_HAS_NORMAL 1u
@@ -153,7 +164,7 @@ RT_STRUCT_END(Material)
 // kernel; else they are the seed's constants.
 #define RT_MATERIAL_METAL_ROUGH 1u
 // glTF alphaMode: MASK cuts the surface out where alpha < the cutoff (emissive.w); BLEND lets 1 - alpha of the
-// light pass straight through. alpha = textures.w (the factor, as float bits) x base texture alpha x vertex alpha.
+// light pass straight through. alpha = the material's alpha factor x base texture alpha x vertex alpha.
 #define RT_MATERIAL_ALPHA_MASK 2u
 #define RT_MATERIAL_ALPHA_BLEND 4u
 // Vertex colours replace the material colour where the mesh has them (the seed's rule) instead of multiplying it.
@@ -164,10 +175,12 @@ RT_STRUCT_END(Material)
 #define RT_TEXMODE_MODULATE 2u
 #define RT_TEXMODE_BLEND 3u
 
-// info.x = texture index, info.y = mode, info.z = uv set, info.w = sampler (RT_WRAP_* of u in bits 0-1, of v in
-// bits 2-3, RT_SAMPLER_NEAREST); uv_row0/1 = KHR_texture_transform affine rows (xyz)
+// uv_row0/1 = KHR_texture_transform affine rows (xyz)
 RT_STRUCT_BEGIN(TextureLayer)
-    uint4 info;
+    uint texture_index;
+    uint mode;      // RT_TEXMODE_*
+    uint uv_set;    // 0: TEXCOORD_0, 1: TEXCOORD_1
+    uint sampling;  // RT_WRAP_* of u in bits 0-1, of v in bits 2-3, RT_SAMPLER_NEAREST
     float4 environment_color;
     float4 uv_row0;
     float4 uv_row1;
@@ -183,9 +196,11 @@ RT_STRUCT_END(TextureLayer)
 #define RT_TEXENC_LINEAR8 1u
 #define RT_TEXENC_RGBE 2u
 
-// info.x = first texel in texels, info.y = width, info.z = height, info.w = encoding
 RT_STRUCT_BEGIN(TextureInfo)
-    uint4 info;
+    uint first_texel;  // in texels
+    uint width;
+    uint height;
+    uint encoding;  // RT_TEXENC_*
 RT_STRUCT_END(TextureInfo)
 
 // ---- Lights and frame ----------------------------------------------------------------------------------------
@@ -222,54 +237,73 @@ RT_STRUCT_END(Light)
 // looking at what they hit (rt_light_through_layers), instead of the shadow stage's one any-hit query.
 #define RT_FLAG_ALPHA_SHADOWS 16u
 
-// One per frame (array of one element). The camera basis is precomputed on the host.
-//  camera_position.w = tan(vertical fov / 2), camera_forward.w = aspect ratio
-//  environment.xyz = constant colour or multiplier, environment.w = intensity
-//  ambient_light.w = the smallest ray weight still traced (Hall's adaptive depth control)
-//  size = (width, height, max depth, light count)
-//  env = (kind, first texture, queue capacity, shadow queue capacity)
-//  scene = (instance count, BVH layout, flags, ray count for queries)
+// One per frame (array of one element). The camera basis is precomputed on the host (xyz; w unused).
 RT_STRUCT_BEGIN(FrameParams)
     float4 camera_position;
     float4 camera_forward;
     float4 camera_right;
     float4 camera_up;
-    float4 environment;
-    float4 ambient_light;
-    uint4 size;
-    uint4 env;
-    uint4 scene;
-    // The pixel rectangle this launch renders: x, y of its top-left pixel and its width, height (the whole image
-    // unless a frame is split into tiles over devices or ranks). Queues, accumulation and the image are sized for
-    // the rectangle; the camera still spans `size`, so a tile's pixels are bit-identical to the whole frame's.
-    uint4 tile;
+    float4 environment;    // xyz: constant colour or multiplier
+    float4 ambient_light;  // xyz
+    float tan_half_fov;    // tan(vertical fov / 2)
+    float aspect;          // width / height
+    float environment_intensity;
+    float min_weight;  // the smallest ray weight still traced (Hall's adaptive depth control)
+    uint width;
+    uint height;
+    uint max_depth;
+    uint light_count;
+    uint environment_kind;     // RT_ENV_*
+    uint environment_texture;  // its first texture
+    uint ray_capacity;         // rays per depth the queue holds
+    uint shadow_capacity;      // shadow rays per depth
+    uint instance_count;
+    uint bvh_layout;  // RT_BVH_LAYOUT_*
+    uint flags;       // RT_FLAG_*
+    uint unused;
+    // The pixel rectangle this launch renders: its top-left pixel and size (the whole image unless a frame is split
+    // into tiles over devices or ranks). Queues, accumulation and the image are sized for the rectangle; the camera
+    // still spans width x height, so a tile's pixels are bit-identical to the whole frame's.
+    uint tile_x;
+    uint tile_y;
+    uint tile_width;
+    uint tile_height;
 RT_STRUCT_END(FrameParams)
 
 // ---- Queues --------------------------------------------------------------------------------------------------
 #define RT_CHANNEL_ALL 7u
 
-// origin.w = tmin, direction.w = tmax, weight.xyz = RGB throughput (thesis eqs. 6.31/6.32);
-// info.x = pixel, info.y = channel mask (7 = white; 1, 2, 4 = one channel after dispersion), info.z = depth
+// origin.w = tmin, direction.w = tmax (a ray's interval beside its line), weight.xyz = RGB throughput (thesis eqs.
+// 6.31/6.32)
 RT_STRUCT_BEGIN(Ray)
     float4 origin;
     float4 direction;
     float4 weight;
-    uint4 info;
+    uint pixel;
+    uint channels;  // RT_CHANNEL_ALL (white), or 1, 2, 4: one channel after dispersion
+    uint depth;
+    uint unused;
 RT_STRUCT_END(Ray)
 
 // tuv = (t, u, v, unused): t = +inf on a miss; u, v = barycentric weights of the second and third vertex
-// ids = (instance, primitive within its mesh, slot in `triangles` (for the geometric normal), unused)
 RT_STRUCT_BEGIN(Hit)
     float4 tuv;
-    uint4 ids;
+    uint instance;
+    uint primitive;  // within its mesh, in file order
+    uint slot;       // in `triangles` (where shading finds the geometric normal)
+    uint unused;
 RT_STRUCT_END(Hit)
 
-// A shadow ray carries the light it would deliver: contribution.xyz, info.x = pixel.
+// A shadow ray carries the light it would deliver to its pixel (contribution.xyz; contribution.w = 0 when it
+// delivers nothing and is not traced); direction.w = the distance to the light.
 RT_STRUCT_BEGIN(ShadowRay)
     float4 origin;
     float4 direction;
     float4 contribution;
-    uint4 info;
+    uint pixel;
+    uint unused0;
+    uint unused1;
+    uint unused2;
 RT_STRUCT_END(ShadowRay)
 
 // Pixels accumulate in 64-bit fixed point (two uints per channel, carries propagated with an atomic) so the

@@ -18,6 +18,8 @@ layout(local_size_x = 1) in;
 
 vec4 rt_marker_f4(uint word) { return vec4(float(word), float(word + 1u), float(word + 2u), float(word + 3u)); }
 uvec4 rt_marker_u4(uint word) { return uvec4(word, word + 1u, word + 2u, word + 3u); }
+float rt_marker_f1(uint word) { return float(word); }
+uint rt_marker_u1(uint word) { return word; }
 
 // One function per struct of the table: rt_mark_<struct>(element, marker base).
 void rt_mark_none_() {

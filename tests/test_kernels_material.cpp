@@ -86,8 +86,10 @@ struct OneTriangle {
         scene.materials.push_back(material);
         scene.ambient_light = glm::vec3(0.1f);
         device = prism::build_device_scene(scene);
-        frame.ambient_light = float4{0.1f, 0.1f, 0.1f, 1e-4f};
-        frame.size = uint4{1, 1, 8, 0};
+        frame.ambient_light = float4{0.1f, 0.1f, 0.1f, 0.0f};
+        frame.min_weight = 1e-4f;
+        frame.width = frame.height = 1;
+        frame.max_depth = 8;
         kg = prism::host_globals(device, &frame);
     }
 
@@ -122,16 +124,16 @@ TEST(SeedMaterial, ShadeWeightsFollowEquation67) {
     float base = 0.5f * (0.1f * (1 - 0.3f) + 0.9f * (1 - 0.6f));  // C (R_f (1-r) + T_f (1-t)) = 0.215
     expect_near3(rt_xyz(s.light_weight), {base, base, base});
     expect_near3(rt_xyz(s.emitted), {base * 0.1f, base * 0.1f, base * 0.1f});
-    ASSERT_EQ(s.counts.x, 4u);  // reflection + three dispersed refractions (thesis 6.3.5)
+    ASSERT_EQ(s.child_count, 4u);  // reflection + three dispersed refractions (thesis 6.3.5)
     expect_near3(rt_xyz(s.children[0].weight), {0.1f * 0.3f * 1.0f, 0.1f * 0.3f * 0.5f, 0.1f * 0.3f * 0.25f});
     expect_near3(rt_xyz(s.children[0].direction), {0, 0, 1});
     expect_near3(rt_xyz(s.children[1].weight), {0.9f * 0.6f * 0.2f, 0, 0});
     expect_near3(rt_xyz(s.children[2].weight), {0, 0.9f * 0.6f * 0.4f, 0});
     expect_near3(rt_xyz(s.children[3].weight), {0, 0, 0.9f * 0.6f * 0.8f});
-    EXPECT_EQ(s.children[1].info.y, 1u);
-    EXPECT_EQ(s.children[2].info.y, 2u);
-    EXPECT_EQ(s.children[3].info.y, 4u);
-    EXPECT_EQ(s.children[1].info.z, 1u);      // depth + 1
+    EXPECT_EQ(s.children[1].channels, 1u);
+    EXPECT_EQ(s.children[2].channels, 2u);
+    EXPECT_EQ(s.children[3].channels, 4u);
+    EXPECT_EQ(s.children[1].depth, 1u);       // depth + 1
     EXPECT_LT(s.children[1].origin.z, 0.0f);  // refracted rays start below the surface
     EXPECT_GT(s.children[0].origin.z, 0.0f);  // reflected rays above it
 }
@@ -139,9 +141,9 @@ TEST(SeedMaterial, ShadeWeightsFollowEquation67) {
 TEST(SeedMaterial, SingleChannelRaySpawnsOneRefraction) {
     OneTriangle scene(glass());
     ShadeResult s = scene.shade_head_on(float3{0, 1, 0}, 2u);
-    ASSERT_EQ(s.counts.x, 2u);
+    ASSERT_EQ(s.child_count, 2u);
     expect_near3(rt_xyz(s.children[1].weight), {0, 0.9f * 0.6f * 0.4f, 0});
-    EXPECT_EQ(s.children[1].info.y, 2u);
+    EXPECT_EQ(s.children[1].channels, 2u);
 }
 
 TEST(SeedMaterial, ThinShellOffsetsAndKeepsDirection) {
@@ -150,13 +152,13 @@ TEST(SeedMaterial, ThinShellOffsetsAndKeepsDirection) {
     m.thickness = 0.5f;
     OneTriangle scene(m);
     ShadeResult s = scene.shade_head_on(float3{1, 1, 1}, RT_CHANNEL_ALL);
-    ASSERT_EQ(s.counts.x, 2u);
+    ASSERT_EQ(s.child_count, 2u);
     expect_near3(rt_xyz(s.children[1].direction), {0, 0, -1});
     EXPECT_NEAR(s.children[1].origin.z, -0.5f, 1e-4f);  // plus the few-ulp self-intersection offset
 }
 
 TEST(SeedMaterial, NoChildrenAtMaximumDepth) {
     OneTriangle scene(glass());
-    scene.frame.size.z = 1;
-    EXPECT_EQ(scene.shade_head_on(float3{1, 1, 1}, RT_CHANNEL_ALL).counts.x, 0u);
+    scene.frame.max_depth = 1;
+    EXPECT_EQ(scene.shade_head_on(float3{1, 1, 1}, RT_CHANNEL_ALL).child_count, 0u);
 }

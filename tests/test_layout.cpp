@@ -6,8 +6,14 @@
 #include "kernels/types.h"
 
 #define RT_LAYOUT_STRUCT(name, size) static_assert(sizeof(name) == (size), #name " size differs from layout_table.h");
-#define RT_LAYOUT_MEMBER(name, member, offset, kind) \
-    static_assert(offsetof(name, member) == (offset), #name "." #member " offset differs from layout_table.h");
+#define RT_LAYOUT_BYTES_f4 16
+#define RT_LAYOUT_BYTES_u4 16
+#define RT_LAYOUT_BYTES_f1 4
+#define RT_LAYOUT_BYTES_u1 4
+#define RT_LAYOUT_MEMBER(name, member, offset, kind)                                                            \
+    static_assert(offsetof(name, member) == (offset), #name "." #member " offset differs from layout_table.h"); \
+    static_assert(sizeof(name::member) == RT_LAYOUT_BYTES_##kind, #name "." #member " is not a " #kind);        \
+    static_assert(alignof(name) == 16, #name " is not 16-aligned");
 #include "kernels/layout_table.h"
 #undef RT_LAYOUT_STRUCT
 #undef RT_LAYOUT_MEMBER

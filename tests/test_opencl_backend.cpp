@@ -186,13 +186,18 @@ TEST(OpenclBackend, GenerateAndResolveRunTheSharedKernels) {
     auto backend = prism::create_backend(prism::test::test_device("opencl"));
     const uint32_t width = 37, height = 23, pixels = width * height;  // not a multiple of the work-group size
     FrameParams frame{};
-    frame.camera_position = float4{1.0f, 2.0f, 3.0f, 0.5f};
-    frame.camera_forward = float4{0.0f, 0.0f, -1.0f, float(width) / float(height)};
+    frame.camera_position = float4{1.0f, 2.0f, 3.0f, 0.0f};
+    frame.camera_forward = float4{0.0f, 0.0f, -1.0f, 0.0f};
     frame.camera_right = float4{1.0f, 0.0f, 0.0f, 0.0f};
     frame.camera_up = float4{0.0f, 1.0f, 0.0f, 0.0f};
-    frame.size = uint4{width, height, 1, 0};
-    frame.env = uint4{0, 0, pixels, pixels};
-    frame.tile = uint4{0, 0, width, height};
+    frame.tan_half_fov = 0.5f;
+    frame.aspect = float(width) / float(height);
+    frame.width = width;
+    frame.height = height;
+    frame.max_depth = 1;
+    frame.ray_capacity = frame.shadow_capacity = pixels;
+    frame.tile_width = width;
+    frame.tile_height = height;
     std::vector<uint32_t> counters(RT_COUNTER_SLOTS, 0u);
     counters[RT_COUNTER_RAYS] = pixels;
     backend->allocate(prism::DeviceArray::frame, sizeof frame);
@@ -220,7 +225,7 @@ TEST(OpenclBackend, GenerateAndResolveRunTheSharedKernels) {
     backend->read(prism::DeviceArray::rays, rays.data(), rays.size() * sizeof(Ray));
     for (uint32_t i = 0; i < pixels; ++i) {
         Ray expected = rt_primary_ray(frame, i);
-        ASSERT_EQ(rays[i].info.x, i);
+        ASSERT_EQ(rays[i].pixel, i);
         EXPECT_NEAR(rays[i].direction.x, expected.direction.x, 1e-6f) << i;
         EXPECT_NEAR(rays[i].direction.y, expected.direction.y, 1e-6f) << i;
         EXPECT_NEAR(rays[i].direction.z, expected.direction.z, 1e-6f) << i;

@@ -42,8 +42,11 @@ struct Floor {
         sun.direction = glm::vec3(transform * glm::vec4(0.3f, -1.0f, 0.2f, 0.0f));
         scene.lights.push_back(sun);
         device = prism::build_device_scene(scene);
-        frame.ambient_light = float4{0.1f, 0.1f, 0.1f, 1e-4f};
-        frame.size = uint4{1, 1, 8, 1};
+        frame.ambient_light = float4{0.1f, 0.1f, 0.1f, 0.0f};
+        frame.min_weight = 1e-4f;
+        frame.width = frame.height = 1;
+        frame.max_depth = 8;
+        frame.light_count = 1;
         kg = prism::host_globals(device, &frame);
     }
 

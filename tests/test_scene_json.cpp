@@ -281,11 +281,11 @@ TEST(SceneJson, MaterialOverridesShareTheMeshOnTheDevice) {
     EXPECT_EQ(device.triangles.size(), 1u);
     std::vector<uint32_t> materials;
     for (const ::Instance& instance : device.instances) {
-        EXPECT_EQ(instance.info.x, device.instances[0].info.x);  // one BVH root
-        materials.push_back(device.triangle_shading.at(instance.info.z).vertices.w);
+        EXPECT_EQ(instance.root, device.instances[0].root);  // one BVH root
+        materials.push_back(device.triangle_shading.at(instance.first_shading).material);
     }
     EXPECT_EQ(materials, (std::vector<uint32_t>{0, 1, 2, 1}));
-    EXPECT_EQ(device.instances[1].info.z, device.instances[3].info.z);  // one copy per (mesh, material)
+    EXPECT_EQ(device.instances[1].first_shading, device.instances[3].first_shading);  // one copy per (mesh, material)
 }
 
 }  // namespace prism

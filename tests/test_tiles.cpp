@@ -1,4 +1,4 @@
-// Rendering a frame as tiles (RenderSettings::region, the kernels' FrameParams::tile): the tiles cover the image
+// Rendering a frame as tiles (RenderSettings::region, the kernels' FrameParams::tile_*): the tiles cover the image
 // once, and the assembled tiles equal the whole frame bit for bit on every backend this machine runs.
 #include <gtest/gtest.h>
 

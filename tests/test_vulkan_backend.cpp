@@ -84,12 +84,13 @@ TEST_F(Vulkan, Std430LayoutMatchesTheLayoutTable) {
         const char* member;
         uint32_t offset;
         bool is_float;
+        uint32_t words;  // 4 for a float4/uint4, 1 for a scalar
     };
     std::vector<Member> members;
     std::map<std::string, uint32_t> sizes;
 #define RT_LAYOUT_STRUCT(name, size) sizes[#name] = size;
 #define RT_LAYOUT_MEMBER(name, member, offset, kind) \
-    members.push_back({#name, #member, offset, std::strcmp(#kind, "f4") == 0});
+    members.push_back({#name, #member, offset, #kind[0] == 'f', #kind[1] == '4' ? 4u : 1u});
 #include "kernels/layout_table.h"
 #undef RT_LAYOUT_STRUCT
 #undef RT_LAYOUT_MEMBER
@@ -113,7 +114,7 @@ TEST_F(Vulkan, Std430LayoutMatchesTheLayoutTable) {
                 if (std::string(m.structure) != #type) continue;                                 \
                 ++members_checked;                                                               \
                 for (uint32_t e = 0; e < 2; ++e)                                                 \
-                    for (uint32_t c = 0; c < 4; ++c)                                             \
+                    for (uint32_t c = 0; c < m.words; ++c)                                       \
                         EXPECT_EQ(word(e, m.offset + 4 * c, m.is_float),                         \
                                   double(slot * 1000 + e * 500 + m.offset / 4 + c))              \
                             << #type "." << m.member << " element " << e << " component " << c   \

@@ -147,9 +147,11 @@ Aabb transformed_bounds(const Aabb& box, const glm::mat4& m) {
     out.object_to_world1 = row(transform, 1);
     out.object_to_world2 = row(transform, 2);
     bool identity = inverse == glm::mat4(1.0f);
-    out.info = uint4{root, first_triangle, first_shading,
-                     (glm::determinant(glm::mat3(transform)) < 0.0f ? RT_INSTANCE_MIRRORED : 0u) |
-                         (identity ? RT_INSTANCE_IDENTITY : 0u)};
+    out.root = root;
+    out.first_triangle = first_triangle;
+    out.first_shading = first_shading;
+    out.flags = (glm::determinant(glm::mat3(transform)) < 0.0f ? RT_INSTANCE_MIRRORED : 0u) |
+                (identity ? RT_INSTANCE_IDENTITY : 0u);
     return out;
 }
 
@@ -176,23 +178,29 @@ void build_top_level(DeviceScene& device, const std::vector<glm::mat4>& transfor
     out.fresnel = float4{m.fresnel_bias, m.fresnel_scale, m.fresnel_power, m.thickness};
     out.ior = to_float4(m.ior, 0.0f);
     out.emissive = to_float4(m.emissive, 0.0f);
-    uint32_t flags = (m.metal_rough ? RT_MATERIAL_METAL_ROUGH : 0u) |
-                     (m.alpha_mode == AlphaMode::Mask ? RT_MATERIAL_ALPHA_MASK : 0u) |
-                     (m.alpha_mode == AlphaMode::Blend ? RT_MATERIAL_ALPHA_BLEND : 0u) |
-                     (m.vertex_colors_replace ? RT_MATERIAL_VERTEX_REPLACE : 0u);
-    out.textures =
-        uint4{first_layer, static_cast<uint32_t>(m.textures.size()), flags, std::bit_cast<uint32_t>(m.alpha)};
+    out.first_layer = first_layer;
+    out.layer_count = static_cast<uint32_t>(m.textures.size());
+    out.flags = (m.metal_rough ? RT_MATERIAL_METAL_ROUGH : 0u) |
+                (m.alpha_mode == AlphaMode::Mask ? RT_MATERIAL_ALPHA_MASK : 0u) |
+                (m.alpha_mode == AlphaMode::Blend ? RT_MATERIAL_ALPHA_BLEND : 0u) |
+                (m.vertex_colors_replace ? RT_MATERIAL_VERTEX_REPLACE : 0u);
+    out.alpha = m.alpha;
     out.emissive.w = m.alpha_cutoff;
     out.absorption = to_float4(m.absorption, 0.0f);
-    out.metal_rough = float4{m.metallic, m.roughness, m.occlusion_strength, m.normal_scale};
+    out.metallic = m.metallic;
+    out.roughness = m.roughness;
+    out.occlusion_strength = m.occlusion_strength;
+    out.normal_scale = m.normal_scale;
     // The maps' layers follow the stack's, in this order (see material_maps).
     uint32_t next = first_layer + static_cast<uint32_t>(m.textures.size());
     auto map_index = [&next](const std::optional<prism::TextureLayer>& map) { return map ? next++ : RT_NONE; };
-    out.maps.x = map_index(m.metal_rough_map);
-    out.maps.y = map_index(m.emissive_map);
-    out.maps.z = map_index(m.occlusion_map);
-    out.maps.w = map_index(m.normal_map);
-    out.specular_maps = uint4{map_index(m.specular_map), map_index(m.specular_color_map), RT_NONE, RT_NONE};
+    out.metal_rough_map = map_index(m.metal_rough_map);
+    out.emissive_map = map_index(m.emissive_map);
+    out.occlusion_map = map_index(m.occlusion_map);
+    out.normal_map = map_index(m.normal_map);
+    out.specular_map = map_index(m.specular_map);
+    out.specular_color_map = map_index(m.specular_color_map);
+    out.unused0 = out.unused1 = RT_NONE;
     return out;
 }
 
@@ -271,9 +279,9 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
         for (size_t t = 0; t < mesh.triangles.size(); ++t) {
             glm::uvec3 tri = mesh.triangles[t];
             uint32_t material = mesh.triangle_materials.empty() ? 0u : mesh.triangle_materials[t];
-            device.triangle_shading.push_back(
-                TriangleShading{uint4{placement.first_vertex + tri.x, placement.first_vertex + tri.y,
-                                      placement.first_vertex + tri.z, material}});
+            device.triangle_shading.push_back(TriangleShading{placement.first_vertex + tri.x,
+                                                              placement.first_vertex + tri.y,
+                                                              placement.first_vertex + tri.z, material});
             glm::vec3 a = mesh.positions[tri.x], b = mesh.positions[tri.y], c = mesh.positions[tri.z];
             if (degenerate(a, b, c)) {
                 ++device.degenerate_triangles;
@@ -391,7 +399,7 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
                 size_t count = scene.meshes[instance.mesh].triangles.size();
                 for (size_t t = 0; t < count; ++t) {
                     TriangleShading shading = device.triangle_shading[placement.first_shading + t];
-                    shading.vertices.w = instance.material_override;
+                    shading.material = instance.material_override;
                     device.triangle_shading.push_back(shading);
                 }
             }
@@ -406,9 +414,11 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
         device.materials.push_back(device_material(material, static_cast<uint32_t>(device.texture_layers.size())));
         for (const prism::TextureLayer& layer : material_layers(material)) {
             ::TextureLayer out{};
-            uint32_t sampler = static_cast<uint32_t>(layer.wrap_u) | static_cast<uint32_t>(layer.wrap_v) << 2 |
-                               (layer.nearest ? RT_SAMPLER_NEAREST : 0u);
-            out.info = uint4{layer.texture, static_cast<uint32_t>(layer.mode), layer.uv_set, sampler};
+            out.texture_index = layer.texture;
+            out.mode = static_cast<uint32_t>(layer.mode);
+            out.uv_set = layer.uv_set;
+            out.sampling = static_cast<uint32_t>(layer.wrap_u) | static_cast<uint32_t>(layer.wrap_v) << 2 |
+                           (layer.nearest ? RT_SAMPLER_NEAREST : 0u);
             out.environment_color = to_float4(layer.environment_color);
             out.uv_row0 = to_float4(layer.uv_row0, 0.0f);
             out.uv_row1 = to_float4(layer.uv_row1, 0.0f);
@@ -420,8 +430,8 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
     std::vector<uint32_t> texel_offsets;
     for (const Texture& texture : scene.textures) {
         texel_offsets.push_back(static_cast<uint32_t>(device.texels.size()));
-        device.texture_infos.push_back(TextureInfo{uint4{texel_offsets.back(), uint32_t(texture.width),
-                                                         uint32_t(texture.height), uint32_t(texture.encoding)}});
+        device.texture_infos.push_back(TextureInfo{texel_offsets.back(), uint32_t(texture.width),
+                                                   uint32_t(texture.height), uint32_t(texture.encoding)});
         device.texels.insert(device.texels.end(), texture.texels.begin(), texture.texels.end());
     }
     // The environment's textures get their own consecutive entries (a cube map is addressed as first + face).
@@ -431,7 +441,7 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
     for (uint32_t texture : scene.environment.textures)
         device.texture_infos.push_back(device.texture_infos.at(texture));
     if (device.texture_infos.empty()) {  // GPU APIs dislike empty buffers
-        device.texture_infos.push_back(TextureInfo{uint4{0, 1, 1, RT_TEXENC_LINEAR8}});
+        device.texture_infos.push_back(TextureInfo{0, 1, 1, RT_TEXENC_LINEAR8});
     }
     if (device.texels.empty()) device.texels.push_back(0xffffffffu);
     if (device.texture_layers.empty()) device.texture_layers.push_back(::TextureLayer{});
@@ -459,8 +469,8 @@ void update_instance_transforms(DeviceScene& device, const std::vector<glm::mat4
             "update_instance_transforms: the instances of this scene are flattened into one BVH and cannot "
             "move (build it with BvhBuildOptions::flatten_instances off)");
     for (size_t i = 0; i < transforms.size(); ++i) {
-        const uint4 info = device.instances[i].info;
-        device.instances[i] = device_instance(transforms[i], info.x, info.y, info.z);
+        const ::Instance& old = device.instances[i];
+        device.instances[i] = device_instance(transforms[i], old.root, old.first_triangle, old.first_shading);
     }
     build_top_level(device, transforms, rebuild);
     if (device.bvh_options.layout == BvhLayout::Wide) {

@@ -22,23 +22,23 @@ struct RayCounts {
 // added to the pixel directly: the same sum as eq. 6.7 evaluated bottom-up.
 void trace_recursive(KernelGlobals kg, const Ray& ray, RayCounts& counts) {
     FrameParams frame = kg.frame[0];
-    uint32_t depth = ray.info.z;
+    uint32_t depth = ray.depth;
     counts.per_depth[depth]++;
     Hit hit = rt_trace(kg, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w, ray.direction.w, false);
     if (!(hit.tuv.x < RT_INFINITY)) {
-        rt_accumulate(kg, ray.info.x, rt_xyz(ray.weight) * rt_environment(kg, rt_xyz(ray.direction)));
+        rt_accumulate(kg, ray.pixel, rt_xyz(ray.weight) * rt_environment(kg, rt_xyz(ray.direction)));
         return;
     }
     ShadeResult shade = rt_shade(kg, ray, hit);
-    rt_accumulate(kg, ray.info.x, rt_xyz(shade.emitted));
-    for (uint32_t l = 0; l < frame.size.w; ++l) {
-        ShadowRay sr = rt_shadow_ray(kg, shade, l, ray.info.x);
+    rt_accumulate(kg, ray.pixel, rt_xyz(shade.emitted));
+    for (uint32_t l = 0; l < frame.light_count; ++l) {
+        ShadowRay sr = rt_shadow_ray(kg, shade, l, ray.pixel);
         if (sr.contribution.w == 0.0f) continue;
         counts.shadows_per_depth[depth]++;
         float3 reaching = rt_light_reaching(kg, sr);
-        if (rt_max3(reaching) > 0.0f) rt_accumulate(kg, sr.info.x, reaching);
+        if (rt_max3(reaching) > 0.0f) rt_accumulate(kg, sr.pixel, reaching);
     }
-    for (uint32_t c = 0; c < shade.counts.x; ++c) trace_recursive(kg, shade.children[c], counts);
+    for (uint32_t c = 0; c < shade.child_count; ++c) trace_recursive(kg, shade.children[c], counts);
 }
 
 }  // namespace
@@ -91,7 +91,7 @@ FrameResult ReferenceRenderer::render(const Camera& camera, const RenderSettings
             result.radiance[4 * i + 3] = radiance[i].w;
         }
     }
-    for (uint32_t d = 0; d < frame.size.z; ++d) {
+    for (uint32_t d = 0; d < frame.max_depth; ++d) {
         uint64_t rays = 0, shadows = 0;
         for (const RayCounts& c : counts) {
             rays += c.per_depth[d];
@@ -119,7 +119,7 @@ std::vector<RayHit> ReferenceRenderer::trace(std::span<const RayQuery> rays, boo
                 const RayQuery& q = rays[i];
                 Hit h = rt_trace(kg, float3{q.origin[0], q.origin[1], q.origin[2]},
                                  float3{q.direction[0], q.direction[1], q.direction[2]}, q.tmin, q.tmax, any_hit);
-                out[i] = RayHit{h.tuv.x, h.ids.x, h.ids.y, h.tuv.y, h.tuv.z};
+                out[i] = RayHit{h.tuv.x, h.instance, h.primitive, h.tuv.y, h.tuv.z};
             }
         }
     });

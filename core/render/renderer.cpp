@@ -59,25 +59,39 @@ FrameParams make_frame_params(const DeviceScene& scene, const Camera& camera, co
     float aspect = settings.height ? float(settings.width) / float(settings.height) : 1.0f;
 
     FrameParams p{};
-    p.camera_position = to_float4(camera.position, tan_half);
-    p.camera_forward = to_float4(forward, aspect);
+    p.camera_position = to_float4(camera.position, 0.0f);
+    p.camera_forward = to_float4(forward, 0.0f);
     p.camera_right = to_float4(right, 0.0f);
     p.camera_up = to_float4(up, 0.0f);
-    p.environment = to_float4(scene.environment_tint, 1.0f);
-    p.ambient_light = to_float4(scene.ambient_light, settings.min_weight);
-    p.size = uint4{settings.width, settings.height, std::min(settings.max_depth, RT_MAX_DEPTH), scene.light_count};
-    p.env = uint4{static_cast<uint32_t>(scene.environment_kind), scene.environment_texture, queue_capacity,
-                  shadow_capacity};
+    p.environment = to_float4(scene.environment_tint, 0.0f);
+    p.ambient_light = to_float4(scene.ambient_light, 0.0f);
+    p.tan_half_fov = tan_half;
+    p.aspect = aspect;
+    p.environment_intensity = 1.0f;  // the tint carries it
+    p.min_weight = settings.min_weight;
+    p.width = settings.width;
+    p.height = settings.height;
+    p.max_depth = std::min(settings.max_depth, RT_MAX_DEPTH);
+    p.light_count = scene.light_count;
+    p.environment_kind = static_cast<uint32_t>(scene.environment_kind);
+    p.environment_texture = scene.environment_texture;
+    p.ray_capacity = queue_capacity;
+    p.shadow_capacity = shadow_capacity;
     if (scene.instances.size() == 1 && scene.top_level.primitive_order.size() == 1) flags |= RT_FLAG_ONE_INSTANCE;
     if (scene.bvh_options.flatten_instances) flags |= RT_FLAG_FLAT_INSTANCES;  // as built (build_device_scene)
     if (std::any_of(scene.materials.begin(), scene.materials.end(), [](const ::Material& m) {
-            return (m.textures.z & (RT_MATERIAL_ALPHA_MASK | RT_MATERIAL_ALPHA_BLEND)) != 0u;
+            return (m.flags & (RT_MATERIAL_ALPHA_MASK | RT_MATERIAL_ALPHA_BLEND)) != 0u;
         }))
         flags |= RT_FLAG_ALPHA_SHADOWS;
-    p.scene =
-        uint4{static_cast<uint32_t>(scene.instances.size()), static_cast<uint32_t>(scene.bvh_options.layout), flags, 0};
+    p.instance_count = static_cast<uint32_t>(scene.instances.size());
+    p.bvh_layout = static_cast<uint32_t>(scene.bvh_options.layout);
+    p.flags = flags;
+    p.unused = 0;
     PixelRect region = render_region(settings);
-    p.tile = uint4{region.x, region.y, region.width, region.height};
+    p.tile_x = region.x;
+    p.tile_y = region.y;
+    p.tile_width = region.width;
+    p.tile_height = region.height;
     return p;
 }
 
@@ -158,9 +172,9 @@ FrameResult Renderer::render(const Camera& camera, const RenderSettings& setting
         // Every depth is enqueued up front: the queues' counts stay on the device, so the frame needs no host
         // round trip (the seed copied hits back at each depth).
         enqueue_pass(StagePass::Before, 0);
-        for (uint32_t depth = 0; depth < params.size.z; ++depth) {
+        for (uint32_t depth = 0; depth < params.max_depth; ++depth) {
             enqueue_pass(StagePass::Bounce, depth);
-            if (progress) progress(depth + 1, params.size.z);
+            if (progress) progress(depth + 1, params.max_depth);
         }
         enqueue_pass(StagePass::After, 0);
         if (settings.copy_to_gl) {
@@ -188,7 +202,7 @@ FrameResult Renderer::render(const Camera& camera, const RenderSettings& setting
             result.stats.regrows = attempt;
             result.stats.rays_per_depth.clear();
             result.stats.shadow_rays_per_depth.clear();
-            for (uint32_t d = 0; d < params.size.z; ++d) {
+            for (uint32_t d = 0; d < params.max_depth; ++d) {
                 result.stats.rays_per_depth.push_back(std::min(counters[RT_COUNTER_RAYS + d], capacity));
                 result.stats.shadow_rays_per_depth.push_back(
                     std::min(counters[RT_COUNTER_SHADOWS + d], shadow_capacity));
@@ -200,7 +214,7 @@ FrameResult Renderer::render(const Camera& camera, const RenderSettings& setting
         }
         // A queue overflowed: the image would be missing rays. Grow to what the counters say was needed.
         uint32_t needed = 0;
-        for (uint32_t d = 0; d <= params.size.z && d < RT_MAX_DEPTH + 1; ++d)
+        for (uint32_t d = 0; d <= params.max_depth && d < RT_MAX_DEPTH + 1; ++d)
             needed = std::max(needed, counters[RT_COUNTER_RAYS + d]);
         factor = std::max(factor * 2.0f, float(needed) / float(pixels) * 1.25f);
         learned_queue_factor_ = factor;
@@ -225,8 +239,12 @@ std::vector<RayHit> Renderer::trace(std::span<const RayQuery> rays, bool any_hit
         for (uint32_t i = 0; i < n; ++i) {
             const RayQuery& q = rays[first + i];
             device_rays[i] = Ray{float4{q.origin[0], q.origin[1], q.origin[2], q.tmin},
-                                 float4{q.direction[0], q.direction[1], q.direction[2], q.tmax}, float4{0, 0, 0, 0},
-                                 uint4{i, RT_CHANNEL_ALL, 0, 0}};
+                                 float4{q.direction[0], q.direction[1], q.direction[2], q.tmax},
+                                 float4{0, 0, 0, 0},
+                                 i,
+                                 RT_CHANNEL_ALL,
+                                 0,
+                                 0};
         }
         std::vector<uint32_t> counters(RT_COUNTER_SLOTS, 0u);
         counters[RT_COUNTER_RAYS] = n;
@@ -239,7 +257,7 @@ std::vector<RayHit> Renderer::trace(std::span<const RayQuery> rays, bool any_hit
         for (const StageTiming& timing : backend_.finish()) last_trace_ms_ += timing.milliseconds;
         for (uint32_t i = 0; i < n; ++i) {
             const Hit& h = hits[i];
-            out[first + i] = RayHit{h.tuv.x, h.ids.x, h.ids.y, h.tuv.y, h.tuv.z};
+            out[first + i] = RayHit{h.tuv.x, h.instance, h.primitive, h.tuv.y, h.tuv.z};
         }
     }
     return out;

@@ -18,9 +18,10 @@
 
 typedef uint32_t uint;
 
-// A macro that closes the brace its partner opened: clang-format would split it.
+// A macro that closes the brace its partner opened: clang-format would split it. Every device struct is 16-aligned
+// (a struct of four scalars too), so a compiler may move it in 16-byte loads.
 // clang-format off
-#define RT_STRUCT_BEGIN(name) struct name {
+#define RT_STRUCT_BEGIN(name) struct alignas(16) name {
 #define RT_STRUCT_END(name) };
 // clang-format on
 
