@@ -4,7 +4,7 @@
 // (backends/*/CMakeLists.txt read these lines). Adding a stage: its rt_kernel_<name> in kernels/stages.h and one line
 // here.
 //
-// RT_STAGE(name, Name, pass, launch)
+// RT_STAGE(name, Name, pass, launch, needs)
 //   name    the stage's function is rt_kernel_<name>(kg, depth) (kernels/stages.h)
 //   Name    its prism::Stage enumerator
 //   pass    Before: once before the bounces (depth 0); Bounce: once per depth; After: once after the bounces
@@ -14,12 +14,14 @@
 //                           writes the indirect-dispatch arguments of the Queue stages after it
 //           Queue           the rays queued at its depth (Vulkan launches it indirectly)
 //           QueueGrows      as Queue, and it appends rays: the dispatch arguments are stale after it
+//   needs   0: every frame launches it; an RT_FLAG_* bit: only frames with that flag do (the others would launch it
+//           for nothing). A GridSizesQueue stage always runs: the indirect launches after it need its arguments.
 //
 // No include guard: it is expanded several times with different definitions of RT_STAGE.
-RT_STAGE(generate, Generate, Before, GridSizesQueue)
-RT_STAGE(intersect, Intersect, Bounce, Queue)
-RT_STAGE(miss, Miss, Bounce, Queue)
-RT_STAGE(shade, Shade, Bounce, QueueGrows)
-RT_STAGE(shadow, Shadow, Bounce, GridSizesQueue)
-RT_STAGE(shadow_layers, ShadowLayers, Bounce, Grid)
-RT_STAGE(resolve, Resolve, After, Grid)
+RT_STAGE(generate, Generate, Before, GridSizesQueue, 0)
+RT_STAGE(intersect, Intersect, Bounce, Queue, 0)
+RT_STAGE(miss, Miss, Bounce, Queue, 0)
+RT_STAGE(shade, Shade, Bounce, QueueGrows, 0)
+RT_STAGE(shadow, Shadow, Bounce, GridSizesQueue, 0)
+RT_STAGE(shadow_layers, ShadowLayers, Bounce, Grid, RT_FLAG_ALPHA_SHADOWS)
+RT_STAGE(resolve, Resolve, After, Grid, 0)

@@ -304,6 +304,12 @@ TEST_P(AlphaShadows, ShadowRaysPassCutOutsAndBlendedSurfaces) {
     EXPECT_NEAR(mixed.r, 225, 8);
     EXPECT_NEAR(mixed.g, 137, 8);
     EXPECT_NEAR(mixed.b, 137, 8);
+    // The shadow_layers stage (kernels/stage_list.h: needs RT_FLAG_ALPHA_SHADOWS) traced them, once per depth.
+    if (GetParam() != "cpu-ref") {
+        size_t launches = 0;
+        for (const StageTiming& t : blend.frame.stats.stages) launches += t.stage == Stage::ShadowLayers;
+        EXPECT_EQ(launches, 4u);
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, AlphaShadows,

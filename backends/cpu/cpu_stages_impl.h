@@ -7,9 +7,9 @@ namespace prism::cpu {
 
 void PRISM_CPU_STAGE_RUNNER(Stage stage, KernelGlobals kg, uint32_t depth) {
     switch (stage) {
-#define RT_STAGE(name, Name, pass, launch) \
-    case Stage::Name:                      \
-        rt_kernel_##name(kg, depth);       \
+#define RT_STAGE(name, Name, pass, launch, needs) \
+    case Stage::Name:                             \
+        rt_kernel_##name(kg, depth);              \
         break;
 #include "kernels/stage_list.h"
 #undef RT_STAGE

@@ -6,7 +6,7 @@
 #include "kernels/stages.h"
 
 // prism_cuda_<name>: one __global__ entry per line of kernels/stage_list.h.
-#define RT_STAGE(name, Name, pass, launch) \
+#define RT_STAGE(name, Name, pass, launch, needs) \
     __global__ void prism_cuda_##name(KernelGlobals kg, uint depth) { rt_kernel_##name(kg, depth); }
 #include "kernels/stage_list.h"
 #undef RT_STAGE
@@ -22,12 +22,12 @@ int launch_stage(unsigned stage, void* const* arrays, unsigned depth, unsigned b
     cudaStream_t s = static_cast<cudaStream_t>(stream);
     // Stage i is line i of kernels/stage_list.h.
     enum : unsigned {
-#define RT_STAGE(name, Name, pass, launch) stage_##name,
+#define RT_STAGE(name, Name, pass, launch, needs) stage_##name,
 #include "kernels/stage_list.h"
 #undef RT_STAGE
     };
     switch (stage) {
-#define RT_STAGE(name, Name, pass, launch)                       \
+#define RT_STAGE(name, Name, pass, launch, needs)                \
     case stage_##name:                                           \
         prism_cuda_##name<<<blocks, threads, 0, s>>>(kg, depth); \
         break;

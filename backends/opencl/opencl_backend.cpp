@@ -36,7 +36,7 @@ static_assert(kPlaceholderBytes >= sizeof(FrameParams) && kPlaceholderBytes >= R
 
 // The __kernel names of stages.cl: prism_<stage> (rt_<stage> names are taken by kernels/ functions).
 constexpr std::array<const char*, stage_count> kKernelNames = {
-#define RT_STAGE(name, Name, pass, launch) "prism_" #name,
+#define RT_STAGE(name, Name, pass, launch, needs) "prism_" #name,
 #include "kernels/stage_list.h"
 #undef RT_STAGE
 };

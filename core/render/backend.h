@@ -38,7 +38,7 @@ DeviceArrayRole device_array_role(DeviceArray array);
 
 // The stages of kernels/stage_list.h, in frame order.
 enum class Stage : uint32_t {
-#define RT_STAGE(name, Name, pass, launch) Name,
+#define RT_STAGE(name, Name, pass, launch, needs) Name,
 #include "kernels/stage_list.h"
 #undef RT_STAGE
     Count
@@ -50,6 +50,12 @@ enum class StageLaunch { Grid, GridSizesQueue, Queue, QueueGrows };
 const char* stage_name(Stage stage);
 StagePass stage_pass(Stage stage);
 StageLaunch stage_launch(Stage stage);
+// The RT_FLAG_* bit a frame needs for the stage to be launched (0: every frame), and whether a frame with these
+// flags launches it.
+uint32_t stage_needs(Stage stage);
+inline bool stage_runs(Stage stage, uint32_t frame_flags) {
+    return (frame_flags & stage_needs(stage)) == stage_needs(stage);
+}
 
 struct StageTiming {
     Stage stage;

@@ -43,7 +43,7 @@ DeviceArrayRole device_array_role(DeviceArray array) {
 
 const char* stage_name(Stage stage) {
     static constexpr const char* names[] = {
-#define RT_STAGE(name, Name, pass, launch) #name,
+#define RT_STAGE(name, Name, pass, launch, needs) #name,
 #include "kernels/stage_list.h"
 #undef RT_STAGE
     };
@@ -52,16 +52,25 @@ const char* stage_name(Stage stage) {
 
 StagePass stage_pass(Stage stage) {
     static constexpr StagePass passes[] = {
-#define RT_STAGE(name, Name, pass, launch) StagePass::pass,
+#define RT_STAGE(name, Name, pass, launch, needs) StagePass::pass,
 #include "kernels/stage_list.h"
 #undef RT_STAGE
     };
     return passes[static_cast<size_t>(stage)];
 }
 
+uint32_t stage_needs(Stage stage) {
+    static constexpr uint32_t needs[] = {
+#define RT_STAGE(name, Name, pass, launch, needs) needs,
+#include "kernels/stage_list.h"
+#undef RT_STAGE
+    };
+    return needs[static_cast<size_t>(stage)];
+}
+
 StageLaunch stage_launch(Stage stage) {
     static constexpr StageLaunch launches[] = {
-#define RT_STAGE(name, Name, pass, launch) StageLaunch::launch,
+#define RT_STAGE(name, Name, pass, launch, needs) StageLaunch::launch,
 #include "kernels/stage_list.h"
 #undef RT_STAGE
     };

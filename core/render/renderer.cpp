@@ -116,9 +116,9 @@ void Renderer::update_instances(const DeviceScene& scene) {
         backend_.write(DeviceArray::nodes, scene.nodes.data(), scene.top_level_nodes * sizeof(BvhNode));
 }
 
-void Renderer::enqueue_pass(StagePass pass, uint32_t depth) {
+void Renderer::enqueue_pass(StagePass pass, uint32_t depth, uint32_t frame_flags) {
     for (size_t s = 0; s < stage_count; ++s)
-        if (stage_pass(Stage(s)) == pass) backend_.enqueue(Stage(s), depth);
+        if (stage_pass(Stage(s)) == pass && stage_runs(Stage(s), frame_flags)) backend_.enqueue(Stage(s), depth);
 }
 
 void Renderer::ensure_queues(uint32_t pixels, uint32_t ray_capacity, uint32_t shadow_capacity) {
@@ -171,12 +171,12 @@ FrameResult Renderer::render(const Camera& camera, const RenderSettings& setting
 
         // Every depth is enqueued up front: the queues' counts stay on the device, so the frame needs no host
         // round trip (the seed copied hits back at each depth).
-        enqueue_pass(StagePass::Before, 0);
+        enqueue_pass(StagePass::Before, 0, params.flags);
         for (uint32_t depth = 0; depth < params.max_depth; ++depth) {
-            enqueue_pass(StagePass::Bounce, depth);
+            enqueue_pass(StagePass::Bounce, depth, params.flags);
             if (progress) progress(depth + 1, params.max_depth);
         }
-        enqueue_pass(StagePass::After, 0);
+        enqueue_pass(StagePass::After, 0, params.flags);
         if (settings.copy_to_gl) {
             GlInteropOffer offer = backend_.gl_interop();
             if (!offer.interop) throw Error("render: copy_to_gl without a GL interop (" + offer.reason + ")");

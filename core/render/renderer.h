@@ -99,8 +99,9 @@ public:
 private:
     void upload_scene();
     void ensure_queues(uint32_t pixels, uint32_t rays_capacity, uint32_t shadow_capacity);
-    // Every stage of kernels/stage_list.h in `pass`, in list order, at `depth`.
-    void enqueue_pass(StagePass pass, uint32_t depth);
+    // Every stage of kernels/stage_list.h in `pass` that a frame with these RT_FLAG_* bits runs, in list order, at
+    // `depth`.
+    void enqueue_pass(StagePass pass, uint32_t depth, uint32_t frame_flags);
 
     Backend& backend_;
     const DeviceScene& scene_;
