@@ -55,13 +55,33 @@ RT_FUNC Hit rt_no_hit() {
     return h;
 }
 
-// Tests the triangles [first, first + count) and returns the closer hit (or `best` unchanged).
+// Coplanar overlapping triangles (trim on a wall, a frame in its opening) are hit at one distance that each API
+// rounds its own way (FMA contraction, division), so which of them is "nearer" would differ between backends and
+// between traversal orders. Hits within RT_TIE_EPSILON (relative) of the best count as one distance, and the lower
+// instance, then primitive, wins, whichever the traversal met first; boxes and triangles are tested up to the end
+// of that band (rt_hit_reach), never past the ray's tmax.
+#define RT_TIE_EPSILON 1e-5f
+
+RT_FUNC float rt_hit_reach(Hit best, float tmax) { return rt_min(best.tuv.x + best.tuv.x * RT_TIE_EPSILON, tmax); }
+
+// Whether a hit at t on (instance, primitive) replaces `best`. A best at +inf or at the ray's tmax has no
+// instance (RT_NONE), so any hit in reach replaces it.
+RT_FUNC bool rt_hit_wins(float t, uint instance, uint primitive, Hit best) {
+    float band = best.tuv.x * RT_TIE_EPSILON;
+    if (t < best.tuv.x - band) return true;
+    if (t > best.tuv.x + band) return false;
+    return instance < best.instance || (instance == best.instance && primitive < best.primitive);
+}
+
+// Tests the triangles [first, first + count) and returns the winning hit (or `best` unchanged).
 // The hit keeps the triangle's slot in `triangles` so shading can rebuild its geometric normal.
-RT_FUNC Hit rt_intersect_leaf(KernelGlobals kg, Hit best, TraversalRay ray, uint instance, uint first, uint count) {
+RT_FUNC Hit rt_intersect_leaf(KernelGlobals kg, Hit best, TraversalRay ray, float tmax, uint instance, uint first,
+                              uint count) {
     for (uint k = 0u; k < count; ++k) {
         TriangleGeometry tri = RT_FETCH(kg, triangles, first + k);
-        float4 h = rt_intersect_triangle(tri, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w, best.tuv.x);
-        if (h.x < best.tuv.x) {
+        float4 h = rt_intersect_triangle(tri, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w,
+                                         rt_hit_reach(best, tmax));
+        if (h.x < RT_INFINITY && rt_hit_wins(h.x, instance, rt_as_uint(tri.v0.w), best)) {
             best.tuv = make_float4(h.x, h.y, h.z, 0.0f);
             best.instance = instance;
             best.primitive = rt_as_uint(tri.v0.w);
@@ -77,20 +97,22 @@ RT_FUNC Hit rt_intersect_leaf(KernelGlobals kg, Hit best, TraversalRay ray, uint
 #define RT_INSTANCE_PER_LANE 0xfffffffdu
 
 // The wide layout's leaves: rt_intersect_leaf a block of four triangles at a time, with the same per-triangle
-// results and, among equal distances, the same winner (the first triangle).
-RT_FUNC Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, uint instance, uint first, uint count) {
+// results and the same winner (rt_hit_wins).
+RT_FUNC Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, float tmax, uint instance, uint first,
+                                uint count) {
     for (uint b = 0u; b < (count + 3u) / 4u; ++b) {
         TriangleBlock block = RT_FETCH(kg, triangle_blocks, first + b);
-        TriangleHits4 hits =
-            rt_intersect_triangles4(block, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w, best.tuv.x);
+        TriangleHits4 hits = rt_intersect_triangles4(block, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w,
+                                                     rt_hit_reach(best, tmax));
         uint mask = hits.mask;
         while (mask != 0u) {
             uint k = rt_lowest_bit(mask);
             mask &= mask - 1u;
             float t = rt_lane(hits.t, k);
-            if (t < best.tuv.x) {
+            uint hit_instance = instance == RT_INSTANCE_PER_LANE ? rt_lane_u(block.instance, k) : instance;
+            if (rt_hit_wins(t, hit_instance, rt_lane_u(block.primitive, k), best)) {
                 best.tuv = make_float4(t, rt_lane(hits.u, k), rt_lane(hits.v, k), 0.0f);
-                best.instance = instance == RT_INSTANCE_PER_LANE ? rt_lane_u(block.instance, k) : instance;
+                best.instance = hit_instance;
                 best.primitive = rt_lane_u(block.primitive, k);
                 best.slot = rt_lane_u(block.slot, k);
             }
@@ -122,10 +144,11 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
         uint count = rt_as_uint(node.upper.w);
         bool descended = false;
         if (count == 0u) {
+            float reach = rt_hit_reach(best, tmax);
             float t_a = rt_intersect_node(RT_FETCH(kg, nodes, first), rt_xyz(ray.origin), rt_xyz(ray.inv_direction),
-                                          tmin, best.tuv.x);
+                                          tmin, reach);
             float t_b = rt_intersect_node(RT_FETCH(kg, nodes, first + 1u), rt_xyz(ray.origin),
-                                          rt_xyz(ray.inv_direction), tmin, best.tuv.x);
+                                          rt_xyz(ray.inv_direction), tmin, reach);
             uint near_child = t_a <= t_b ? first : first + 1u;
             uint far_child = t_a <= t_b ? first + 1u : first;
             float t_near = rt_min(t_a, t_b);
@@ -146,7 +169,7 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
             uint root = inst.root;
             if (sp < rt_uint(RT_BVH_STACK_SIZE) &&
                 rt_intersect_node(RT_FETCH(kg, nodes, root), rt_xyz(object_ray.origin),
-                                  rt_xyz(object_ray.inv_direction), tmin, best.tuv.x) < RT_INFINITY) {
+                                  rt_xyz(object_ray.inv_direction), tmin, rt_hit_reach(best, tmax)) < RT_INFINITY) {
                 stack_node[sp] = RT_STACK_LEAVE_INSTANCE;
                 stack_t[sp] = 0.0f;
                 sp += 1u;
@@ -156,7 +179,7 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
                 descended = true;
             }
         } else {
-            best = rt_intersect_leaf(kg, best, ray, instance, first, count);
+            best = rt_intersect_leaf(kg, best, ray, tmax, instance, first, count);
             if (any_hit && best.instance != RT_NONE) return best;
         }
         if (descended) continue;
@@ -168,7 +191,7 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
             if (popped == RT_STACK_LEAVE_INSTANCE) {
                 ray = world;
                 instance = RT_NONE;
-            } else if (stack_t[sp] < best.tuv.x) {
+            } else if (stack_t[sp] <= rt_hit_reach(best, tmax)) {
                 index = popped;
                 visit = true;
             }
@@ -203,7 +226,8 @@ RT_FUNC Hit rt_trace_escape(KernelGlobals kg, float3 origin, float3 direction, f
         BvhNode node = RT_FETCH(kg, nodes, index);
         uint escape = rt_as_uint(node.lower.w);
         uint info = rt_as_uint(node.upper.w);
-        float t = rt_intersect_node(node, rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin, best.tuv.x);
+        float t =
+            rt_intersect_node(node, rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin, rt_hit_reach(best, tmax));
         if (!(t < RT_INFINITY)) {
             index = escape;
         } else if (info == RT_ESCAPE_INTERIOR) {
@@ -217,8 +241,8 @@ RT_FUNC Hit rt_trace_escape(KernelGlobals kg, float3 origin, float3 direction, f
             index = inst.root;
             end = rt_as_uint(RT_FETCH(kg, nodes, index).lower.w);
         } else {
-            best =
-                rt_intersect_leaf(kg, best, ray, instance, info & RT_ESCAPE_FIRST_MASK, info >> RT_ESCAPE_COUNT_SHIFT);
+            best = rt_intersect_leaf(kg, best, ray, tmax, instance, info & RT_ESCAPE_FIRST_MASK,
+                                     info >> RT_ESCAPE_COUNT_SHIFT);
             if (any_hit && best.instance != RT_NONE) return best;
             index = escape;
         }
@@ -280,7 +304,7 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
         if ((current & RT_WIDE_LEAF) == 0u) {
             BvhWideNode node = RT_FETCH(kg, wide_nodes, current);
             WideBoxHits hits = rt_intersect_wide_node(node, rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin,
-                                                      rt_min(best.tuv.x, RT_FLT_MAX));
+                                                      rt_min(rt_hit_reach(best, tmax), RT_FLT_MAX));
             uint mask = hits.mask;
             if (mask != 0u) {
                 uint k0 = rt_lowest_bit(mask);
@@ -368,7 +392,7 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
                 descend = true;
             } else {
                 uint count = (current & 7u) + 1u;
-                best = rt_intersect_blocks(kg, best, ray, instance, first, count);
+                best = rt_intersect_blocks(kg, best, ray, tmax, instance, first, count);
                 if (any_hit && best.instance != RT_NONE) return best;
             }
         }
@@ -381,7 +405,7 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
             if (popped.x == RT_STACK_LEAVE_INSTANCE) {
                 ray = world;
                 instance = RT_NONE;
-            } else if (rt_as_float(popped.y) < best.tuv.x) {
+            } else if (rt_as_float(popped.y) <= rt_hit_reach(best, tmax)) {
                 current = popped.x;
                 going = true;
             }

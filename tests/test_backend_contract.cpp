@@ -199,10 +199,14 @@ TEST_P(BackendContract, EveryStageOfTheListRunsAndIsTimedInFrameOrder) {
     prism::RenderSettings settings = prism::test::small_settings(32, 24, 3);
     prism::FrameResult frame = prism::RenderEngine(GetParam(), s.device).render(s.scene.camera, settings);
 
+    // The sphere has no cut-out or blended material: its frames launch every stage but those that need a flag
+    // (shadow_layers: RT_FLAG_ALPHA_SHADOWS; Backends/AlphaShadows runs that one on every backend).
+    const uint32_t flags = 0;
     std::vector<std::pair<prism::Stage, uint32_t>> expected;
     auto pass = [&](prism::StagePass which, uint32_t depth) {
         for (size_t stage = 0; stage < prism::stage_count; ++stage)
-            if (prism::stage_pass(prism::Stage(stage)) == which) expected.emplace_back(prism::Stage(stage), depth);
+            if (prism::stage_pass(prism::Stage(stage)) == which && prism::stage_runs(prism::Stage(stage), flags))
+                expected.emplace_back(prism::Stage(stage), depth);
     };
     pass(prism::StagePass::Before, 0);
     for (uint32_t depth = 0; depth < settings.max_depth; ++depth) pass(prism::StagePass::Bounce, depth);
@@ -354,7 +358,9 @@ INSTANTIATE_TEST_SUITE_P(
                                          AgreementCase{"builtin:dragon", 96, 72, 4},
                                          AgreementCase{"gltf/GlassVaseFlowers/GlassVaseFlowers.glb", 96, 96, 6},
                                          AgreementCase{"gltf/TransmissionTest/TransmissionTest.glb", 96, 72, 6},
-                                         AgreementCase{"gltf/BoxTextured/BoxTextured.glb", 64, 64, 4})),
+                                         AgreementCase{"gltf/BoxTextured/BoxTextured.glb", 64, 64, 4},
+                                         // Coplanar overlapping trim: the tie rule of kernels/traverse.h.
+                                         AgreementCase{"mcguire/conference/conference.obj", 160, 120, 4})),
     [](const auto& info) {
         const std::string& scene = std::get<1>(info.param).scene;
         return prism::test::test_name_of(std::get<0>(info.param) + "_" + scene.substr(scene.find_last_of(":/") + 1));
