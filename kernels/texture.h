@@ -36,9 +36,11 @@ RT_FUNC float4 rt_decode_texel(uint texel, uint encoding) {
     return c;
 }
 
+// i modulo size in [0, size). GLSL leaves % undefined when an operand is negative (drivers may answer as C does,
+// or not), so % only ever sees non-negative values here.
 RT_FUNC int rt_wrap_repeat(int i, int size) {
-    int m = i % size;
-    return m < 0 ? m + size : m;
+    if (i >= 0) return i % size;
+    return size - 1 - (-1 - i) % size;
 }
 
 // glTF sampler wrap modes (RT_WRAP_*) on an integer texel coordinate.

@@ -245,12 +245,9 @@ TEST(GltfMaterialMaps, AlphaMaskCutsOutAndBlendMixes) {
     EXPECT_NEAR(mixed.g, 188, 6);
 }
 
-// Shadows through cut-outs: a MASK quad half cut out, half above the cutoff, floats 0.5 in front of a white
-// floor, lit along -z. Through the cut-out half the camera sees the floor lit (the shadow ray passes the cut-out as
-// the camera ray did); a BLEND quad at alpha 0.5 lets half the light through to the floor behind it.
-// On every backend: these scenes' shadow rays are the shadow_layers stage's (kernels/stages.h), a kernel of its own
-// that no other test scene launches with work.
-class AlphaShadows : public ::testing::TestWithParam<std::string> {
+// The material tests whose kernels paths no agreement scene exercises, on every backend (Vulkan under the
+// validation layer).
+class EveryBackend : public ::testing::TestWithParam<std::string> {
 protected:
     void SetUp() override {
         std::string reason;
@@ -264,7 +261,11 @@ protected:
     }
 };
 
-TEST_P(AlphaShadows, ShadowRaysPassCutOutsAndBlendedSurfaces) {
+// Shadows through cut-outs: a MASK quad half cut out, half above the cutoff, floats 0.5 in front of a white
+// floor, lit along -z. Through the cut-out half the camera sees the floor lit (the shadow ray passes the cut-out as
+// the camera ray did); a BLEND quad at alpha 0.5 lets half the light through to the floor behind it. These shadow
+// rays are the shadow_layers stage's (kernels/stages.h), a kernel of its own that no other test scene launches.
+TEST_P(EveryBackend, ShadowRaysPassCutOutsAndBlendedSurfaces) {
     auto build = [](const std::string& name, json mode_and_factor, bool textured) {
         GltfBuilder gltf = alpha_quad(mode_and_factor, textured);
         gltf.document["materials"].push_back(  // material 1: a white floor that does not mirror
@@ -312,11 +313,6 @@ TEST_P(AlphaShadows, ShadowRaysPassCutOutsAndBlendedSurfaces) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Backends, AlphaShadows,
-                         ::testing::Values("cpu-ref", "cpu", "cuda", test::test_device("opencl"),
-                                           test::test_device("vulkan")),
-                         [](const auto& info) { return test::test_name_of(info.param); });
-
 // An opaque dielectric mirrors a bright sky by Schlick's Fresnel: a few % head-on, far more at a grazing angle;
 // KHR_materials_specular's specularFactor 0 turns the reflection off.
 TEST(GltfMaterialMaps, OpaqueDielectricsReflectMoreAtGrazingAngles) {
@@ -345,7 +341,8 @@ namespace {
 
 // An emissive-only quad (so the probes read the texture's own colours) with the given KHR_texture_transform and
 // sampler on its 2x2 red/green/blue/white texture.
-test::ProbeImage render_transformed(const std::string& name, json transform, json sampler) {
+test::ProbeImage render_transformed(const std::string& name, json transform, json sampler,
+                                    const std::string& backend = "cpu-ref") {
     std::string image = test::write_test_png("transform_rgbw.png", 2, 2, {kRed, kGreen, kBlue, kWhite});
     GltfBuilder gltf;
     add_textures(gltf, {image});
@@ -360,8 +357,26 @@ test::ProbeImage render_transformed(const std::string& name, json transform, jso
                       {"emissiveFactor", {1, 1, 1}},
                       {"emissiveTexture", texture}}});
     gltf.node({{"mesh", textured_quad(gltf)}});
-    return test::render_gltf(gltf.write(name), no_light, 96);
+    return test::render_gltf(gltf.write(name), no_light, 96, 4, backend);
 }
+
+// uv scaled by 3 and moved to [-3.25, -0.25], nearest texels: every texel coordinate is negative, where GLSL leaves %
+// undefined (kernels/texture.h, rt_wrap_repeat); each backend wraps them as cpu-ref does, repeat and mirrored.
+TEST_P(EveryBackend, NegativeTexelCoordinatesWrapAsOnTheHost) {
+    json transform = {{"offset", {-3.25, -2.5}}, {"scale", {3.0, 3.0}}};
+    for (int wrap : {10497, 33648}) {
+        json sampler = {{"magFilter", 9728}, {"minFilter", 9728}, {"wrapS", wrap}, {"wrapT", wrap}};
+        std::string name = "negative_wrap_" + std::to_string(wrap) + "-" + test::test_name_of(GetParam()) + ".gltf";
+        test::ProbeImage expected = render_transformed(name, transform, sampler);
+        test::ProbeImage actual = render_transformed(name, transform, sampler, GetParam());
+        EXPECT_GE(test::psnr_rgba8(expected.frame.image, actual.frame.image), 50.0) << "wrap " << wrap;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, EveryBackend,
+                         ::testing::Values("cpu-ref", "cpu", "cuda", test::test_device("opencl"),
+                                           test::test_device("vulkan")),
+                         [](const auto& info) { return test::test_name_of(info.param); });
 
 }  // namespace
 
