@@ -200,7 +200,8 @@ TEST_P(BackendContract, EveryStageOfTheListRunsAndIsTimedInFrameOrder) {
     prism::FrameResult frame = prism::RenderEngine(GetParam(), s.device).render(s.scene.camera, settings);
 
     // The sphere has no cut-out or blended material: its frames launch every stage but those that need a flag
-    // (shadow_layers: RT_FLAG_ALPHA_SHADOWS; Backends/EveryBackend.ShadowRaysPassCutOutsAndBlendedSurfaces runs that one on every backend).
+    // (shadow_layers: RT_FLAG_ALPHA_SHADOWS; Backends/EveryBackend.ShadowRaysPassCutOutsAndBlendedSurfaces runs that
+    // one on every backend).
     const uint32_t flags = 0;
     std::vector<std::pair<prism::Stage, uint32_t>> expected;
     auto pass = [&](prism::StagePass which, uint32_t depth) {
