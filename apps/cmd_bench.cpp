@@ -131,7 +131,8 @@ nlohmann::json bench_frames(RenderEngine& engine, const Scene& scene, const Benc
     double secondary_ms = 0.0, shadow_ms = 0.0;
     for (uint32_t d = 0; d < s.rays_per_depth.size(); ++d) {
         double intersect_ms = stages.at(Stage::Intersect, d);
-        // A frame's shadow rays are traced by one of the two shadow stages (kernels/stages.h), the other returns.
+        // A frame's shadow rays are traced by the shadow stage, or in scenes with cut-out or blended materials by
+        // shadow_layers (kernels/stage_list.h); the other one is not launched or returns at once.
         double shadow_stage_ms = stages.at(Stage::Shadow, d) + stages.at(Stage::ShadowLayers, d);
         nlohmann::json row = {{"depth", d},
                               {"rays", s.rays_per_depth[d]},

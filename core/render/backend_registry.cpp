@@ -59,6 +59,14 @@ StagePass stage_pass(Stage stage) {
     return passes[static_cast<size_t>(stage)];
 }
 
+// kernels/stage_list.h's rule, checked: a GridSizesQueue stage writes the indirect launches' arguments, so no frame
+// may skip it.
+#define RT_STAGE(name, Name, pass, launch, needs)                                     \
+    static_assert(StageLaunch::launch != StageLaunch::GridSizesQueue || (needs) == 0, \
+                  "kernels/stage_list.h: stage '" #name "' sizes the queues and must run in every frame");
+#include "kernels/stage_list.h"
+#undef RT_STAGE
+
 uint32_t stage_needs(Stage stage) {
     static constexpr uint32_t needs[] = {
 #define RT_STAGE(name, Name, pass, launch, needs) needs,
