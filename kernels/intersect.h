@@ -55,6 +55,20 @@ RT_FUNC WideBoxHits rt_intersect_wide_node(BvhWideNode node, float3 origin, floa
     return hits;
 }
 
+// Moeller-Trumbore's u and v are dot products of s = origin - v0 with vectors the size of the triangle, so their
+// rounding error grows with |s| / |edge|: a ray from far away through the edge two triangles share can fall
+// outside both and leak through a closed mesh (a dark speck where it then meets the far side from inside). Each
+// of u and v is a triple product of s, the direction and an edge, whose rounding error is a few eps times the
+// product of the three vectors' largest components; the tests accept barycentrics down to minus that bound with
+// a 32-fold margin (2^-19 = 32 eps), so neighbours overlap by a sliver instead of leaving a crack. A hit in that
+// sliver reports its distance RT_SLACK_FARTHER times longer, beyond the tie band of traverse.h (RT_TIE_EPSILON),
+// so the triangle the ray truly crosses wins whenever it is found too: the slack only fills cracks, and hits stay
+// those of a watertight test (Embree's) elsewhere.
+#define RT_EDGE_SLACK (1.0f / 524288.0f)
+#define RT_SLACK_FARTHER 1.00004f
+
+RT_FUNC float rt_max_abs3(float3 a) { return rt_max(rt_max(rt_abs(a.x), rt_abs(a.y)), rt_abs(a.z)); }
+
 // Returns (t, u, v, 1) for a hit with tmin < t < tmax, else (+inf, 0, 0, 0). u and v weight the second and
 // third vertex. Two-sided: no culling (glass is seen from both sides).
 RT_FUNC float4 rt_intersect_triangle(TriangleGeometry tri, float3 origin, float3 dir, float tmin, float tmax) {
@@ -66,12 +80,15 @@ RT_FUNC float4 rt_intersect_triangle(TriangleGeometry tri, float3 origin, float3
     if (det == 0.0f) return miss;
     float inv_det = 1.0f / det;
     float3 s = origin - rt_xyz(tri.v0);
+    float slack =
+        RT_EDGE_SLACK * rt_max_abs3(s) * rt_max_abs3(dir) * (rt_max_abs3(e1) + rt_max_abs3(e2)) * rt_abs(inv_det);
     float u = dot(s, p) * inv_det;
-    if (!(u >= 0.0f && u <= 1.0f)) return miss;
+    if (!(u >= -slack && u <= 1.0f + slack)) return miss;
     float3 q = cross(s, e1);
     float v = dot(dir, q) * inv_det;
-    if (!(v >= 0.0f && u + v <= 1.0f)) return miss;
+    if (!(v >= -slack && u + v <= 1.0f + slack)) return miss;
     float t = dot(e2, q) * inv_det;
+    if (!(u >= 0.0f && v >= 0.0f && u + v <= 1.0f)) t = t * RT_SLACK_FARTHER;
     if (!(t > tmin && t < tmax)) return miss;
     return make_float4(t, u, v, 1.0f);
 }
@@ -101,6 +118,11 @@ RT_FUNC TriangleHits4 rt_intersect_triangles4(TriangleBlock tri, float3 origin, 
     float4 sx = rt_splat4(origin.x) - tri.v0x;
     float4 sy = rt_splat4(origin.y) - tri.v0y;
     float4 sz = rt_splat4(origin.z) - tri.v0z;
+    float4 s_max = rt_max4(rt_max4(rt_abs4(sx), rt_abs4(sy)), rt_abs4(sz));
+    float4 e1_max = rt_max4(rt_max4(rt_abs4(tri.e1x), rt_abs4(tri.e1y)), rt_abs4(tri.e1z));
+    float4 e2_max = rt_max4(rt_max4(rt_abs4(tri.e2x), rt_abs4(tri.e2y)), rt_abs4(tri.e2z));
+    float4 slack =
+        rt_splat4(RT_EDGE_SLACK) * s_max * rt_splat4(rt_max_abs3(dir)) * (e1_max + e2_max) * rt_abs4(inv_det);
     TriangleHits4 hits;
     hits.u = (sx * px + sy * py + sz * pz) * inv_det;
     // q = cross(s, e1), v = dot(dir, q) / det, t = dot(e2, q) / det
@@ -108,10 +130,16 @@ RT_FUNC TriangleHits4 rt_intersect_triangles4(TriangleBlock tri, float3 origin, 
     float4 qy = sz * tri.e1x - sx * tri.e1z;
     float4 qz = sx * tri.e1y - sy * tri.e1x;
     hits.v = (dx * qx + dy * qy + dz * qz) * inv_det;
-    hits.t = (tri.e2x * qx + tri.e2y * qy + tri.e2z * qz) * inv_det;
     uint nonzero = rt_mask_lt4(det, zero) | rt_mask_lt4(zero, det);
-    uint inside = rt_mask_le4(zero, hits.u) & rt_mask_le4(hits.u, one) & rt_mask_le4(zero, hits.v) &
-                  rt_mask_le4(hits.u + hits.v, one);
+    float4 low = zero - slack;
+    float4 high = one + slack;
+    uint inside = rt_mask_le4(low, hits.u) & rt_mask_le4(hits.u, high) & rt_mask_le4(low, hits.v) &
+                  rt_mask_le4(hits.u + hits.v, high);
+    uint exact = rt_mask_le4(zero, hits.u) & rt_mask_le4(zero, hits.v) & rt_mask_le4(hits.u + hits.v, one);
+    float4 farther =
+        make_float4((exact & 1u) != 0u ? 1.0f : RT_SLACK_FARTHER, (exact & 2u) != 0u ? 1.0f : RT_SLACK_FARTHER,
+                    (exact & 4u) != 0u ? 1.0f : RT_SLACK_FARTHER, (exact & 8u) != 0u ? 1.0f : RT_SLACK_FARTHER);
+    hits.t = (tri.e2x * qx + tri.e2y * qy + tri.e2z * qz) * inv_det * farther;
     hits.mask = nonzero & inside & rt_mask_lt4(rt_splat4(tmin), hits.t) & rt_mask_lt4(hits.t, rt_splat4(tmax));
     return hits;
 }

@@ -36,6 +36,11 @@ TEST(HitTies, TheLowerInstanceThenPrimitiveWinsWithinTheBand) {
     EXPECT_FLOAT_EQ(rt_hit_reach(best, INFINITY), 10.0f * (1.0f + RT_TIE_EPSILON));
     EXPECT_EQ(rt_hit_reach(best, 10.0f), 10.0f);
     EXPECT_EQ(rt_hit_reach(rt_no_hit(), 5.0f), 5.0f);
+    // A hit in a triangle's edge slack (kernels/intersect.h) lies beyond the band of an exact hit at the same
+    // distance, from either side, so the exact one wins whichever the traversal meets first.
+    const Hit exact = hit_at(10.0f, 3u, 3u);
+    EXPECT_FALSE(rt_hit_wins(10.0f * RT_SLACK_FARTHER, 0u, 0u, exact));
+    EXPECT_TRUE(rt_hit_wins(10.0f, 3u, 3u, hit_at(10.0f * RT_SLACK_FARTHER, 0u, 0u)));
 }
 
 // Two unit quads in z = 0, one over the other, as primitives 0-1 and 2-3 of one mesh, in two instances of it:

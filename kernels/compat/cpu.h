@@ -106,6 +106,7 @@ RT_FUNC float4 operator*(float4 a, float4 b) { return rt_from_sse(_mm_mul_ps(rt_
 RT_FUNC float4 operator/(float4 a, float4 b) { return rt_from_sse(_mm_div_ps(rt_sse(a), rt_sse(b))); }
 RT_FUNC float4 rt_min4(float4 a, float4 b) { return rt_from_sse(_mm_min_ps(rt_sse(b), rt_sse(a))); }
 RT_FUNC float4 rt_max4(float4 a, float4 b) { return rt_from_sse(_mm_max_ps(rt_sse(b), rt_sse(a))); }
+RT_FUNC float4 rt_abs4(float4 a) { return rt_from_sse(_mm_andnot_ps(_mm_set1_ps(-0.0f), rt_sse(a))); }
 RT_FUNC uint rt_mask_le4(float4 a, float4 b) { return uint(_mm_movemask_ps(_mm_cmple_ps(rt_sse(a), rt_sse(b)))); }
 RT_FUNC uint rt_mask_lt4(float4 a, float4 b) { return uint(_mm_movemask_ps(_mm_cmplt_ps(rt_sse(a), rt_sse(b)))); }
 #else
@@ -119,6 +120,7 @@ RT_FUNC float4 rt_min4(float4 a, float4 b) {
 RT_FUNC float4 rt_max4(float4 a, float4 b) {
     return {rt_max(a.x, b.x), rt_max(a.y, b.y), rt_max(a.z, b.z), rt_max(a.w, b.w)};
 }
+RT_FUNC float4 rt_abs4(float4 a) { return {rt_abs(a.x), rt_abs(a.y), rt_abs(a.z), rt_abs(a.w)}; }
 RT_FUNC uint rt_mask_le4(float4 a, float4 b) {
     return (a.x <= b.x ? 1u : 0u) | (a.y <= b.y ? 2u : 0u) | (a.z <= b.z ? 4u : 0u) | (a.w <= b.w ? 8u : 0u);
 }

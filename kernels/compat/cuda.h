@@ -61,6 +61,7 @@ RT_FUNC float4 rt_min4(float4 a, float4 b) {
 RT_FUNC float4 rt_max4(float4 a, float4 b) {
     return make_float4(fmaxf(a.x, b.x), fmaxf(a.y, b.y), fmaxf(a.z, b.z), fmaxf(a.w, b.w));
 }
+RT_FUNC float4 rt_abs4(float4 a) { return make_float4(fabsf(a.x), fabsf(a.y), fabsf(a.z), fabsf(a.w)); }
 #include "scalar_lanes.h"
 RT_FUNC uint rt_lowest_bit(uint x) { return uint(__ffs(x) - 1); }
 RT_FUNC uint rt_min_u(uint a, uint b) { return umin(a, b); }

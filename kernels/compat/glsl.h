@@ -28,6 +28,7 @@
 // can be indexed; a mask has bit k set for lane k; rt_float8 is two vec4 halves (lanes 0-3, 4-7).
 #define rt_min4(a, b) min((a), (b))
 #define rt_max4(a, b) max((a), (b))
+#define rt_abs4(a) abs(a)
 uint rt_mask_le4(vec4 a, vec4 b) {
     return (a.x <= b.x ? 1u : 0u) | (a.y <= b.y ? 2u : 0u) | (a.z <= b.z ? 4u : 0u) | (a.w <= b.w ? 8u : 0u);
 }

@@ -24,6 +24,7 @@
 // has bit k set for lane k; rt_float8 is two float4 halves (lanes 0-3, 4-7). OpenCL C 1.2 has clz but no ctz.
 #define rt_min4(a, b) fmin((a), (b))
 #define rt_max4(a, b) fmax((a), (b))
+#define rt_abs4(a) fabs(a)
 #include "scalar_lanes.h"
 RT_FUNC uint rt_lowest_bit(uint x) { return 31u - clz(x & (0u - x)); }
 #define rt_abs(a) fabs(a)
