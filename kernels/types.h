@@ -169,6 +169,8 @@ RT_STRUCT_END(Material)
 #define RT_MATERIAL_ALPHA_BLEND 4u
 // Vertex colours replace the material colour where the mesh has them (the seed's rule) instead of multiplying it.
 #define RT_MATERIAL_VERTEX_REPLACE 8u
+// glTF doubleSided false: a hit on the back of a surface that does not refract (ambient.w = 0) is passed through.
+#define RT_MATERIAL_SINGLE_SIDED 16u
 
 #define RT_TEXMODE_REPLACE 0u
 #define RT_TEXMODE_DECAL 1u

@@ -373,6 +373,39 @@ TEST_P(EveryBackend, NegativeTexelCoordinatesWrapAsOnTheHost) {
     }
 }
 
+// glTF doubleSided: an emissive red quad turned to face away from the camera, 0.5 in front of an emissive green one.
+// Single-sided, its back is not seen and the green one shows through (with a faint reflection of the red front);
+// double-sided, it hides it. A refracting single-sided quad keeps its back faces (a ray inside glass leaves through
+// them): it tints the green.
+TEST_P(EveryBackend, BackFacesOfSingleSidedSurfacesAreNotSeen) {
+    auto build = [&](const std::string& name, bool double_sided, bool refracting) {
+        GltfBuilder gltf;
+        json red = {{"pbrMetallicRoughness", {{"baseColorFactor", {1, 0, 0, 1}}, {"metallicFactor", 0}}},
+                    {"emissiveFactor", {1, 0, 0}},
+                    {"doubleSided", double_sided}};
+        if (refracting) red["extensions"] = {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}}};
+        gltf.document["materials"] =
+            json::array({red,
+                         {{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0}}},
+                          {"emissiveFactor", {0, 1, 0}}}});
+        const int front = textured_quad(gltf);
+        const int back = textured_quad(gltf);
+        gltf.document["meshes"][back]["primitives"][0]["material"] = 1;
+        gltf.node({{"mesh", front}, {"translation", {0, 0, 0.5}}, {"rotation", {0, 1, 0, 0}}});  // 180 degrees about y
+        gltf.node({{"mesh", back}, {"scale", {2, 2, 1}}});
+        return gltf.write(name + "-" + test::test_name_of(GetParam()) + ".gltf");
+    };
+    test::Rgb single = test::render_gltf(build("single_sided", false, false), no_light, 64, 4, GetParam()).at_ndc(0, 0);
+    EXPECT_LT(single.r, 60);  // the green quad mirrors a little of the red one's front (F0 = 0.04)
+    EXPECT_GT(single.g, 200);
+    test::Rgb both = test::render_gltf(build("double_sided", true, false), no_light, 64, 4, GetParam()).at_ndc(0, 0);
+    EXPECT_GT(both.r, 200);
+    EXPECT_LT(both.g, 20);
+    test::Rgb glass =
+        test::render_gltf(build("single_sided_glass", false, true), no_light, 64, 4, GetParam()).at_ndc(0, 0);
+    EXPECT_NE(glass.r, single.r) << "a refracting back face is still met";
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, EveryBackend,
                          ::testing::Values("cpu-ref", "cpu", "cuda", test::test_device("opencl"),
                                            test::test_device("vulkan")),

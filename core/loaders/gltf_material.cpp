@@ -232,6 +232,7 @@ Material MaterialConverter::convert(int index) {
     material.alpha_cutoff = static_cast<float>(source.alphaCutoff);
     if (source.alphaMode == "MASK") material.alpha_mode = AlphaMode::Mask;
     if (source.alphaMode == "BLEND") material.alpha_mode = AlphaMode::Blend;
+    material.double_sided = source.doubleSided;
 
     if (transmission > 0.0f) {
         // A dielectric boundary: the seed's Fresnel term splits reflection and refraction, so the reflected part is

@@ -183,7 +183,8 @@ void build_top_level(DeviceScene& device, const std::vector<glm::mat4>& transfor
     out.flags = (m.metal_rough ? RT_MATERIAL_METAL_ROUGH : 0u) |
                 (m.alpha_mode == AlphaMode::Mask ? RT_MATERIAL_ALPHA_MASK : 0u) |
                 (m.alpha_mode == AlphaMode::Blend ? RT_MATERIAL_ALPHA_BLEND : 0u) |
-                (m.vertex_colors_replace ? RT_MATERIAL_VERTEX_REPLACE : 0u);
+                (m.vertex_colors_replace ? RT_MATERIAL_VERTEX_REPLACE : 0u) |
+                (m.double_sided ? 0u : RT_MATERIAL_SINGLE_SIDED);
     out.alpha = m.alpha;
     out.emissive.w = m.alpha_cutoff;
     out.absorption = to_float4(m.absorption, 0.0f);

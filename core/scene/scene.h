@@ -104,6 +104,9 @@ struct Material {
     AlphaMode alpha_mode = AlphaMode::Opaque;
     float alpha = 1.0f;
     float alpha_cutoff = 0.5f;  // Mask: the surface is there where alpha >= this
+    // glTF doubleSided false: the back of a surface that does not refract is not seen (a rasterizer culls it) and the
+    // ray passes on; a refracting one keeps its back faces, through which a ray inside it leaves.
+    bool double_sided = true;
     // Single-purpose maps, each read with its own uv set and transform; `mode` and `environment_color` unused.
     std::optional<TextureLayer> metal_rough_map;     // linear: B = metallic, G = roughness
     std::optional<TextureLayer> emissive_map;        // sRGB: multiplies `emissive`
