@@ -217,15 +217,17 @@ def draw_bandwidth(figure, cell, data, path, palette):
         for device in devices:
             api = field(device, path, ["api"])
             name = field(device, path, ["device"])
-            points = sorted((m["bytes"], (m.get("device_timer") or m["wall"])["median_gbps"])
-                            for m in field(device, path, ["measurements"])
-                            if m.get("direction") == direction and m.get("memory") == memory)
-            if not points:
-                continue
-            line_style, _ = palette.style(api, name)
-            (line,) = ax.plot([p[0] for p in points], [p[1] for p in points], line_style, marker="o", markersize=3,
-                              color=palette.color(api), label=f"{api}: {name}")
-            handles.setdefault(f"{api}: {name}", line)
+            measurements = [m for m in field(device, path, ["measurements"])
+                            if m.get("direction") == direction and m.get("memory") == memory]
+            # Vulkan copies carry the queue they ran on; each queue is its own line (older files have none).
+            for queue in dict.fromkeys(m.get("queue") for m in measurements):
+                points = sorted((m["bytes"], (m.get("device_timer") or m["wall"])["median_gbps"])
+                                for m in measurements if m.get("queue") == queue)
+                label = f"{api}: {name}" + (f" [{queue} queue]" if queue else "")
+                line_style, _ = palette.style(api, label)
+                (line,) = ax.plot([p[0] for p in points], [p[1] for p in points], line_style, marker="o",
+                                  markersize=3, color=palette.color(api), label=label)
+                handles.setdefault(label, line)
         ax.set_xscale("log", base=2)
         ax.set_yscale("log")
         plain_log_axis(ax.yaxis)

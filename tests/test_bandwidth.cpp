@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -14,6 +15,9 @@
 
 #include "bench/plot_script.h"
 #include "tests/test_support.h"
+#ifdef PRISM_HAVE_VULKAN
+#include "backends/vulkan/vulkan_context.h"
+#endif
 
 namespace {
 
@@ -144,6 +148,96 @@ TEST_F(BandwidthRun, JsonFollowsTheDocumentedSchema) {
         EXPECT_TRUE(row["percent_of_spec"].is_null() || positive_finite(row["percent_of_spec"]));
     }
 }
+
+#ifdef PRISM_HAVE_VULKAN
+// Each copy command (H2D, D2H, D2D copy) is reported per Vulkan queue: on the compute queue always, on the transfer
+// queue exactly where the context finds a transfer-only family (none on lavapipe), and the report says once per
+// device when there is none. CUDA and OpenCL entries keep their form, without a queue.
+TEST_F(BandwidthRun, VulkanCopiesAreReportedPerQueue) {
+    ASSERT_TRUE(result_.is_object());
+    std::map<std::string, bool> has_transfer;  // device name -> the context found a transfer-only family
+    prism::vk::Instance instance(false);
+    for (const prism::vk::DeviceCandidate& d : instance.devices())
+        has_transfer[d.properties.deviceName] = d.transfer_family != UINT32_MAX;
+    auto key = [](const json& entry) {
+        return entry["direction"].get<std::string>() + "/" + entry["memory"].get<std::string>() + "/" +
+               entry.value("queue", "");
+    };
+    size_t without_transfer = 0;
+    bool found = false;
+    for (const json& device : result_["devices"]) {
+        if (device["api"] != "vulkan") {
+            for (const json& m : device["measurements"]) EXPECT_FALSE(m.contains("queue")) << device["api"];
+            continue;
+        }
+        if (device["measurements"].empty()) continue;
+        found = true;
+        std::string name = device["device"];
+        ASSERT_TRUE(has_transfer.count(name)) << name << " is not among the context's devices";
+        without_transfer += !has_transfer[name];
+        std::set<std::string> expected = {"kernel_copy/device/"};  // a dispatch: always the compute queue
+        for (const char* queue : {"compute", "transfer"}) {
+            if (std::string(queue) == "transfer" && !has_transfer[name]) continue;
+            for (const char* kind : {"h2d/pageable", "h2d/pinned", "d2h/pageable", "d2h/pinned", "d2d/device"})
+                expected.insert(std::string(kind) + "/" + queue);
+        }
+        std::set<std::string> measured, summarized;
+        for (const json& m : device["measurements"]) measured.insert(key(m));
+        for (const json& row : result_["summary"])
+            if (row["api"] == "vulkan" && row["device"] == name) summarized.insert(key(row));
+        EXPECT_EQ(measured, expected) << name;
+        EXPECT_EQ(summarized, expected) << name;
+    }
+    ASSERT_TRUE(found) << "no measured Vulkan device in\n" << run_.output;
+    EXPECT_NE(run_.output.find("D2D copy device [compute]"), std::string::npos) << run_.output;
+    size_t said = 0;
+    for (size_t at = run_.output.find("no transfer-only queue"); at != std::string::npos;
+         at = run_.output.find("no transfer-only queue", at + 1))
+        ++said;
+    EXPECT_EQ(said, without_transfer) << run_.output;
+}
+
+VkQueueFamilyProperties queue_family(VkQueueFlags flags) {
+    VkQueueFamilyProperties family{};
+    family.queueFlags = flags;
+    family.queueCount = 1;
+    return family;
+}
+
+// The transfer-only family is the one that can copy but neither draw nor compute: NVIDIA's copy-engine family, never
+// a compute family that also transfers. Lists as drivers report them, so the NVIDIA case runs here on lavapipe too.
+TEST(Bandwidth, TransferOnlyFamilyIsNeitherGraphicsNorCompute) {
+    using prism::vk::transfer_only_family;
+    const VkQueueFlags g = VK_QUEUE_GRAPHICS_BIT, c = VK_QUEUE_COMPUTE_BIT, t = VK_QUEUE_TRANSFER_BIT,
+                       sparse = VK_QUEUE_SPARSE_BINDING_BIT;
+    std::vector<VkQueueFamilyProperties> nvidia = {queue_family(g | c | t | sparse), queue_family(t | sparse),
+                                                   queue_family(c | t | sparse)};
+    EXPECT_EQ(transfer_only_family(nvidia), 1u);
+    std::vector<VkQueueFamilyProperties> lavapipe = {queue_family(g | c | t)};
+    EXPECT_EQ(transfer_only_family(lavapipe), UINT32_MAX);
+    std::vector<VkQueueFamilyProperties> compute_copies = {queue_family(g | c | t), queue_family(c | t)};
+    EXPECT_EQ(transfer_only_family(compute_copies), UINT32_MAX);
+}
+
+// The context makes the transfer-only queue only when asked and when the device has that family.
+TEST(Bandwidth, TransferQueueIsCreatedOnRequestWhereItExists) {
+    prism::vk::DeviceCandidate device;
+    device.compute_family = 2;
+    device.transfer_family = 1;
+    auto families = [](const std::vector<VkDeviceQueueCreateInfo>& infos) {
+        std::vector<uint32_t> result;
+        for (const VkDeviceQueueCreateInfo& info : infos) {
+            EXPECT_EQ(info.queueCount, 1u);
+            result.push_back(info.queueFamilyIndex);
+        }
+        return result;
+    };
+    EXPECT_EQ(families(prism::vk::queue_create_infos(device, true)), (std::vector<uint32_t>{2, 1}));
+    EXPECT_EQ(families(prism::vk::queue_create_infos(device, false)), std::vector<uint32_t>{2});
+    device.transfer_family = UINT32_MAX;
+    EXPECT_EQ(families(prism::vk::queue_create_infos(device, true)), std::vector<uint32_t>{2});
+}
+#endif
 
 TEST_F(BandwidthRun, PlotIsADrawnPng) {
     if (!can_plot_) GTEST_SKIP() << "no Python 3 with matplotlib here (python3-matplotlib): --plot not exercised";

@@ -221,6 +221,7 @@ std::vector<DeviceCandidate> Instance::devices() const {
             }
         }
         if (d.compute_family == UINT32_MAX && d.unusable.empty()) d.unusable = "no compute queue";
+        d.transfer_family = transfer_only_family(families);
         if (d.unusable.empty() && d.properties.limits.maxPerStageDescriptorStorageBuffers < device_array_count)
             d.unusable = "fewer than " + std::to_string(device_array_count) + " storage buffers per stage";
         result.push_back(d);
@@ -255,6 +256,37 @@ DeviceCandidate Instance::select(const std::string& filter) const {
         return d;
     }
     throw Error("vulkan: no device matches '" + filter + "' (found: " + list + ")");
+}
+
+uint32_t transfer_only_family(std::span<const VkQueueFamilyProperties> families) {
+    for (uint32_t f = 0; f < families.size(); ++f) {
+        VkQueueFlags flags = families[f].queueFlags;
+        if ((flags & VK_QUEUE_TRANSFER_BIT) && !(flags & (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT))) return f;
+    }
+    return UINT32_MAX;
+}
+
+std::vector<VkDeviceQueueCreateInfo> queue_create_infos(const DeviceCandidate& device, bool with_transfer) {
+    // Read by vkCreateDevice after this returns, so it must outlive the call.
+    static const float priority = 1.0f;
+    std::vector<VkDeviceQueueCreateInfo> queues;
+    for (uint32_t family : {device.compute_family, with_transfer ? device.transfer_family : UINT32_MAX}) {
+        if (family == UINT32_MAX) continue;
+        VkDeviceQueueCreateInfo queue{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+        queue.queueFamilyIndex = family;
+        queue.queueCount = 1;
+        queue.pQueuePriorities = &priority;
+        queues.push_back(queue);
+    }
+    return queues;
+}
+
+DeviceQueues get_device_queues(VkDevice device, const DeviceCandidate& candidate, bool with_transfer) {
+    DeviceQueues queues;
+    vkGetDeviceQueue(device, candidate.compute_family, 0, &queues.compute);
+    if (with_transfer && candidate.transfer_family != UINT32_MAX)
+        vkGetDeviceQueue(device, candidate.transfer_family, 0, &queues.transfer);
+    return queues;
 }
 
 uint32_t find_memory_type(const VkPhysicalDeviceMemoryProperties& memory, uint32_t type_bits,

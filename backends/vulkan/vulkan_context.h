@@ -1,10 +1,12 @@
 // Vulkan plumbing under the backend: instance (+ validation and a debug messenger that records every warning and
-// error), the choice of physical device by name, the logical device with one compute queue, and memory types.
+// error), the choice of physical device by name, the queues a logical device is made with (the compute queue, and
+// a transfer-only queue for those who ask), and memory types.
 #pragma once
 
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -25,9 +27,10 @@ struct DeviceCandidate {
     VkPhysicalDevice handle = VK_NULL_HANDLE;
     VkPhysicalDeviceProperties properties{};
     VkPhysicalDeviceDriverProperties driver{};
-    uint32_t compute_family = UINT32_MAX;  // UINT32_MAX: no compute queue
-    std::string unusable;                  // why this device cannot run the backend ("" when it can)
-    std::string describe() const;          // "llvmpipe (LLVM 15.0.6, 256 bits) [llvmpipe, Vulkan 1.3.230]"
+    uint32_t compute_family = UINT32_MAX;   // UINT32_MAX: no compute queue
+    uint32_t transfer_family = UINT32_MAX;  // transfer_only_family(); UINT32_MAX: none (e.g. lavapipe)
+    std::string unusable;                   // why this device cannot run the backend ("" when it can)
+    std::string describe() const;           // "llvmpipe (LLVM 15.0.6, 256 bits) [llvmpipe, Vulkan 1.3.230]"
 };
 
 class Instance {
@@ -50,6 +53,22 @@ private:
     VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
     bool validation_ = false;
 };
+
+// The first family that can transfer but neither draw nor compute, or UINT32_MAX. On NVIDIA such a family feeds the
+// copy engines (DMA), which work beside the SMs, so its copies may run at a different rate from the compute queue's.
+uint32_t transfer_only_family(std::span<const VkQueueFamilyProperties> families);
+
+// The queues to pass to vkCreateDevice: one on compute_family, and with `with_transfer` one on transfer_family where
+// the device has that family.
+std::vector<VkDeviceQueueCreateInfo> queue_create_infos(const DeviceCandidate& device, bool with_transfer);
+
+// The queues of a device made with queue_create_infos(device, with_transfer); `transfer` is VK_NULL_HANDLE when none
+// was made.
+struct DeviceQueues {
+    VkQueue compute = VK_NULL_HANDLE;
+    VkQueue transfer = VK_NULL_HANDLE;
+};
+DeviceQueues get_device_queues(VkDevice device, const DeviceCandidate& candidate, bool with_transfer);
 
 // Memory type index with all of `required`, preferring `preferred` and avoiding `avoided` flags; UINT32_MAX if none.
 uint32_t find_memory_type(const VkPhysicalDeviceMemoryProperties& memory, uint32_t type_bits,

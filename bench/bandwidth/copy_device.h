@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "bench/bandwidth/measurement.h"
 
@@ -40,6 +41,12 @@ public:
     // host-cached).
     virtual std::byte* pinned_upload() = 0;
     virtual std::byte* pinned_download() = 0;
+
+    // The queues the copy commands (upload, download, copy_buffer) can run on, each measured in turn; {""} where
+    // the API has no choice of queue.
+    virtual std::vector<std::string> copy_queues() const { return {""}; }
+    // Runs the copy commands on `queue`, one of copy_queues(), from now on.
+    virtual void use_copy_queue(const std::string& /*queue*/) {}
 
     virtual Timed upload(Memory host) = 0;    // host -> A
     virtual Timed download(Memory host) = 0;  // A -> host

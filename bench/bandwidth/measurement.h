@@ -39,6 +39,9 @@ struct Measurement {
     Direction direction = Direction::HostToDevice;
     Memory memory = Memory::Pageable;
     size_t bytes = 0;
+    // The queue a copy command ran on where the API lets the program choose (Vulkan: "compute" or "transfer"), so
+    // users see which to use; empty for CUDA and OpenCL, whose drivers pick the engine, and for the copy kernel.
+    std::string queue;
     std::optional<RateStats> device_timer;  // cudaEvent / OpenCL profiling / vkCmdWriteTimestamp
     RateStats wall;                         // host steady clock around submit + wait
     // The figure the tables compare: the device timer where there is one, else wall time.

@@ -1,10 +1,21 @@
 #include "bench/bandwidth/summary.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <utility>
 
 namespace prism::bandwidth {
+
+// The queues this kind of copy was measured on, in the order measured: {""} for APIs without a choice of queue.
+static std::vector<std::string> queues_of(const DeviceResult& device, Direction direction, Memory memory) {
+    std::vector<std::string> queues;
+    for (const Measurement& m : device.measurements)
+        if (m.direction == direction && m.memory == memory &&
+            std::find(queues.begin(), queues.end(), m.queue) == queues.end())
+            queues.push_back(m.queue);
+    return queues;
+}
 
 double read_write_gbps(const Measurement& measurement, double gbps) {
     return counts_read_and_write(measurement.direction) ? 2 * gbps : gbps;
@@ -29,31 +40,31 @@ std::vector<SummaryRow> summarize_peaks(const std::vector<ApiResult>& apis) {
     std::vector<SummaryRow> rows;
     for (const ApiResult& api : apis)
         for (const DeviceResult& device : api.devices)
-            for (auto [direction, memory] : kinds) {
-                const Measurement* peak = nullptr;
-                for (const Measurement& m : device.measurements)
-                    if (m.direction == direction && m.memory == memory &&
-                        (!peak || m.primary_gbps() > peak->primary_gbps()))
-                        peak = &m;
-                if (!peak) continue;
-                SummaryRow row{&device, peak};
-                bool to_memory = counts_read_and_write(direction);
-                char spec[96];
-                if (to_memory && memory_spec[device.device]) {
-                    double gbps = *memory_spec[device.device];
-                    row.percent_of_spec = 100 * read_write_gbps(*peak, peak->primary_gbps()) / gbps;
-                    std::snprintf(spec, sizeof spec, "memory %.0f GB/s (r+w)", gbps);
-                    row.spec = spec;
-                } else if (!to_memory && link[device.device]) {
-                    const LinkInfo& info = *link[device.device];
-                    row.percent_of_spec = 100 * peak->primary_gbps() / info.gbps;
-                    std::snprintf(spec, sizeof spec, "%s (%.1f GB/s)", info.description.c_str(), info.gbps);
-                    row.spec = spec;
+            for (auto [direction, memory] : kinds)
+                for (const std::string& queue : queues_of(device, direction, memory)) {
+                    const Measurement* peak = nullptr;
+                    for (const Measurement& m : device.measurements)
+                        if (m.direction == direction && m.memory == memory && m.queue == queue &&
+                            (!peak || m.primary_gbps() > peak->primary_gbps()))
+                            peak = &m;
+                    SummaryRow row{&device, peak};
+                    bool to_memory = counts_read_and_write(direction);
+                    char spec[96];
+                    if (to_memory && memory_spec[device.device]) {
+                        double gbps = *memory_spec[device.device];
+                        row.percent_of_spec = 100 * read_write_gbps(*peak, peak->primary_gbps()) / gbps;
+                        std::snprintf(spec, sizeof spec, "memory %.0f GB/s (r+w)", gbps);
+                        row.spec = spec;
+                    } else if (!to_memory && link[device.device]) {
+                        const LinkInfo& info = *link[device.device];
+                        row.percent_of_spec = 100 * peak->primary_gbps() / info.gbps;
+                        std::snprintf(spec, sizeof spec, "%s (%.1f GB/s)", info.description.c_str(), info.gbps);
+                        row.spec = spec;
+                    }
+                    rows.push_back(row);
                 }
-                rows.push_back(row);
-            }
 
-    // Best API per (device name, kind of copy).
+    // Best API (and queue) per (device name, kind of copy).
     std::map<std::tuple<std::string, Direction, Memory>, double> best;
     for (const SummaryRow& row : rows) {
         double& b = best[{row.device->device, row.peak->direction, row.peak->memory}];

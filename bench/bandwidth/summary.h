@@ -12,13 +12,14 @@ namespace prism::bandwidth {
 
 struct SummaryRow {
     const DeviceResult* device = nullptr;
-    const Measurement* peak = nullptr;  // the size with the best median (device timer, else wall)
+    const Measurement* peak = nullptr;  // the size with the best median (device timer, else wall) on one queue
     double percent_of_best = 0;         // of the best API on the same device (by name) for this kind of copy
     std::optional<double> percent_of_spec;
     std::string spec;  // "PCIe 32.0 GT/s x16 (63.0 GB/s)" or "memory 3352 GB/s r+w"
 };
 
-// Rows in the order of `apis`, then device, then H2D pageable/pinned, D2H pageable/pinned, D2D copy, kernel.
+// Rows in the order of `apis`, then device, then H2D pageable/pinned, D2H pageable/pinned, D2D copy, kernel; a kind
+// measured on several queues (Vulkan) has a row per queue, each compared with the best of every API and queue.
 // Spec figures are properties of the hardware: one reported through any API serves every API on that device.
 std::vector<SummaryRow> summarize_peaks(const std::vector<ApiResult>& apis);
 

@@ -61,6 +61,7 @@ public:
     void measure(Direction direction, Memory memory, const std::function<Timed()>& copy,
                  const std::function<bool()>& check) {
         std::string what = std::string(direction_label(direction)) + " " + memory_key(memory);
+        if (!queue_.empty()) what += " on the " + queue_ + " queue";
         try {
             for (int i = 0; i < plan_.warmup; ++i) copy();
             std::vector<double> device_seconds, wall_seconds;
@@ -77,7 +78,7 @@ public:
                 note(what + ": wrong data after the copy; measurement dropped");
                 return;
             }
-            Measurement measurement{direction, memory, bytes_, std::nullopt, summarize(bytes_, wall_seconds)};
+            Measurement measurement{direction, memory, bytes_, queue_, std::nullopt, summarize(bytes_, wall_seconds)};
             if (device_timer) measurement.device_timer = summarize(bytes_, device_seconds);
             result_.measurements.push_back(measurement);
         } catch (const SizeSkipped& skipped) {
@@ -87,11 +88,36 @@ public:
 
     void run() {
         PageableBuffer pageable(bytes_);
-        std::byte* host = pageable.data();
-        device_.allocate(bytes_, host);
+        device_.allocate(bytes_, pageable.data());
+        // Every copy command on each queue: each pass leaves its own checked data in A for the D2D copy.
+        for (const std::string& queue : device_.copy_queues()) {
+            queue_ = queue;
+            device_.use_copy_queue(queue);
+            measure_copy_commands(pageable.data());
+        }
+        // The kernel is a dispatch: it runs on the compute queue whatever queue the copies used.
+        queue_.clear();
+        std::string kernel_limit = device_.kernel_cannot_fit(bytes_);
+        if (!kernel_limit.empty()) {
+            note(std::string(direction_label(Direction::KernelCopy)) + ": skipped: " + kernel_limit);
+        } else {
+            device_.clear_destination();
+            measure(
+                Direction::KernelCopy, Memory::Device, [&] { return device_.copy_kernel(); },
+                [&] { return destination_holds_a(pageable.data()); });
+        }
+    }
+
+    // A holds pattern 3 after measure_copy_commands(); a device copy must reproduce it in B.
+    bool destination_holds_a(std::byte* host) {
+        std::memset(host, 0, bytes_);
+        device_.read_destination();
+        return has_pattern(host, bytes_, 3);
+    }
+
+    void measure_copy_commands(std::byte* host) {
         std::byte* pinned_upload = device_.pinned_upload();
         std::byte* pinned_download = device_.pinned_download();
-
         // Seeds differ so each check proves both the upload before it and the download it follows. The pinned
         // pattern is written after the pageable upload: on Vulkan that upload goes through the same staging memory.
         fill_pattern(host, bytes_, 1);
@@ -114,23 +140,10 @@ public:
             [&] { return has_pattern(pinned_download, bytes_, 3); });
         read_link();
 
-        // A now holds pattern 3; each device copy must reproduce it in B.
-        auto destination_ok = [&] {
-            std::memset(host, 0, bytes_);
-            device_.read_destination();
-            return has_pattern(host, bytes_, 3);
-        };
         device_.clear_destination();
         measure(
-            Direction::DeviceToDevice, Memory::Device, [&] { return device_.copy_buffer(); }, destination_ok);
-        std::string kernel_limit = device_.kernel_cannot_fit(bytes_);
-        if (!kernel_limit.empty()) {
-            note(std::string(direction_label(Direction::KernelCopy)) + ": skipped: " + kernel_limit);
-        } else {
-            device_.clear_destination();
-            measure(
-                Direction::KernelCopy, Memory::Device, [&] { return device_.copy_kernel(); }, destination_ok);
-        }
+            Direction::DeviceToDevice, Memory::Device, [&] { return device_.copy_buffer(); },
+            [&] { return destination_holds_a(host); });
     }
 
     // The link trains down when idle; read it right after traffic and keep the fastest seen.
@@ -145,6 +158,7 @@ private:
     const Plan& plan_;
     DeviceResult& result_;
     size_t bytes_;
+    std::string queue_;  // the queue of the copies being measured, recorded in each Measurement
 };
 
 }  // namespace

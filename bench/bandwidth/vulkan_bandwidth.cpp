@@ -1,8 +1,9 @@
 // Vulkan: every physical device. There is no pageable transfer in Vulkan: "pinned" copies go between a mapped
-// host-visible staging buffer and a device-local buffer with one vkCmdCopyBuffer on the dedicated transfer queue
-// where the device has one (the readback staging buffer is host-cached); "pageable" copies add the memcpy between
-// the application's malloc'd memory and that staging buffer, as a driver does internally, so only wall time is
-// meaningful for them. Device timer: vkCmdWriteTimestamp around the copy or dispatch.
+// host-visible staging buffer and a device-local buffer with one vkCmdCopyBuffer (the readback staging buffer is
+// host-cached); "pageable" copies add the memcpy between the application's malloc'd memory and that staging buffer,
+// as a driver does internally, so only wall time is meaningful for them. Every copy command is measured on the
+// compute queue and again on the transfer-only queue where the device has one: which is faster differs by driver,
+// and users choose. Device timer: vkCmdWriteTimestamp around the copy or dispatch.
 #include <vulkan/vulkan.h>
 
 #include <algorithm>
@@ -18,7 +19,6 @@
 #include "bench/bandwidth/pci_link.h"
 #include "bench/bandwidth/sizes.h"
 #include "bench/bandwidth/sweep.h"
-#include "core/util/environment.h"
 #include "core/util/error.h"
 #include "kernels/bandwidth_copy.h"
 #include "spirv/bandwidth_copy.h"
@@ -40,21 +40,32 @@ struct Buffer {
     bool coherent = true;
 };
 
-// The instance, device list, memory-type choice and error text are the backend's (backends/vulkan/vulkan_context.h);
-// the queues, staging buffers and copy commands are this test's own.
+// The instance, device list, queue families, memory-type choice and error text are the backend's
+// (backends/vulkan/vulkan_context.h); the staging buffers and copy commands are this test's own.
 // One recorded command buffer plus the queue it runs on; re-recorded for each size.
 struct Command {
     VkCommandBuffer buffer = VK_NULL_HANDLE;
     VkQueue queue = VK_NULL_HANDLE;
     bool timestamps = false;
+    uint64_t timestamp_mask = 0;  // the queue family's valid timestamp bits
+};
+
+// The copy commands of one queue.
+struct CopyCommands {
+    Command upload, download, copy;
 };
 
 class VulkanDevice final : public CopyDevice {
 public:
     explicit VulkanDevice(const vk::DeviceCandidate& candidate)
-        : physical_(candidate.handle), properties_(candidate.properties), driver_(candidate.driver) {
+        : candidate_(candidate),
+          physical_(candidate.handle),
+          properties_(candidate.properties),
+          driver_(candidate.driver),
+          has_transfer_(candidate.transfer_family != UINT32_MAX) {
         read_properties();
-        choose_queues();
+        if (candidate.compute_family == UINT32_MAX)
+            throw Error(std::string("vulkan ") + properties_.deviceName + ": no compute queue");
         create_device();
         create_kernel();
     }
@@ -70,7 +81,7 @@ public:
         vkDestroyDescriptorSetLayout(device_, set_layout_, nullptr);
         vkDestroyShaderModule(device_, shader_, nullptr);
         vkDestroyCommandPool(device_, compute_pool_, nullptr);
-        if (transfer_pool_ != compute_pool_) vkDestroyCommandPool(device_, transfer_pool_, nullptr);
+        if (transfer_pool_) vkDestroyCommandPool(device_, transfer_pool_, nullptr);
         vkDestroyDevice(device_, nullptr);
     }
 
@@ -85,14 +96,17 @@ public:
         for (uint32_t i = 0; i < memory_.memoryHeapCount; ++i)
             if (memory_.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
                 result.device_memory = std::max<size_t>(result.device_memory, memory_.memoryHeaps[i].size);
-        result.details.push_back(dedicated_transfer_
-                                     ? "H2D/D2H: vkCmdCopyBuffer on a dedicated transfer queue (family " +
-                                           std::to_string(transfer_family_) + ")"
-                                     : "H2D/D2H: vkCmdCopyBuffer on the compute queue (no dedicated transfer queue)");
-        result.details.push_back(std::string("D2D copy: vkCmdCopyBuffer on the ") +
-                                 (d2d_on_transfer_ ? "transfer" : "compute") + " queue");
+        std::string compute = "compute queue family " + std::to_string(candidate_.compute_family);
+        result.details.push_back(has_transfer_
+                                     ? "H2D, D2H, D2D copy: vkCmdCopyBuffer on the " + compute +
+                                           " [compute] and on the transfer-only queue family " +
+                                           std::to_string(candidate_.transfer_family) + " [transfer]"
+                                     : "H2D, D2H, D2D copy: vkCmdCopyBuffer on the " + compute +
+                                           " [compute]; no transfer-only queue family, so no [transfer] rows");
+        result.details.push_back("D2D kernel: dispatched on the compute queue");
         result.details.push_back("pageable: memcpy to/from the staging buffer plus the copy; wall time only");
-        if (!transfer_timestamps_) result.details.push_back("the transfer queue has no timestamps: wall time only");
+        if (has_transfer_ && !transfer_copies_.copy.timestamps)
+            result.details.push_back("the transfer queue has no timestamps: wall time only there");
         if (!host_query_reset_) result.details.push_back("no hostQueryReset: wall time only");
         return result;
     }
@@ -140,6 +154,14 @@ public:
         }
     }
 
+    std::vector<std::string> copy_queues() const override {
+        if (has_transfer_) return {"compute", "transfer"};
+        return {"compute"};
+    }
+    void use_copy_queue(const std::string& queue) override {
+        copies_ = queue == "transfer" ? &transfer_copies_ : &compute_copies_;
+    }
+
     std::byte* pinned_upload() override { return upload_staging_.mapped; }
     std::byte* pinned_download() override { return readback_staging_.mapped; }
 
@@ -149,13 +171,13 @@ public:
             std::memcpy(upload_staging_.mapped, pageable_, bytes_);
             flush(upload_staging_);
         }
-        std::optional<double> device_seconds = submit(upload_command_);
+        std::optional<double> device_seconds = submit(copies_->upload);
         return finish(start, host == Memory::Pinned ? device_seconds : std::nullopt);
     }
 
     Timed download(Memory host) override {
         auto start = Clock::now();
-        std::optional<double> device_seconds = submit(download_command_);
+        std::optional<double> device_seconds = submit(copies_->download);
         invalidate(readback_staging_);
         if (host == Memory::Pageable) std::memcpy(pageable_, readback_staging_.mapped, bytes_);
         return finish(start, host == Memory::Pinned ? device_seconds : std::nullopt);
@@ -163,7 +185,7 @@ public:
 
     Timed copy_buffer() override {
         auto start = Clock::now();
-        std::optional<double> device_seconds = submit(copy_command_);
+        std::optional<double> device_seconds = submit(copies_->copy);
         return finish(start, device_seconds);
     }
 
@@ -212,30 +234,6 @@ private:
 
     uint32_t heap_of(uint32_t type) const { return memory_.memoryTypes[type].heapIndex; }
 
-    void choose_queues() {
-        uint32_t count = 0;
-        vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, nullptr);
-        std::vector<VkQueueFamilyProperties> families(count);
-        vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, families.data());
-        compute_family_ = UINT32_MAX;
-        for (uint32_t i = 0; i < count; ++i) {
-            VkQueueFlags flags = families[i].queueFlags;
-            if ((flags & VK_QUEUE_COMPUTE_BIT) && compute_family_ == UINT32_MAX) compute_family_ = i;
-            // A transfer-only family is the copy engine path (DMA), the one that reaches link speed.
-            if ((flags & VK_QUEUE_TRANSFER_BIT) && !(flags & (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT)) &&
-                !dedicated_transfer_)
-                transfer_family_ = i, dedicated_transfer_ = true;
-        }
-        if (compute_family_ == UINT32_MAX)
-            throw Error(std::string("vulkan ") + properties_.deviceName + ": no compute queue");
-        if (!dedicated_transfer_) transfer_family_ = compute_family_;
-        compute_timestamps_ = families[compute_family_].timestampValidBits > 0;
-        transfer_timestamps_ = families[transfer_family_].timestampValidBits > 0;
-        compute_timestamp_mask_ = mask(families[compute_family_].timestampValidBits);
-        transfer_timestamp_mask_ = mask(families[transfer_family_].timestampValidBits);
-        d2d_on_transfer_ = dedicated_transfer_ && setting(Setting::VulkanD2dQueue) == "transfer";
-    }
-
     static uint64_t mask(uint32_t bits) { return bits >= 64 ? ~uint64_t(0) : (uint64_t(1) << bits) - 1; }
 
     void create_device() {
@@ -246,39 +244,28 @@ private:
         VkPhysicalDeviceVulkan12Features enabled12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
         enabled12.hostQueryReset = supported12.hostQueryReset;
 
-        float priority = 1.0f;
-        std::vector<VkDeviceQueueCreateInfo> queues;
-        for (uint32_t family : {compute_family_, transfer_family_}) {
-            if (!queues.empty() && queues[0].queueFamilyIndex == family) continue;
-            VkDeviceQueueCreateInfo queue{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-            queue.queueFamilyIndex = family;
-            queue.queueCount = 1;
-            queue.pQueuePriorities = &priority;
-            queues.push_back(queue);
-        }
+        std::vector<VkDeviceQueueCreateInfo> queues = vk::queue_create_infos(candidate_, true);
         VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &enabled12};
         info.queueCreateInfoCount = static_cast<uint32_t>(queues.size());
         info.pQueueCreateInfos = queues.data();
         check(vkCreateDevice(physical_, &info, nullptr, &device_), "vkCreateDevice");
-        vkGetDeviceQueue(device_, compute_family_, 0, &compute_queue_);
-        vkGetDeviceQueue(device_, transfer_family_, 0, &transfer_queue_);
+        vk::DeviceQueues queue = vk::get_device_queues(device_, candidate_, true);
 
-        VkCommandPoolCreateInfo pool{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-        pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-        pool.queueFamilyIndex = compute_family_;
-        check(vkCreateCommandPool(device_, &pool, nullptr, &compute_pool_), "vkCreateCommandPool");
-        transfer_pool_ = compute_pool_;
-        if (dedicated_transfer_) {
-            pool.queueFamilyIndex = transfer_family_;
-            check(vkCreateCommandPool(device_, &pool, nullptr, &transfer_pool_), "vkCreateCommandPool");
+        uint32_t count = 0;
+        vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, nullptr);
+        std::vector<VkQueueFamilyProperties> families(count);
+        vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, families.data());
+        compute_pool_ = create_pool(candidate_.compute_family);
+        uint32_t compute_bits = families[candidate_.compute_family].timestampValidBits;
+        compute_copies_ = copy_commands(compute_pool_, queue.compute, compute_bits);
+        if (has_transfer_) {
+            transfer_pool_ = create_pool(candidate_.transfer_family);
+            uint32_t transfer_bits = families[candidate_.transfer_family].timestampValidBits;
+            transfer_copies_ = copy_commands(transfer_pool_, queue.transfer, transfer_bits);
         }
-        upload_command_ = command(transfer_pool_, transfer_queue_, transfer_timestamps_);
-        download_command_ = command(transfer_pool_, transfer_queue_, transfer_timestamps_);
-        copy_command_ = d2d_on_transfer_ ? command(transfer_pool_, transfer_queue_, transfer_timestamps_)
-                                         : command(compute_pool_, compute_queue_, compute_timestamps_);
-        kernel_command_ = command(compute_pool_, compute_queue_, compute_timestamps_);
-        clear_command_ = command(compute_pool_, compute_queue_, false);
-        read_destination_command_ = command(compute_pool_, compute_queue_, false);
+        kernel_command_ = command(compute_pool_, queue.compute, compute_bits);
+        clear_command_ = command(compute_pool_, queue.compute, 0);
+        read_destination_command_ = command(compute_pool_, queue.compute, 0);
 
         VkQueryPoolCreateInfo query{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
         query.queryType = VK_QUERY_TYPE_TIMESTAMP;
@@ -288,12 +275,27 @@ private:
         check(vkCreateFence(device_, &fence, nullptr, &fence_), "vkCreateFence");
     }
 
-    Command command(VkCommandPool pool, VkQueue queue, bool timestamps) {
+    VkCommandPool create_pool(uint32_t family) {
+        VkCommandPoolCreateInfo info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+        info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+        info.queueFamilyIndex = family;
+        VkCommandPool pool = VK_NULL_HANDLE;
+        check(vkCreateCommandPool(device_, &info, nullptr, &pool), "vkCreateCommandPool");
+        return pool;
+    }
+
+    CopyCommands copy_commands(VkCommandPool pool, VkQueue queue, uint32_t timestamp_bits) {
+        return {command(pool, queue, timestamp_bits), command(pool, queue, timestamp_bits),
+                command(pool, queue, timestamp_bits)};
+    }
+
+    // timestamp_bits 0: untimed (the queue family has no timestamps, or the command needs none).
+    Command command(VkCommandPool pool, VkQueue queue, uint32_t timestamp_bits) {
         VkCommandBufferAllocateInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
         info.commandPool = pool;
         info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
         info.commandBufferCount = 1;
-        Command result{VK_NULL_HANDLE, queue, timestamps && host_query_reset_};
+        Command result{VK_NULL_HANDLE, queue, timestamp_bits > 0 && host_query_reset_, mask(timestamp_bits)};
         check(vkAllocateCommandBuffers(device_, &info, &result.buffer), "vkAllocateCommandBuffers");
         return result;
     }
@@ -344,14 +346,14 @@ private:
 
     Buffer create_buffer(VkBufferUsageFlags usage, uint32_t memory_type, const char* what) {
         Buffer result;
-        uint32_t families[2] = {compute_family_, transfer_family_};
+        uint32_t families[2] = {candidate_.compute_family, candidate_.transfer_family};
         VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
         info.size = bytes_;
         info.usage = usage;
         // Concurrent sharing spares queue-family ownership transfers; buffers have no compressed layout to lose.
-        info.sharingMode = dedicated_transfer_ ? VK_SHARING_MODE_CONCURRENT : VK_SHARING_MODE_EXCLUSIVE;
-        info.queueFamilyIndexCount = dedicated_transfer_ ? 2 : 0;
-        info.pQueueFamilyIndices = dedicated_transfer_ ? families : nullptr;
+        info.sharingMode = has_transfer_ ? VK_SHARING_MODE_CONCURRENT : VK_SHARING_MODE_EXCLUSIVE;
+        info.queueFamilyIndexCount = has_transfer_ ? 2 : 0;
+        info.pQueueFamilyIndices = has_transfer_ ? families : nullptr;
         VkResult status = vkCreateBuffer(device_, &info, nullptr, &result.buffer);
         if (is_out_of_memory(status)) throw SizeSkipped(std::string("out of memory for ") + what);
         check(status, "vkCreateBuffer");
@@ -385,12 +387,17 @@ private:
     // Records the per-size command buffers. Large transfers are one vkCmdCopyBuffer region.
     void record_all() {
         VkBufferCopy whole{0, 0, bytes_};
-        record(upload_command_,
-               [&](VkCommandBuffer cb) { vkCmdCopyBuffer(cb, upload_staging_.buffer, buffer_a_.buffer, 1, &whole); });
-        record(download_command_,
-               [&](VkCommandBuffer cb) { vkCmdCopyBuffer(cb, buffer_a_.buffer, readback_staging_.buffer, 1, &whole); });
-        record(copy_command_,
-               [&](VkCommandBuffer cb) { vkCmdCopyBuffer(cb, buffer_a_.buffer, buffer_b_.buffer, 1, &whole); });
+        for (CopyCommands* copies : {&compute_copies_, &transfer_copies_}) {
+            if (!copies->copy.buffer) continue;  // no transfer-only queue
+            record(copies->upload, [&](VkCommandBuffer cb) {
+                vkCmdCopyBuffer(cb, upload_staging_.buffer, buffer_a_.buffer, 1, &whole);
+            });
+            record(copies->download, [&](VkCommandBuffer cb) {
+                vkCmdCopyBuffer(cb, buffer_a_.buffer, readback_staging_.buffer, 1, &whole);
+            });
+            record(copies->copy,
+                   [&](VkCommandBuffer cb) { vkCmdCopyBuffer(cb, buffer_a_.buffer, buffer_b_.buffer, 1, &whole); });
+        }
         record(clear_command_, [&](VkCommandBuffer cb) { vkCmdFillBuffer(cb, buffer_b_.buffer, 0, VK_WHOLE_SIZE, 0); });
         record(read_destination_command_,
                [&](VkCommandBuffer cb) { vkCmdCopyBuffer(cb, buffer_b_.buffer, readback_staging_.buffer, 1, &whole); });
@@ -448,8 +455,7 @@ private:
         check(vkGetQueryPoolResults(device_, queries_, 0, 2, sizeof ticks, ticks, sizeof(uint64_t),
                                     VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
               "vkGetQueryPoolResults");
-        uint64_t mask = command.queue == transfer_queue_ ? transfer_timestamp_mask_ : compute_timestamp_mask_;
-        uint64_t elapsed = (ticks[1] - ticks[0]) & mask;
+        uint64_t elapsed = (ticks[1] - ticks[0]) & command.timestamp_mask;
         return static_cast<double>(elapsed) * properties_.limits.timestampPeriod * 1e-9;
     }
 
@@ -468,6 +474,7 @@ private:
         check(vkInvalidateMappedMemoryRanges(device_, 1, &range), "vkInvalidateMappedMemoryRanges");
     }
 
+    vk::DeviceCandidate candidate_;  // its compute_family and transfer_family are the queues measured
     VkPhysicalDevice physical_;
     VkPhysicalDeviceProperties properties_{};
     VkPhysicalDeviceDriverProperties driver_{};
@@ -475,16 +482,14 @@ private:
     VkDeviceSize max_allocation_ = 0;
     std::string pci_address_;
     uint32_t device_local_ = UINT32_MAX, upload_ = UINT32_MAX, readback_ = UINT32_MAX;
-    uint32_t compute_family_ = 0, transfer_family_ = 0;
-    bool dedicated_transfer_ = false, d2d_on_transfer_ = false;
-    bool compute_timestamps_ = false, transfer_timestamps_ = false, host_query_reset_ = false;
-    uint64_t compute_timestamp_mask_ = 0, transfer_timestamp_mask_ = 0;
+    bool has_transfer_ = false;  // a transfer-only queue family exists, and its queue is created
+    bool host_query_reset_ = false;
 
     VkDevice device_ = VK_NULL_HANDLE;
-    VkQueue compute_queue_ = VK_NULL_HANDLE, transfer_queue_ = VK_NULL_HANDLE;
     VkCommandPool compute_pool_ = VK_NULL_HANDLE, transfer_pool_ = VK_NULL_HANDLE;
-    Command upload_command_, download_command_, copy_command_, kernel_command_, clear_command_,
-        read_destination_command_;
+    CopyCommands compute_copies_, transfer_copies_;
+    CopyCommands* copies_ = &compute_copies_;  // use_copy_queue()
+    Command kernel_command_, clear_command_, read_destination_command_;
     VkQueryPool queries_ = VK_NULL_HANDLE;
     VkFence fence_ = VK_NULL_HANDLE;
     VkShaderModule shader_ = VK_NULL_HANDLE;

@@ -8,7 +8,7 @@
 namespace prism {
 namespace {
 
-constexpr std::array<SettingInfo, 14> kSettings = {{
+constexpr auto kSettings = std::to_array<SettingInfo>({
     {Setting::DataDir, "PRISM_DATA_DIR", "where builtin:bunny and builtin:dragon find their models"},
     {Setting::CacheDir, "PRISM_CACHE_DIR", "the OpenCL program-binary cache folder; empty turns the cache off"},
     {Setting::BvhLayout, "PRISM_BVH_LAYOUT", "the layout --bvh-layout auto picks: stack, escape or wide"},
@@ -19,11 +19,17 @@ constexpr std::array<SettingInfo, 14> kSettings = {{
     {Setting::VulkanValidation, "PRISM_VULKAN_VALIDATION", "1: Vulkan runs under VK_LAYER_KHRONOS_validation"},
     {Setting::VulkanAddressing, "PRISM_VULKAN_ADDRESSING", "auto, descriptors or addresses: how stages reach arrays"},
     {Setting::VulkanDispatch, "PRISM_VULKAN_DISPATCH", "indirect or fixed: how Vulkan launches the queue stages"},
-    {Setting::VulkanD2dQueue, "PRISM_VULKAN_D2D_QUEUE", "transfer: prism bandwidth copies on the transfer queue"},
     {Setting::ViewPanel, "PRISM_VIEW_PANEL", "0: prism view starts without its panel"},
     {Setting::ViewAblate, "PRISM_VIEW_ABLATE", "copy or gl: prism view skips one half of showing a frame"},
     {Setting::Python, "PRISM_PYTHON", "the Python with matplotlib that draws plots"},
-}};
+});
+// setting_name() indexes the table by the enum: one entry per Setting, in the enum's order.
+static_assert(kSettings.size() == static_cast<size_t>(Setting::Python) + 1);
+static_assert([] {
+    for (size_t i = 0; i < kSettings.size(); ++i)
+        if (kSettings[i].setting != static_cast<Setting>(i)) return false;
+    return true;
+}());
 
 }  // namespace
 

@@ -20,7 +20,6 @@ enum class Setting {
     VulkanValidation,   // PRISM_VULKAN_VALIDATION
     VulkanAddressing,   // PRISM_VULKAN_ADDRESSING
     VulkanDispatch,     // PRISM_VULKAN_DISPATCH
-    VulkanD2dQueue,     // PRISM_VULKAN_D2D_QUEUE
     ViewPanel,          // PRISM_VIEW_PANEL
     ViewAblate,         // PRISM_VIEW_ABLATE
     Python,             // PRISM_PYTHON
