@@ -58,13 +58,13 @@ RT_FUNC WideBoxHits rt_intersect_wide_node(BvhWideNode node, float3 origin, floa
 // Moeller-Trumbore's u and v are dot products of s = origin - v0 with vectors the size of the triangle, so their
 // rounding error grows with |s| / |edge|: a ray from far away through the edge two triangles share can fall
 // outside both and leak through a closed mesh (a dark speck where it then meets the far side from inside). Each
-// of u and v is a triple product of s, the direction and an edge, whose rounding error is a few eps times the
-// product of the three vectors' largest components; the tests accept barycentrics down to minus that bound with
-// a 32-fold margin (2^-19 = 32 eps), so neighbours overlap by a sliver instead of leaving a crack. A hit in that
-// sliver reports its distance RT_SLACK_FARTHER times longer, beyond the tie band of traverse.h (RT_TIE_EPSILON),
-// so the triangle the ray truly crosses wins whenever it is found too: the slack only fills cracks, and hits stay
-// those of a watertight test (Embree's) elsewhere.
-#define RT_EDGE_SLACK (1.0f / 524288.0f)
+// of u and v is a triple product of s, the direction and an edge, whose rounding error is a few units of
+// roundoff times the product of the three vectors' largest components; the tests accept barycentrics down to minus
+// four units of that scale (2^-22), so neighbours overlap by a sliver instead of leaving a crack (docs/kernels.md,
+// "Edges", has the margin measured). A hit in that sliver reports its distance RT_SLACK_FARTHER times longer,
+// beyond the tie band of traverse.h (RT_TIE_EPSILON), so the triangle the ray truly crosses wins whenever it is
+// found too: the slack only fills cracks, and elsewhere the hits stay those of a watertight test (Embree's).
+#define RT_EDGE_SLACK (1.0f / 4194304.0f)
 #define RT_SLACK_FARTHER 1.00004f
 
 RT_FUNC float rt_max_abs3(float3 a) { return rt_max(rt_max(rt_abs(a.x), rt_abs(a.y)), rt_abs(a.z)); }

@@ -138,8 +138,8 @@ TEST(RayTriangle, DistantRaysThroughASharedEdgeNeverFallBetween) {
 // From far away the slack is wide: a ray just outside the triangle's edge still hits it, at a distance reported
 // RT_SLACK_FARTHER times longer, so a neighbour the ray truly crosses wins the tie rule (tests/test_hit_ties.cpp).
 TEST(RayTriangle, SlackHitsReportALongerDistance) {
-    float4 inside = rt_intersect_triangle(unit, float3{1e-3f, 0.25f, -1000}, float3{0, 0, 1}, 0.0f, inf);
-    float4 outside = rt_intersect_triangle(unit, float3{-1e-3f, 0.25f, -1000}, float3{0, 0, 1}, 0.0f, inf);
+    float4 inside = rt_intersect_triangle(unit, float3{2e-4f, 0.25f, -1000}, float3{0, 0, 1}, 0.0f, inf);
+    float4 outside = rt_intersect_triangle(unit, float3{-2e-4f, 0.25f, -1000}, float3{0, 0, 1}, 0.0f, inf);
     EXPECT_EQ(inside.x, 1000.0f);
     EXPECT_EQ(outside.x, 1000.0f * RT_SLACK_FARTHER);
     EXPECT_EQ(rt_intersect_triangle(unit, float3{-0.1f, 0.25f, -1000}, float3{0, 0, 1}, 0.0f, inf).x, inf);

@@ -92,14 +92,24 @@ RT_FUNC int rt_max_i(int a, int b) { return a > b ? a : b; }
 // float4 maps to one SSE register (every x86-64 CPU has SSE2); rt_float8 (two float4 halves, as the nodes store
 // them) to one AVX register where the translation unit is compiled for AVX (the cpu backend's AVX2 stages), else
 // to two SSE registers; elsewhere to plain per-component code. memcpy moves bytes between the structs and registers
-// without an aliasing question; the compiler keeps the values in registers. min/max pick per lane as rt_min/rt_max
-// do (minps(b, a) is b < a ? b : a); a mask has bit k set for lane k.
+// without an aliasing question, and the compiler keeps the values in registers; std::bit_cast does not do as well:
+// with it GCC 12 stored each AVX value to the stack and read it back in 8-byte pieces, a store-forwarding stall per
+// operation that made the AVX2 traversal several times slower (docs/kernels.md, "The wide layout"). min/max pick per
+// lane as rt_min/rt_max do (minps(b, a) is b < a ? b : a); a mask has bit k set for lane k.
 struct rt_float8 {
     float4 lo, hi;  // lanes 0-3, 4-7
 };
 #if defined(__SSE2__)
-RT_FUNC __m128 rt_sse(float4 a) { return std::bit_cast<__m128>(a); }
-RT_FUNC float4 rt_from_sse(__m128 v) { return std::bit_cast<float4>(v); }
+RT_FUNC __m128 rt_sse(float4 a) {
+    __m128 v;
+    std::memcpy(&v, &a, sizeof v);
+    return v;
+}
+RT_FUNC float4 rt_from_sse(__m128 v) {
+    float4 a;
+    std::memcpy(&a, &v, sizeof a);
+    return a;
+}
 RT_FUNC float4 operator+(float4 a, float4 b) { return rt_from_sse(_mm_add_ps(rt_sse(a), rt_sse(b))); }
 RT_FUNC float4 operator-(float4 a, float4 b) { return rt_from_sse(_mm_sub_ps(rt_sse(a), rt_sse(b))); }
 RT_FUNC float4 operator*(float4 a, float4 b) { return rt_from_sse(_mm_mul_ps(rt_sse(a), rt_sse(b))); }
@@ -142,8 +152,16 @@ RT_FUNC uint rt_lane_u(uint4 v, uint k) {
 RT_FUNC rt_float8 rt_make8(float4 lo, float4 hi) { return rt_float8{lo, hi}; }
 RT_FUNC rt_float8 rt_splat8(float s) { return rt_float8{float4{s, s, s, s}, float4{s, s, s, s}}; }
 #if defined(__AVX__)
-RT_FUNC __m256 rt_avx(rt_float8 a) { return std::bit_cast<__m256>(a); }
-RT_FUNC rt_float8 rt_from_avx(__m256 v) { return std::bit_cast<rt_float8>(v); }
+RT_FUNC __m256 rt_avx(rt_float8 a) {
+    __m256 v;
+    std::memcpy(&v, &a, sizeof v);
+    return v;
+}
+RT_FUNC rt_float8 rt_from_avx(__m256 v) {
+    rt_float8 a;
+    std::memcpy(&a, &v, sizeof a);
+    return a;
+}
 RT_FUNC rt_float8 rt_sub8(rt_float8 a, rt_float8 b) { return rt_from_avx(_mm256_sub_ps(rt_avx(a), rt_avx(b))); }
 RT_FUNC rt_float8 rt_mul8(rt_float8 a, rt_float8 b) { return rt_from_avx(_mm256_mul_ps(rt_avx(a), rt_avx(b))); }
 RT_FUNC rt_float8 rt_min8(rt_float8 a, rt_float8 b) { return rt_from_avx(_mm256_min_ps(rt_avx(b), rt_avx(a))); }
