@@ -1,6 +1,7 @@
 #include "apps/cli_conventions.h"
 
 #include <cstdio>
+#include <sstream>
 
 #include "core/render/backend.h"
 #include "core/util/build_info.h"
@@ -87,6 +88,14 @@ int report_parse_error(CLI::App& app, const CLI::ParseError& error) {
     std::fprintf(stderr, "%s: error: %s; see '%s --help'\n", command_path(command).c_str(), message.c_str(),
                  command_path(command).c_str());
     return 2;
+}
+
+std::vector<std::string> comma_list(const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream stream(text);
+    for (std::string item; std::getline(stream, item, ',');)
+        if (!item.empty()) out.push_back(item);
+    return out;
 }
 
 }  // namespace prism::app

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -21,6 +22,9 @@ CLI::Option* add_json_option(CLI::App* command, std::string& path, const std::st
 // The first call of every subcommand's callback: with `json_path` "-", standard output carries only the JSON and
 // the human text goes to stderr; with --quiet, the human text goes nowhere.
 void route_output(const std::string& json_path = "");
+
+// The items of a comma-separated option value ("cuda,opencl:nvidia"), empty items dropped.
+std::vector<std::string> comma_list(const std::string& text);
 
 // A CLI11 parse error as the user sees it: help and --version print and return 0; every usage error prints one line
 // naming the offending option or subcommand and the help to read, and returns 2.

@@ -10,9 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
-#include <map>
 #include <memory>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -24,6 +22,7 @@
 #include "apps/scene_options.h"
 #include "bench/bench_json.h"
 #include "core/util/error.h"
+#include "core/util/median.h"
 #include "core/image/image_compare.h"
 #include "core/render/render_engine.h"
 #ifdef PRISM_HAVE_EMBREE
@@ -47,22 +46,6 @@ struct BenchOptions {
     uint32_t query_rays = 1000000;
     std::string json;
 };
-
-std::vector<std::string> split(const std::string& text) {
-    std::vector<std::string> out;
-    std::stringstream stream(text);
-    std::string item;
-    while (std::getline(stream, item, ','))
-        if (!item.empty()) out.push_back(item);
-    return out;
-}
-
-double median(std::vector<double> values) {
-    if (values.empty()) return 0.0;
-    std::sort(values.begin(), values.end());
-    size_t n = values.size();
-    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
 // Median over runs of each stage's time at each depth.
 struct StageMedians {
@@ -226,7 +209,7 @@ void run_bench(BenchOptions options) {
         options.settings.height = 250;
     }
     if (options.runs == 0) throw Error("bench: --runs must be at least 1");
-    for (const std::string& backend : split(options.backends)) check_frame_options(backend, options.settings);
+    for (const std::string& backend : comma_list(options.backends)) check_frame_options(backend, options.settings);
 #ifndef PRISM_HAVE_EMBREE
     if (options.embree) throw Error("bench: --embree needs a build with Embree (apt-get install libembree-dev)");
 #endif
@@ -243,10 +226,10 @@ void run_bench(BenchOptions options) {
                           {"queries_interleaved", true}};
     result["scenes"] = nlohmann::json::array();
     result["failures"] = nlohmann::json::array();
-    for (const std::string& scene_name : split(options.scenes)) {
+    for (const std::string& scene_name : comma_list(options.scenes)) {
         SceneOptions scene_options = options.scene;
         scene_options.scene = scene_name;
-        std::vector<std::string> backends = split(options.backends);
+        std::vector<std::string> backends = comma_list(options.backends);
         LoadedScene loaded;
         try {
             loaded = load_and_build(scene_options, backends.empty() ? "auto" : backends.front());
@@ -254,18 +237,7 @@ void run_bench(BenchOptions options) {
             record_failure(result, scene_name, "", e.what());
             continue;
         }
-        // Each backend traces the layout --bvh-layout resolves to for it (auto: wide on cpu, stack on GPUs); the
-        // scene's first build serves every backend that wants its layout.
-        std::map<BvhLayout, DeviceScene> other_layouts;
-        auto device_for = [&](const std::string& backend) -> const DeviceScene& {
-            BvhLayout layout = resolve_bvh_layout(scene_options.layout, backend);
-            if (layout == loaded.device.bvh_options.layout) return loaded.device;
-            auto found = other_layouts.find(layout);
-            if (found == other_layouts.end())
-                found =
-                    other_layouts.emplace(layout, build_device_scene_for(loaded.scene, scene_options, layout)).first;
-            return found->second;
-        };
+        DeviceScenes device_scenes(loaded, scene_options);
         nlohmann::json scene_json = {{"scene", scene_name},
                                      {"triangles", loaded.device.traced_triangles},
                                      {"bvh_build_ms", loaded.device.bvh_build_ms},
@@ -282,7 +254,7 @@ void run_bench(BenchOptions options) {
 #endif
         std::vector<std::unique_ptr<RenderEngine>> query_engines;  // kept for the interleaved query rounds
         for (const std::string& backend : backends) try {
-                const DeviceScene& device = device_for(backend);
+                const DeviceScene& device = device_scenes.for_backend(backend);
                 auto engine_owner = std::make_unique<RenderEngine>(backend, device);
                 RenderEngine& engine = *engine_owner;
                 BackendInfo info = engine.info();

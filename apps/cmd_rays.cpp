@@ -1,17 +1,16 @@
-// `prism rays`: closest-hit (or any-hit) queries for rays from a file, on any backend (docs/ray-queries.md).
+// `prism rays`: closest-hit (or any-hit) queries for rays from a file, on any backend (docs/ray-queries.md);
+// with --bench, their throughput on several backends (apps/rays_bench.h).
 // IN: N records of 8 little-endian float32 (origin xyz, tmin, direction xyz, tmax).
 // OUT: N records of 20 bytes (float32 t, uint32 instance, uint32 primitive, float32 u, float32 v).
-#include <bit>
-#include <cstdio>
-#include <cstring>
-#include <fstream>
 #include <chrono>
 #include <cmath>
-#include <iterator>
+#include <cstdio>
 
 #include "apps/cli_conventions.h"
 #include "apps/commands.h"
 #include "apps/option_checks.h"
+#include "apps/ray_file.h"
+#include "apps/rays_bench.h"
 #include "apps/scene_options.h"
 #include "core/util/error.h"
 #include "core/util/output_file.h"
@@ -20,40 +19,30 @@
 namespace prism::app {
 namespace {
 
-static_assert(std::endian::native == std::endian::little, "ray files are little-endian; add byte swapping");
-
 struct RaysOptions {
     SceneOptions scene;
     std::string backend = "auto";
     std::string in;
     std::string out;
     bool any_hit = false;
+    bool bench = false;
+    RaysBenchOptions bench_options;
 };
 
-std::vector<RayQuery> read_rays(const std::string& path) {
-    std::ifstream file(path, std::ios::binary);
-    if (!file) throw Error(path + ": cannot open");
-    std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-    if (bytes.size() % sizeof(RayQuery) != 0)
-        throw Error(path + ": size " + std::to_string(bytes.size()) +
-                    " is not a multiple of 32 bytes (8 float32 per ray)");
-    std::vector<RayQuery> rays(bytes.size() / sizeof(RayQuery));
-    if (!rays.empty()) std::memcpy(rays.data(), bytes.data(), bytes.size());  // memcpy takes no null pointer
-    for (size_t i = 0; i < rays.size(); ++i) {
-        const RayQuery& r = rays[i];
-        bool finite = std::isfinite(r.origin[0]) && std::isfinite(r.origin[1]) && std::isfinite(r.origin[2]) &&
-                      std::isfinite(r.direction[0]) && std::isfinite(r.direction[1]) && std::isfinite(r.direction[2]) &&
-                      std::isfinite(r.tmin) && !std::isnan(r.tmax);
-        if (!finite) throw Error(path + ": ray " + std::to_string(i) + " has a NaN or infinite component");
+void run_rays(RaysOptions& options) {
+    if (options.bench) {
+        if (!options.out.empty() || options.any_hit)
+            throw Error("rays --bench measures closest hits and writes --json, not --out or --any-hit");
+        options.bench_options.scene = options.scene;
+        options.bench_options.rays_file = options.in;
+        run_rays_bench(options.bench_options);
+        return;
     }
-    return rays;
-}
-
-void run_rays(const RaysOptions& options) {
+    if (options.in.empty() || options.out.empty()) throw Error("rays: --rays and --out are required (or --bench)");
     route_output();
     check_backend_option(options.backend);  // options before any work
     check_writable_option("--out", options.out);
-    std::vector<RayQuery> rays = read_rays(options.in);
+    std::vector<RayQuery> rays = read_ray_file(options.in);
     LoadedScene loaded = load_and_build(options.scene, options.backend);
     RenderEngine engine(options.backend, loaded.device);
     auto start = std::chrono::steady_clock::now();
@@ -75,9 +64,19 @@ void add_rays_command(CLI::App& app) {
     auto* command = app.add_subcommand("rays", "Trace rays from a file and write their hits (docs/ray-queries.md)");
     add_scene_options(command, options->scene, true);
     command->add_option("--backend", options->backend, "backend (as for render)")->capture_default_str();
-    command->add_option("--rays", options->in, "input rays: 8 float32 each")->required();
-    add_output_option(command, options->out, "output hits: 20 bytes each")->required();
+    command->add_option("--rays", options->in, "input rays: 8 float32 each (with --bench: optional)");
+    add_output_option(command, options->out, "output hits: 20 bytes each");
     command->add_flag("--any-hit", options->any_hit, "report any hit (occlusion) instead of the closest");
+    RaysBenchOptions& bench = options->bench_options;
+    command->add_flag("--bench", options->bench,
+                      "measure device-time Mrays/s on --backends instead (without --rays: primary rays of a "
+                      "--width x --height camera on +z framing the scene, then one diffuse ray per hit)");
+    command->add_option("--backends", bench.backends, "--bench: comma-separated backends")->capture_default_str();
+    command->add_option("--width", bench.width, "--bench: primary rays across")->capture_default_str();
+    command->add_option("--height", bench.height, "--bench: primary rays down")->capture_default_str();
+    command->add_option("--runs", bench.runs, "--bench: timed runs (median reported)")->capture_default_str();
+    command->add_option("--warmup", bench.warmup, "--bench: untimed runs first")->capture_default_str();
+    add_json_option(command, bench.json, "--bench: results as JSON");
     command->callback([options] { run_rays(*options); });
 }
 

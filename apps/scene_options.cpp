@@ -76,4 +76,13 @@ LoadedScene load_and_build(const SceneOptions& options, const std::string& backe
     return loaded;
 }
 
+const DeviceScene& DeviceScenes::for_backend(const std::string& backend) {
+    BvhLayout layout = resolve_bvh_layout(options_.layout, backend);
+    if (layout == loaded_.device.bvh_options.layout) return loaded_.device;
+    auto found = other_layouts_.find(layout);
+    if (found == other_layouts_.end())
+        found = other_layouts_.emplace(layout, build_device_scene_for(loaded_.scene, options_, layout)).first;
+    return found->second;
+}
+
 }  // namespace prism::app

@@ -2,6 +2,7 @@
 // step with its timings.
 #pragma once
 
+#include <map>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -38,5 +39,18 @@ struct LoadedScene {
 LoadedScene load_and_build(const SceneOptions& options, const std::string& backend = "auto");
 DeviceScene build_device_scene_for(const Scene& scene, const SceneOptions& options, BvhLayout layout,
                                    const BvhProgress& progress = {});
+
+// A loaded scene's device arrays for each backend: the layout `options.layout` resolves to for it (auto: wide on
+// cpu, stack on GPUs), built once per layout; the first build serves every backend that wants its layout.
+class DeviceScenes {
+public:
+    DeviceScenes(const LoadedScene& loaded, const SceneOptions& options) : loaded_(loaded), options_(options) {}
+    const DeviceScene& for_backend(const std::string& backend);
+
+private:
+    const LoadedScene& loaded_;
+    SceneOptions options_;
+    std::map<BvhLayout, DeviceScene> other_layouts_;
+};
 
 }  // namespace prism::app

@@ -24,10 +24,12 @@
 #include "core/loaders/load_obj.h"
 #include "core/loaders/load_ply.h"
 #include "core/scene/scene.h"
+#include "core/util/median.h"
 
 namespace {
 
 using prism::Aabb;
+using prism::median;
 namespace fs = std::filesystem;
 
 struct SeriesEntry {
@@ -75,12 +77,6 @@ std::vector<Aabb> load_triangle_bounds(const fs::path& path) {
             append_bounds(scene.meshes[instance.mesh], instance.transform, bounds);
     }
     return bounds;
-}
-
-double median(std::vector<double> values) {
-    std::sort(values.begin(), values.end());
-    size_t n = values.size();
-    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 std::string default_host_name() {

@@ -3,7 +3,6 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
-#include <random>
 
 #include <embree3/rtcore.h>
 #include <glm/gtc/matrix_transform.hpp>
@@ -141,74 +140,13 @@ std::vector<RayHit> EmbreeScene::intersect8(const std::vector<RayQuery>& rays) c
 OracleRays make_oracle_rays(const Scene& scene, const EmbreeScene& embree, size_t primary, size_t total,
                             uint32_t seed) {
     OracleRays out;
-    const Camera& camera = scene.camera;
-    glm::vec3 forward = glm::normalize(camera.target - camera.position);
-    glm::vec3 right = glm::normalize(glm::cross(forward, camera.up));
-    glm::vec3 up = glm::cross(right, forward);
-    float tan_half = std::tan(glm::radians(camera.vertical_fov_degrees) * 0.5f);
-    size_t side = static_cast<size_t>(std::ceil(std::sqrt(double(primary))));
-    const float inf = std::numeric_limits<float>::infinity();
-    for (size_t i = 0; i < primary; ++i) {
-        float px = (2.0f * (float(i % side) + 0.5f) / float(side) - 1.0f) * tan_half;
-        float py = (1.0f - 2.0f * (float(i / side) + 0.5f) / float(side)) * tan_half;
-        glm::vec3 d = glm::normalize(forward + px * right + py * up);
-        out.rays.push_back(
-            RayQuery{{camera.position.x, camera.position.y, camera.position.z}, 0.0f, {d.x, d.y, d.z}, inf});
-    }
+    out.rays = bench::scene_camera_rays(scene, primary);
     out.primary = out.rays.size();
-    std::vector<RayHit> hits = embree.intersect1(out.rays);
-    std::vector<size_t> hit_rays;
-    for (size_t i = 0; i < hits.size(); ++i)
-        if (hits[i].t < inf) hit_rays.push_back(i);
-    if (hit_rays.empty()) return out;
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
-    for (size_t k = 0; out.rays.size() < total; ++k) {
-        size_t i = hit_rays[k % hit_rays.size()];
-        const RayHit& h = hits[i];
-        const Mesh& mesh = scene.meshes[scene.instances[h.instance].mesh];
-        const glm::mat4& m = scene.instances[h.instance].transform;
-        glm::uvec3 tri = mesh.triangles[h.primitive];
-        glm::vec3 a = glm::vec3(m * glm::vec4(mesh.positions[tri.x], 1.0f));
-        glm::vec3 b = glm::vec3(m * glm::vec4(mesh.positions[tri.y], 1.0f));
-        glm::vec3 c = glm::vec3(m * glm::vec4(mesh.positions[tri.z], 1.0f));
-        glm::vec3 n = glm::normalize(glm::cross(b - a, c - a));
-        glm::vec3 d0{out.rays[i].direction[0], out.rays[i].direction[1], out.rays[i].direction[2]};
-        if (glm::dot(n, d0) > 0.0f) n = -n;
-        glm::vec3 p = a * (1.0f - h.u - h.v) + b * h.u + c * h.v;
-        // Cosine-weighted hemisphere around n.
-        float r1 = uniform(rng), r2 = uniform(rng);
-        float phi = 2.0f * 3.14159265f * r1, radius = std::sqrt(r2);
-        glm::vec3 t = glm::normalize(std::abs(n.x) > 0.9f ? glm::cross(n, glm::vec3(0, 1, 0))
-                                                          : glm::cross(n, glm::vec3(1, 0, 0)));
-        glm::vec3 s = glm::cross(n, t);
-        glm::vec3 d =
-            glm::normalize(t * (radius * std::cos(phi)) + s * (radius * std::sin(phi)) + n * std::sqrt(1.0f - r2));
-        float scale = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), 1.0f});
-        glm::vec3 o = p + n * (1e-4f * scale);
-        out.rays.push_back(RayQuery{{o.x, o.y, o.z}, 0.0f, {d.x, d.y, d.z}, inf});
-    }
-    out.diffuse = out.rays.size() - out.primary;
+    std::vector<RayQuery> diffuse =
+        bench::diffuse_rays(scene, out.rays, embree.intersect1(out.rays), total - std::min(total, primary), seed);
+    out.rays.insert(out.rays.end(), diffuse.begin(), diffuse.end());
+    out.diffuse = diffuse.size();
     return out;
-}
-
-Agreement compare_hits(const std::vector<RayHit>& a, const std::vector<RayHit>& b) {
-    Agreement result;
-    result.rays = std::min(a.size(), b.size());
-    for (size_t i = 0; i < result.rays; ++i) {
-        bool a_miss = !(a[i].t < std::numeric_limits<float>::infinity());
-        bool b_miss = !(b[i].t < std::numeric_limits<float>::infinity());
-        if (a_miss || b_miss) {
-            result.same += a_miss == b_miss;
-            continue;
-        }
-        if (a[i].instance == b[i].instance && a[i].primitive == b[i].primitive) {
-            ++result.same;
-            if (std::abs(a[i].t - b[i].t) > 1e-4f * std::max(std::abs(a[i].t), std::abs(b[i].t)))
-                ++result.t_outside_tolerance;
-        }
-    }
-    return result;
 }
 
 }  // namespace prism::oracle

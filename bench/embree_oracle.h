@@ -1,12 +1,13 @@
 // Embree (Intel's CPU ray tracer, Debian libembree-dev) as an independent oracle and speed reference: the tests
-// compare Prism's hits with it, the benchmark compares throughput. Also the shared ray set both use: primary rays
-// from the scene camera plus cosine-distributed diffuse rays from their hit points.
+// compare Prism's hits with it, the benchmark compares throughput. Also the ray set both use: primary rays from the
+// scene camera plus cosine-distributed diffuse rays from their hit points (bench/query_rays.h).
 #pragma once
 
 #include <cstdint>
 #include <memory>
 #include <vector>
 
+#include "bench/query_rays.h"
 #include "core/render/renderer.h"
 #include "core/scene/scene.h"
 
@@ -37,12 +38,8 @@ struct OracleRays {
 };
 OracleRays make_oracle_rays(const Scene& scene, const EmbreeScene& embree, size_t primary, size_t total, uint32_t seed);
 
-struct Agreement {
-    size_t rays = 0;
-    size_t same = 0;                 // same instance and primitive, or both miss
-    size_t t_outside_tolerance = 0;  // same primitive but t differs by more than 1e-4 relative
-    double fraction() const { return rays ? double(same) / double(rays) : 0.0; }
-};
-Agreement compare_hits(const std::vector<RayHit>& a, const std::vector<RayHit>& b);
+// The comparison of two hit lists (bench/query_rays.h), here for the oracle's users.
+using bench::Agreement;
+using bench::compare_hits;
 
 }  // namespace prism::oracle

@@ -22,6 +22,7 @@
 #include "core/render/render_engine.h"
 #include "core/render/renderer.h"
 #include "core/loaders/scene_loader.h"
+#include "core/util/median.h"
 
 namespace {
 
@@ -35,11 +36,6 @@ double thread_cpu_ms() {
 
 double wall_ms() {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-double median(std::vector<double> values) {
-    std::sort(values.begin(), values.end());
-    return values[values.size() / 2];
 }
 
 }  // namespace

@@ -160,6 +160,37 @@ TEST(Cli, RaysFileOfWrongSizeFailsCleanly) {
     EXPECT_FALSE(fs::exists(out));
 }
 
+TEST(Cli, RaysWithoutInputOrOutputSaysWhatIsMissing) {
+    prism::test::CommandResult r = run_prism("rays --scene builtin:sphere --backend cpu");
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.output.find("--rays and --out are required"), std::string::npos) << r.output;
+}
+
+// `prism rays --bench` (docs/ray-queries.md): both ray sets on two backends, each hit list compared with the
+// reference, throughput from the launch's time.
+TEST(Cli, RaysBenchReportsPrimaryAndDiffuseRaysPerBackend) {
+    fs::path json = prism::test::temp_dir("cli") / "rays-bench.json";
+    prism::test::CommandResult r =
+        run_prism("rays --bench --scene '" + prism::test::scene("stanford/bunny.ply").string() +
+                  "' --backends cpu,cpu-ref --width 64 --height 48 --runs 2 --warmup 1 --json '" + json.string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    nlohmann::json result = parse_json_file(json);
+    ASSERT_TRUE(result.is_object()) << r.output;
+    EXPECT_EQ(result["kind"], "ray_queries");
+    ASSERT_EQ(result["backends"].size(), 2u);
+    for (const nlohmann::json& backend : result["backends"]) {
+        for (const char* set : {"primary", "diffuse"}) {
+            SCOPED_TRACE(backend["backend"].get<std::string>() + " " + set);
+            const nlohmann::json& m = backend[set];
+            EXPECT_GT(m["rays"].get<size_t>(), 100u);
+            EXPECT_GT(m["mrays_per_s"].get<double>(), 0.0);
+            EXPECT_LE(m["min_ms"].get<double>(), m["median_ms"].get<double>());
+            EXPECT_GE(m["agreement"].get<double>(), 0.999);
+        }
+    }
+    EXPECT_EQ(result["backends"][0]["primary"]["rays"], 64 * 48);
+}
+
 // --- Command-line conventions (docs/cli.md) ---
 
 TEST(Cli, ShortAndLongOutputAliasesWriteTheImage) {

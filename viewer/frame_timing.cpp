@@ -3,20 +3,9 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "core/util/median.h"
+
 namespace prism::viewer {
-namespace {
-
-double median(std::vector<double> values) {
-    if (values.empty()) return 0.0;
-    size_t middle = values.size() / 2;
-    std::nth_element(values.begin(), values.begin() + long(middle), values.end());
-    double upper = values[middle];
-    if (values.size() % 2) return upper;
-    double lower = *std::max_element(values.begin(), values.begin() + long(middle));
-    return 0.5 * (lower + upper);
-}
-
-}  // namespace
 
 size_t FrameTimings::warmup() const { return std::min<size_t>(5, frames_.size() / 4); }
 
