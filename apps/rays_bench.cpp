@@ -89,8 +89,8 @@ void run_rays_bench(const RaysBenchOptions& options) {
         primary.reference = reference.trace(primary.rays);
         size_t hits = 0;
         for (const RayHit& h : primary.reference) hits += h.t < INFINITY;
-        RaySet diffuse{"diffuse",
-                       bench::diffuse_rays(loaded.scene, primary.rays, primary.reference, hits, options.seed), {}};
+        RaySet diffuse{
+            "diffuse", bench::diffuse_rays(loaded.scene, primary.rays, primary.reference, hits, options.seed), {}};
         sets.push_back(std::move(primary));
         if (!diffuse.rays.empty()) sets.push_back(std::move(diffuse));
     }

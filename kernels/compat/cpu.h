@@ -99,17 +99,16 @@ RT_FUNC int rt_max_i(int a, int b) { return a > b ? a : b; }
 struct rt_float8 {
     float4 lo, hi;  // lanes 0-3, 4-7
 };
+template <typename To, typename From>
+RT_FUNC To rt_copy_bits(From from) {
+    static_assert(sizeof(To) == sizeof(From));
+    To to;
+    std::memcpy(&to, &from, sizeof to);
+    return to;
+}
 #if defined(__SSE2__)
-RT_FUNC __m128 rt_sse(float4 a) {
-    __m128 v;
-    std::memcpy(&v, &a, sizeof v);
-    return v;
-}
-RT_FUNC float4 rt_from_sse(__m128 v) {
-    float4 a;
-    std::memcpy(&a, &v, sizeof a);
-    return a;
-}
+RT_FUNC __m128 rt_sse(float4 a) { return rt_copy_bits<__m128>(a); }
+RT_FUNC float4 rt_from_sse(__m128 v) { return rt_copy_bits<float4>(v); }
 RT_FUNC float4 operator+(float4 a, float4 b) { return rt_from_sse(_mm_add_ps(rt_sse(a), rt_sse(b))); }
 RT_FUNC float4 operator-(float4 a, float4 b) { return rt_from_sse(_mm_sub_ps(rt_sse(a), rt_sse(b))); }
 RT_FUNC float4 operator*(float4 a, float4 b) { return rt_from_sse(_mm_mul_ps(rt_sse(a), rt_sse(b))); }
@@ -152,16 +151,8 @@ RT_FUNC uint rt_lane_u(uint4 v, uint k) {
 RT_FUNC rt_float8 rt_make8(float4 lo, float4 hi) { return rt_float8{lo, hi}; }
 RT_FUNC rt_float8 rt_splat8(float s) { return rt_float8{float4{s, s, s, s}, float4{s, s, s, s}}; }
 #if defined(__AVX__)
-RT_FUNC __m256 rt_avx(rt_float8 a) {
-    __m256 v;
-    std::memcpy(&v, &a, sizeof v);
-    return v;
-}
-RT_FUNC rt_float8 rt_from_avx(__m256 v) {
-    rt_float8 a;
-    std::memcpy(&a, &v, sizeof a);
-    return a;
-}
+RT_FUNC __m256 rt_avx(rt_float8 a) { return rt_copy_bits<__m256>(a); }
+RT_FUNC rt_float8 rt_from_avx(__m256 v) { return rt_copy_bits<rt_float8>(v); }
 RT_FUNC rt_float8 rt_sub8(rt_float8 a, rt_float8 b) { return rt_from_avx(_mm256_sub_ps(rt_avx(a), rt_avx(b))); }
 RT_FUNC rt_float8 rt_mul8(rt_float8 a, rt_float8 b) { return rt_from_avx(_mm256_mul_ps(rt_avx(a), rt_avx(b))); }
 RT_FUNC rt_float8 rt_min8(rt_float8 a, rt_float8 b) { return rt_from_avx(_mm256_min_ps(rt_avx(b), rt_avx(a))); }
