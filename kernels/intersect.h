@@ -68,6 +68,9 @@ RT_FUNC WideBoxHits rt_intersect_wide_node(BvhWideNode node, float3 origin, floa
 #define RT_SLACK_FARTHER 1.00004f
 
 RT_FUNC float rt_max_abs3(float3 a) { return rt_max(rt_max(rt_abs(a.x), rt_abs(a.y)), rt_abs(a.z)); }
+// The edges' share of the bound, stored in TriangleGeometry.e1.w when the scene is built: the scalar test then
+// spends no registers or instructions on it (the four-lane test computes it, having no spare lane).
+RT_FUNC float rt_edge_scale(float3 e1, float3 e2) { return rt_max_abs3(e1) + rt_max_abs3(e2); }
 
 // Returns (t, u, v, 1) for a hit with tmin < t < tmax, else (+inf, 0, 0, 0). u and v weight the second and
 // third vertex. Two-sided: no culling (glass is seen from both sides).
@@ -80,8 +83,7 @@ RT_FUNC float4 rt_intersect_triangle(TriangleGeometry tri, float3 origin, float3
     if (det == 0.0f) return miss;
     float inv_det = 1.0f / det;
     float3 s = origin - rt_xyz(tri.v0);
-    float slack =
-        RT_EDGE_SLACK * rt_max_abs3(s) * rt_max_abs3(dir) * (rt_max_abs3(e1) + rt_max_abs3(e2)) * rt_abs(inv_det);
+    float slack = RT_EDGE_SLACK * rt_max_abs3(s) * rt_max_abs3(dir) * tri.e1.w * rt_abs(inv_det);
     float u = dot(s, p) * inv_det;
     if (!(u >= -slack && u <= 1.0f + slack)) return miss;
     float3 q = cross(s, e1);
@@ -121,8 +123,8 @@ RT_FUNC TriangleHits4 rt_intersect_triangles4(TriangleBlock tri, float3 origin, 
     float4 s_max = rt_max4(rt_max4(rt_abs4(sx), rt_abs4(sy)), rt_abs4(sz));
     float4 e1_max = rt_max4(rt_max4(rt_abs4(tri.e1x), rt_abs4(tri.e1y)), rt_abs4(tri.e1z));
     float4 e2_max = rt_max4(rt_max4(rt_abs4(tri.e2x), rt_abs4(tri.e2y)), rt_abs4(tri.e2z));
-    float4 slack =
-        rt_splat4(RT_EDGE_SLACK) * s_max * rt_splat4(rt_max_abs3(dir)) * (e1_max + e2_max) * rt_abs4(inv_det);
+    float4 edge_scale = e1_max + e2_max;  // rt_edge_scale lane by lane
+    float4 slack = rt_splat4(RT_EDGE_SLACK) * s_max * rt_splat4(rt_max_abs3(dir)) * edge_scale * rt_abs4(inv_det);
     TriangleHits4 hits;
     hits.u = (sx * px + sy * py + sz * pz) * inv_det;
     // q = cross(s, e1), v = dot(dir, q) / det, t = dot(e2, q) / det

@@ -54,9 +54,8 @@ RT_FUNC Surface rt_surface_at(KernelGlobals kg, float3 direction, Hit hit, bool 
     }
     // A normal map tilts the shading normal in the frame of the interpolated tangent, bitangent and normal
     // (glTF: tangent along +u, bitangent = cross(normal, tangent) * sign; texel 0.5 is no tilt).
-    // One member, not the whole Material: GLSL loads every member of a struct it fetches, used or not.
-    uint normal_map = RT_FETCH(kg, materials, shading.material).normal_map;
-    if (shading_normal && normal_map != RT_NONE && a.tangent.w != 0.0f) {
+    Material material = RT_FETCH(kg, materials, shading.material);
+    if (shading_normal && material.normal_map != RT_NONE && a.tangent.w != 0.0f) {
         float3 t_object = rt_xyz(a.tangent) * w + rt_xyz(b.tangent) * u + rt_xyz(c.tangent) * v;
         float3 t_world =
             rt_transform_vector(inst.object_to_world0, inst.object_to_world1, inst.object_to_world2, t_object);
@@ -65,8 +64,8 @@ RT_FUNC Surface rt_surface_at(KernelGlobals kg, float3 direction, Hit hit, bool 
             t_world = normalize(t_world);
             float3 bitangent = cross(n, t_world) * (a.tangent.w < 0.0f ? -1.0f : 1.0f);
             float4 uv4 = a.uv * w + b.uv * u + c.uv * v;
-            float4 texel = rt_sample_layer(kg, RT_FETCH(kg, texture_layers, normal_map), uv4);
-            float scale = RT_FETCH(kg, materials, shading.material).normal_scale;
+            float4 texel = rt_sample_layer(kg, RT_FETCH(kg, texture_layers, material.normal_map), uv4);
+            float scale = material.normal_scale;
             float3 tilt =
                 make_float3((2.0f * texel.x - 1.0f) * scale, (2.0f * texel.y - 1.0f) * scale, 2.0f * texel.z - 1.0f);
             float3 mapped = t_world * tilt.x + bitangent * tilt.y + n * tilt.z;

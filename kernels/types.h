@@ -61,7 +61,8 @@ RT_STRUCT_END(BvhWideNode)
 #define RT_BVH_STACK_SIZE 64
 
 // Triangle geometry in BVH leaf order, ready for intersection (v0 and two edges).
-//  v0.w = as_float(primitive index within its mesh, in file order); e1.w, e2.w unused
+//  v0.w = as_float(primitive index within its mesh, in file order); e1.w = rt_edge_scale(e1, e2) (intersect.h);
+//  e2.w unused
 RT_STRUCT_BEGIN(TriangleGeometry)
     float4 v0;
     float4 e1;

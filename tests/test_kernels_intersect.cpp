@@ -13,8 +13,9 @@ namespace {
 constexpr float inf = std::numeric_limits<float>::infinity();
 
 TriangleGeometry triangle(float3 a, float3 b, float3 c) {
-    return TriangleGeometry{float4{a.x, a.y, a.z, 0}, float4{b.x - a.x, b.y - a.y, b.z - a.z, 0},
-                            float4{c.x - a.x, c.y - a.y, c.z - a.z, 0}};
+    float3 e1 = b - a, e2 = c - a;
+    return TriangleGeometry{float4{a.x, a.y, a.z, 0}, float4{e1.x, e1.y, e1.z, rt_edge_scale(e1, e2)},
+                            float4{e2.x, e2.y, e2.z, 0}};
 }
 
 float box(float3 lower, float3 upper, float3 o, float3 d, float tmin = 0.0f, float tmax = inf) {

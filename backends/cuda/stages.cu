@@ -2,12 +2,25 @@
 // The entry points are one line each; every decision is in kernels/stages.h.
 #include <cuda_runtime.h>
 
+#include <string_view>
+
 #include "backends/cuda/cuda_launch.h"
 #include "kernels/stages.h"
 
+// Register budgets for blocks of 128 threads (kThreadsPerBlock, cuda_backend.h), a launch setting: the traversal
+// stages are latency-bound, and ptxas left to itself gave intersect a few registers over 64, so that 7 blocks
+// instead of 8 fit on an SM; asking for 8 keeps intersect and shadow at 64 (docs/kernels.md, "Edges"). The other
+// stages (0) take what ptxas chooses.
+constexpr unsigned min_resident_blocks(std::string_view stage) {
+    return stage == "intersect" || stage == "shadow" ? 8u : 0u;
+}
+
 // prism_cuda_<name>: one __global__ entry per line of kernels/stage_list.h.
-#define RT_STAGE(name, Name, pass, launch, needs) \
-    __global__ void prism_cuda_##name(KernelGlobals kg, uint depth) { rt_kernel_##name(kg, depth); }
+#define RT_STAGE(name, Name, pass, launch, needs)                      \
+    __global__ void __launch_bounds__(128, min_resident_blocks(#name)) \
+        prism_cuda_##name(KernelGlobals kg, uint depth) {              \
+        rt_kernel_##name(kg, depth);                                   \
+    }
 #include "kernels/stage_list.h"
 #undef RT_STAGE
 

@@ -9,6 +9,7 @@
 #include "core/bvh/bvh_tree.h"
 #include "core/render/device_scene_flat.h"
 #include "core/util/error.h"
+#include "kernels/intersect.h"
 #include "kernels/math.h"
 
 namespace prism {
@@ -309,8 +310,10 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
         for (uint32_t t : placement.bvh.primitive_order) {
             glm::uvec3 tri = mesh.triangles[t];
             glm::vec3 a = mesh.positions[tri.x], b = mesh.positions[tri.y], c = mesh.positions[tri.z];
+            glm::vec3 e1 = b - a, e2 = c - a;
+            float edge_scale = rt_edge_scale(float3{e1.x, e1.y, e1.z}, float3{e2.x, e2.y, e2.z});
             device.triangles.push_back(
-                TriangleGeometry{to_float4(a, as_float(t)), to_float4(b - a, 0.0f), to_float4(c - a, 0.0f)});
+                TriangleGeometry{to_float4(a, as_float(t)), to_float4(e1, edge_scale), to_float4(e2, 0.0f)});
         }
         triangle_weighted_sah += double(placement.bvh.sah_cost) * placement.bvh.primitive_order.size();
         bvh_triangles += placement.bvh.primitive_order.size();
