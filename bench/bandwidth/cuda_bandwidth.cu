@@ -5,12 +5,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 
 #define RT_CUDA
 #include "kernels/bandwidth_copy.h"
 #undef RT_CUDA
 
+#include "backends/cuda/cuda_device.h"
 #include "bench/bandwidth/api_runners.h"
 #include "bench/bandwidth/copy_device.h"
 #include "bench/bandwidth/pci_link.h"
@@ -33,18 +33,6 @@ using Clock = std::chrono::steady_clock;
 
 std::string version_text(int version) {
     return std::to_string(version / 1000) + "." + std::to_string(version % 1000 / 10);
-}
-
-// The kernel module's version ("580.159"), which the CUDA runtime does not report.
-std::string nvidia_driver_version() {
-    std::ifstream file("/proc/driver/nvidia/version");
-    std::string line;
-    if (!std::getline(file, line)) return "";
-    size_t module = line.find("Kernel Module");
-    if (module == std::string::npos) return "";
-    size_t start = line.find_first_not_of(" \t", module + 13);
-    size_t end = line.find_first_of(" \t", start);
-    return start == std::string::npos ? "" : line.substr(start, end - start);
 }
 
 class CudaDevice final : public CopyDevice {
@@ -71,8 +59,7 @@ public:
         int runtime = 0, driver = 0;
         cudaRuntimeGetVersion(&runtime);
         cudaDriverGetVersion(&driver);
-        std::string module = nvidia_driver_version();
-        result.driver = module.empty() ? "CUDA driver API " + version_text(driver) : module;
+        result.driver = cuda::driver_version();
         result.api_version = "CUDA runtime " + version_text(runtime) + ", driver API " + version_text(driver);
         result.pci_address = pci_address(properties_.pciDomainID, properties_.pciBusID, properties_.pciDeviceID, 0);
         result.device_memory = properties_.totalGlobalMem;
