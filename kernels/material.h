@@ -79,7 +79,7 @@ RT_FUNC float4 rt_sample_map(KernelGlobals kg, uint layer, float4 uv, float4 fal
 RT_STRUCT_BEGIN(SurfaceTerms)
     float4 specular;  // xyz: S (tints reflected light), w: reflectivity r
     float4 emission;  // xyz: emitted radiance, w: ambient occlusion (1: none)
-    float4 fresnel;   // x: R_f (eq. 6.3), the share of eq. 6.7's reflected path
+    float4 fresnel;   // x: R_f (eq. 6.3), the share of eq. 6.7's reflected path; y: transmittance t at this hit
 RT_STRUCT_END(SurfaceTerms)
 
 // glTF metallic-roughness on the seed's model, per hit. A Whitted tracer has no glossy lobe, so roughness dims
@@ -88,8 +88,9 @@ RT_STRUCT_END(SurfaceTerms)
 // F = Schlick's Fresnel from the material's F0, so it mirrors the sky at grazing angles); eq. 6.7 with R_f = 1,
 // r = metallic gloss + (1 - metallic) gloss F and S = (reflected colour) / r gives exactly that, with
 // C (1 - r) left for the diffuse term. Transmissive materials keep the seed's split (r = 1, R_f from the
-// Fresnel term). Emission is the emissive factor times its texture; occlusion (glTF: 1 + strength (texel - 1))
-// darkens only the ambient term, the one light with no shadow ray.
+// Fresnel term), transmitting transmission x (1 - metallic) and mirroring metallic + (1 - metallic) F. Emission is the
+// emissive factor times its texture; occlusion (glTF: 1 + strength (texel - 1)) darkens only the ambient term, the one
+// light with no shadow ray.
 RT_FUNC SurfaceTerms rt_surface_terms(KernelGlobals kg, Material m, float3 color, float4 uv, float i_dot_n) {
     SurfaceTerms terms;
     float4 white = make_float4(1.0f, 1.0f, 1.0f, 1.0f);
@@ -97,7 +98,7 @@ RT_FUNC SurfaceTerms rt_surface_terms(KernelGlobals kg, Material m, float3 color
     float specular_texel = rt_sample_map(kg, m.specular_map, uv, white).w;
     float3 specular_tint = rt_xyz(rt_sample_map(kg, m.specular_color_map, uv, white));
     terms.specular = rt_float4(rt_xyz(m.specular) * specular_tint, m.specular.w);
-    terms.fresnel = make_float4(rt_fresnel_reflection(m.fresnel, i_dot_n) * specular_texel, 0.0f, 0.0f, 0.0f);
+    terms.fresnel = make_float4(rt_fresnel_reflection(m.fresnel, i_dot_n) * specular_texel, m.ambient.w, 0.0f, 0.0f);
     terms.emission = rt_float4(rt_xyz(m.emissive) * rt_xyz(rt_sample_map(kg, m.emissive_map, uv, white)), 1.0f);
     if ((m.flags & RT_MATERIAL_METAL_ROUGH) != 0u) {
         float4 texel = rt_sample_map(kg, m.metal_rough_map, uv, white);
@@ -105,6 +106,9 @@ RT_FUNC SurfaceTerms rt_surface_terms(KernelGlobals kg, Material m, float3 color
         float gloss = 1.0f - 0.5f * (m.roughness * texel.y);
         if (m.ambient.w > 0.0f) {
             terms.specular = rt_float4(rt_lerp3(rt_xyz(terms.specular), color, metallic), m.specular.w);
+            // glTF: a metal does not transmit; it mirrors at every angle
+            terms.fresnel.x = terms.fresnel.x + metallic * (1.0f - terms.fresnel.x);
+            terms.fresnel.y = m.ambient.w * (1.0f - metallic);
         } else {
             float dielectric = (1.0f - metallic) * gloss * terms.fresnel.x;
             float3 reflected = color * (metallic * gloss) + rt_xyz(terms.specular) * dielectric;

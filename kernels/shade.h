@@ -175,7 +175,7 @@ RT_FUNC ShadeResult rt_shade(KernelGlobals kg, Ray ray, Hit hit) {
     float3 color = rt_diffuse_color(kg, m, s.vertex_color, s.uv, s.has_vertex_color != 0u);
     SurfaceTerms terms = rt_surface_terms(kg, m, color, s.uv, dot(d, n));
     float reflectivity = terms.specular.w;
-    float transmittance = m.ambient.w;
+    float transmittance = terms.fresnel.y;
     float rf = terms.fresnel.x;
     float tf = 1.0f - rf;
     float3 base = color * (rf * (1.0f - reflectivity) + tf * (1.0f - transmittance));

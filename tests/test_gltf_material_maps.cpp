@@ -126,6 +126,35 @@ TEST(GltfMaterialMaps, EmissiveTextureShowsItsColours) {
     EXPECT_LT(at_world(dim, -0.5f, 0.5f).r, top_left.r - 50);
 }
 
+// KHR_materials_transmission with metallicFactor 1 (glTF's default) and the real values in the texture, over an
+// emissive red wall under a green sky: the dielectric half transmits and shows the red wall behind it, the metal half
+// mirrors the green sky in front (GlassHurricaneCandleHolder's glass and chrome foot share one such material).
+TEST(GltfMaterialMaps, TransmissionTakesMetallicFromTheTexture) {
+    std::string image = test::write_test_png("metal_rough_glass.png", 2, 2, {kBlack, kBlue, kBlack, kBlue});
+    GltfBuilder gltf;
+    add_textures(gltf, {image});
+    gltf.document["materials"] = json::array(
+        {{{"pbrMetallicRoughness",
+           {{"baseColorFactor", {1, 1, 1, 1}}, {"roughnessFactor", 0}, {"metallicRoughnessTexture", {{"index", 0}}}}},
+          {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}}}}},
+         {{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0}}},
+          {"emissiveFactor", {1, 0, 0}}}});
+    gltf.node({{"mesh", textured_quad(gltf)}});
+    const int wall = textured_quad(gltf);
+    gltf.document["meshes"][wall]["primitives"][0]["material"] = 1;
+    gltf.node({{"mesh", wall}, {"translation", {0, 0, -1}}, {"scale", {4, 4, 1}}});
+    test::ProbeImage image_out = test::render_gltf(gltf.write("metal_rough_glass.gltf"), [](Scene& scene) {
+        scene.lights.clear();
+        scene.ambient_light = glm::vec3(0.0f);
+        scene.environment.kind = EnvironmentKind::Constant;
+        scene.environment.color = glm::vec3(0.0f, 1.0f, 0.0f);
+    });
+    test::Rgb glass = at_world(image_out, -0.5f, 0.0f), metal = at_world(image_out, 0.5f, 0.0f);
+    EXPECT_GT(glass.r, 150) << "the red wall through the glass";
+    EXPECT_GT(metal.g, 150) << "the green sky in the metal";
+    EXPECT_LT(metal.r, 60);
+}
+
 // metallicFactor 1 with the real values in the texture (B = metallic, G = roughness): the metal half mirrors the
 // green sky, the dielectric half stays a grey diffuse surface.
 TEST(GltfMaterialMaps, MetallicRoughnessTextureDecidesWhatMirrors) {

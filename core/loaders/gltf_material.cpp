@@ -237,7 +237,9 @@ Material MaterialConverter::convert(int index) {
     if (transmission > 0.0f) {
         // A dielectric boundary: the seed's Fresnel term splits reflection and refraction, so the reflected part is
         // a full mirror (r = 1) and the refracted part carries the transmission.
-        material.transmittance = transmission * (1.0f - metallic);
+        // The kernel takes 1 - metallic of it per hit (kernels/material.h): metallic may come from a texture, and the
+        // factor alone (1 by default) would make a glass whose texture says "not metal" opaque.
+        material.transmittance = transmission;
         material.reflectivity = 1.0f;
         set_specular_fresnel(material, ior, specular_factor);
         const tinygltf::Value* volume = extension(source.extensions, "KHR_materials_volume");
