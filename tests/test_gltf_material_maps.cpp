@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 
 #include <glm/glm.hpp>
 
@@ -82,6 +83,16 @@ void white_sky(Scene& scene) {
     scene.environment.color = glm::vec3(1.0f);
 }
 
+// No lights, a uniform green sky, and `ambient` of ambient light.
+std::function<void(Scene&)> green_sky_lit_by(float ambient) {
+    return [ambient](Scene& scene) {
+        scene.lights.clear();
+        scene.ambient_light = glm::vec3(ambient);
+        scene.environment.kind = EnvironmentKind::Constant;
+        scene.environment.color = glm::vec3(0.0f, 1.0f, 0.0f);
+    };
+}
+
 void no_light(Scene& scene) {
     scene.lights.clear();
     scene.ambient_light = glm::vec3(0.0f);
@@ -143,12 +154,7 @@ TEST(GltfMaterialMaps, TransmissionTakesMetallicFromTheTexture) {
     const int wall = textured_quad(gltf);
     gltf.document["meshes"][wall]["primitives"][0]["material"] = 1;
     gltf.node({{"mesh", wall}, {"translation", {0, 0, -1}}, {"scale", {4, 4, 1}}});
-    test::ProbeImage image_out = test::render_gltf(gltf.write("metal_rough_glass.gltf"), [](Scene& scene) {
-        scene.lights.clear();
-        scene.ambient_light = glm::vec3(0.0f);
-        scene.environment.kind = EnvironmentKind::Constant;
-        scene.environment.color = glm::vec3(0.0f, 1.0f, 0.0f);
-    });
+    test::ProbeImage image_out = test::render_gltf(gltf.write("metal_rough_glass.gltf"), green_sky_lit_by(0.0f));
     test::Rgb glass = at_world(image_out, -0.5f, 0.0f), metal = at_world(image_out, 0.5f, 0.0f);
     EXPECT_GT(glass.r, 150) << "the red wall through the glass";
     EXPECT_GT(metal.g, 150) << "the green sky in the metal";
@@ -168,12 +174,7 @@ TEST(GltfMaterialMaps, MetallicRoughnessTextureDecidesWhatMirrors) {
                                                  {"roughnessFactor", 1},
                                                  {"metallicRoughnessTexture", {{"index", 0}}}}}}});
     gltf.node({{"mesh", textured_quad(gltf)}});
-    test::ProbeImage image_out = test::render_gltf(gltf.write("metal_rough.gltf"), [](Scene& scene) {
-        scene.lights.clear();
-        scene.ambient_light = glm::vec3(0.5f);
-        scene.environment.kind = EnvironmentKind::Constant;
-        scene.environment.color = glm::vec3(0.0f, 1.0f, 0.0f);
-    });
+    test::ProbeImage image_out = test::render_gltf(gltf.write("metal_rough.gltf"), green_sky_lit_by(0.5f));
     test::Rgb dielectric = at_world(image_out, -0.5f, 0.0f), metal = at_world(image_out, 0.5f, 0.0f);
     EXPECT_LT(dielectric.g - dielectric.r, 25);  // grey: the ambient light, and Fresnel's few % of the sky
     EXPECT_GT(dielectric.r, 60);
