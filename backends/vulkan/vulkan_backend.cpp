@@ -368,11 +368,7 @@ private:
                        VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
                        (address_supported_ ? VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT : 0);
 
-        float priority = 1.0f;
-        VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-        queue_info.queueFamilyIndex = physical_.compute_family;
-        queue_info.queueCount = 1;
-        queue_info.pQueuePriorities = &priority;
+        std::vector<VkDeviceQueueCreateInfo> queues = vk::queue_create_infos(physical_, false);
         VkPhysicalDeviceVulkan12Features enable12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
         enable12.bufferDeviceAddress = address_supported_;
         VkPhysicalDeviceFeatures2 enable{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
@@ -384,14 +380,14 @@ private:
         gl_reason_ = gl ? gl_plan.reason : "GL interop was not requested";
         VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
         device_info.pNext = &enable;
-        device_info.queueCreateInfoCount = 1;
-        device_info.pQueueCreateInfos = &queue_info;
+        device_info.queueCreateInfoCount = uint32_t(queues.size());
+        device_info.pQueueCreateInfos = queues.data();
         if (gl && gl_plan.reason.empty()) {
             device_info.enabledExtensionCount = uint32_t(gl_plan.extensions.size());
             device_info.ppEnabledExtensionNames = gl_plan.extensions.data();
         }
         vk::check(vkCreateDevice(physical_.handle, &device_info, nullptr, &device_), "vkCreateDevice");
-        vkGetDeviceQueue(device_, physical_.compute_family, 0, &queue_);
+        queue_ = vk::get_device_queues(device_, physical_, false).compute;
 
         VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
         pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
