@@ -26,7 +26,7 @@
 #define KernelGlobals int
 #else
 RT_STRUCT_BEGIN(KernelGlobals)
-#define RT_DATA_ARRAY(slot, type, name, access, role) RT_GLOBAL_PTR(type) name;
+#define RT_DATA_ARRAY(slot, type, name, access, role) RT_GLOBAL_PTR_##access(type) name;
 #include "data_arrays.h"
 #undef RT_DATA_ARRAY
 RT_STRUCT_END(KernelGlobals)

@@ -123,9 +123,20 @@ RT_FUNC Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, fl
 
 #endif  // RT_WIDE_TRAVERSAL
 
+// The node count the stack walk sets when it has no child to go to: pop the next node.
+#define RT_STACK_POP 0xffffffffu
+
 // Stack layout: interior nodes hold their first child (the second is next to it); both child boxes are tested
 // and the nearer is visited first, the farther pushed with its entry distance so it can be skipped later.
-RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit) {
+// - The walk keeps the node it goes to as its parent's pair holds it (first, count): descending costs one
+//   dependent load (the pair), not two (the node again, then its pair); only a popped node is fetched again.
+// - "While-while" (Aila & Laine 2009): an inner loop walks interior nodes until every ray has a leaf (or nothing)
+//   next, then the rays test their leaves together. With one loop that took a node or a leaf per step, a GPU warp
+//   whose rays were at both ran both paths every step (docs/kernels.md, "The stack traversal", has the gain).
+// - A scene whose top level holds one instance starts inside it (one_instance: RT_FLAG_ONE_INSTANCE), and an
+//   instance with the identity transform keeps the world ray, so a one-mesh scene pays no top-level walk.
+RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit,
+                           bool one_instance) {
     Hit best = rt_no_hit();
     best.tuv.x = tmax;
     TraversalRay world = rt_traversal_ray(origin, direction, tmin);
@@ -135,65 +146,75 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
     float stack_t[RT_BVH_STACK_SIZE];
     uint sp = 0u;
 
-    uint index = 0u;
-    bool visit = rt_intersect_node(RT_FETCH(kg, nodes, 0u), rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin, tmax) <
-                 RT_INFINITY;
-    while (visit) {
-        BvhNode node = RT_FETCH(kg, nodes, index);
-        uint first = rt_as_uint(node.lower.w);
-        uint count = rt_as_uint(node.upper.w);
-        bool descended = false;
-        if (count == 0u) {
+    uint root = 0u;
+    if (one_instance) {
+        Instance inst = RT_FETCH(kg, instances, 0u);
+        if ((inst.flags & RT_INSTANCE_IDENTITY) == 0u) ray = rt_ray_to_object(inst, world);
+        instance = 0u;
+        root = inst.root;
+    }
+    BvhNode node = RT_FETCH(kg, nodes, root);
+    uint first = rt_as_uint(node.lower.w);
+    uint count = rt_as_uint(node.upper.w);
+    bool going = rt_intersect_node(node, rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin, tmax) < RT_INFINITY;
+    while (going) {
+        // Walk interior nodes until a leaf (or nothing) is next.
+        while (count == 0u) {
             float reach = rt_hit_reach(best, tmax);
-            float t_a = rt_intersect_node(RT_FETCH(kg, nodes, first), rt_xyz(ray.origin), rt_xyz(ray.inv_direction),
-                                          tmin, reach);
-            float t_b = rt_intersect_node(RT_FETCH(kg, nodes, first + 1u), rt_xyz(ray.origin),
-                                          rt_xyz(ray.inv_direction), tmin, reach);
-            uint near_child = t_a <= t_b ? first : first + 1u;
-            uint far_child = t_a <= t_b ? first + 1u : first;
-            float t_near = rt_min(t_a, t_b);
+            BvhNode a = RT_FETCH(kg, nodes, first);
+            BvhNode b = RT_FETCH(kg, nodes, first + 1u);
+            float t_a = rt_intersect_node(a, rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin, reach);
+            float t_b = rt_intersect_node(b, rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin, reach);
+            bool a_first = t_a <= t_b;
             float t_far = rt_max(t_a, t_b);
             if (t_far < RT_INFINITY && sp < rt_uint(RT_BVH_STACK_SIZE)) {
-                stack_node[sp] = far_child;
+                stack_node[sp] = a_first ? first + 1u : first;
                 stack_t[sp] = t_far;
                 sp += 1u;
             }
-            if (t_near < RT_INFINITY) {
-                index = near_child;
-                descended = true;
+            if (rt_min(t_a, t_b) < RT_INFINITY) {
+                first = rt_as_uint(a_first ? a.lower.w : b.lower.w);
+                count = rt_as_uint(a_first ? a.upper.w : b.upper.w);
+            } else {
+                count = RT_STACK_POP;
             }
-        } else if (instance == RT_NONE) {
-            // A top-level leaf holds one instance: enter its mesh BVH in object space.
-            Instance inst = RT_FETCH(kg, instances, first);
-            TraversalRay object_ray = rt_ray_to_object(inst, world);
-            uint root = inst.root;
-            if (sp < rt_uint(RT_BVH_STACK_SIZE) &&
-                rt_intersect_node(RT_FETCH(kg, nodes, root), rt_xyz(object_ray.origin),
-                                  rt_xyz(object_ray.inv_direction), tmin, rt_hit_reach(best, tmax)) < RT_INFINITY) {
-                stack_node[sp] = RT_STACK_LEAVE_INSTANCE;
-                stack_t[sp] = 0.0f;
-                sp += 1u;
-                ray = object_ray;
-                instance = first;
-                index = root;
-                descended = true;
-            }
-        } else {
-            best = rt_intersect_leaf(kg, best, ray, tmax, instance, first, count);
-            if (any_hit && best.instance != RT_NONE) return best;
         }
-        if (descended) continue;
+        if (count != RT_STACK_POP) {
+            if (instance == RT_NONE) {
+                // A top-level leaf holds one instance: enter its mesh BVH in object space.
+                Instance inst = RT_FETCH(kg, instances, first);
+                TraversalRay object_ray = rt_ray_to_object(inst, world);
+                BvhNode mesh_root = RT_FETCH(kg, nodes, inst.root);
+                if (sp < rt_uint(RT_BVH_STACK_SIZE) &&
+                    rt_intersect_node(mesh_root, rt_xyz(object_ray.origin), rt_xyz(object_ray.inv_direction), tmin,
+                                      rt_hit_reach(best, tmax)) < RT_INFINITY) {
+                    stack_node[sp] = RT_STACK_LEAVE_INSTANCE;
+                    stack_t[sp] = 0.0f;
+                    sp += 1u;
+                    ray = object_ray;
+                    instance = first;
+                    first = rt_as_uint(mesh_root.lower.w);
+                    count = rt_as_uint(mesh_root.upper.w);
+                    continue;
+                }
+            } else {
+                best = rt_intersect_leaf(kg, best, ray, tmax, instance, first, count);
+                if (any_hit && best.instance != RT_NONE) return best;
+            }
+        }
         // Pop the next node that can still hold a closer hit.
-        visit = false;
-        while (sp > 0u && !visit) {
+        going = false;
+        while (sp > 0u && !going) {
             sp -= 1u;
             uint popped = stack_node[sp];
             if (popped == RT_STACK_LEAVE_INSTANCE) {
                 ray = world;
                 instance = RT_NONE;
             } else if (stack_t[sp] <= rt_hit_reach(best, tmax)) {
-                index = popped;
-                visit = true;
+                BvhNode next = RT_FETCH(kg, nodes, popped);
+                first = rt_as_uint(next.lower.w);
+                count = rt_as_uint(next.upper.w);
+                going = true;
             }
         }
     }
@@ -430,7 +451,7 @@ RT_FUNC Hit rt_trace(KernelGlobals kg, float3 origin, float3 direction, float tm
 #endif
     // (A GPU backend never receives a wide scene: RenderEngine refuses it.)
     if (bvh_layout == RT_BVH_LAYOUT_ESCAPE) return rt_trace_escape(kg, origin, direction, tmin, tmax, any_hit);
-    return rt_trace_stack(kg, origin, direction, tmin, tmax, any_hit);
+    return rt_trace_stack(kg, origin, direction, tmin, tmax, any_hit, (frame.flags & RT_FLAG_ONE_INSTANCE) != 0u);
 }
 
 #endif

@@ -193,6 +193,8 @@ RT_FUNC float rt_int_as_float(int i) { return std::bit_cast<float>(i); }
 
 #define RT_INFINITY (__builtin_inff())
 #define RT_GLOBAL_PTR(type) type*
+#define RT_GLOBAL_PTR_ro(type) const type*  // an array the stages only read
+#define RT_GLOBAL_PTR_rw(type) type*
 
 // Buffers: `kg` is a struct of pointers generated from kernels/data_arrays.h.
 #define RT_FETCH(kg, array, i) ((kg).array[(i)])

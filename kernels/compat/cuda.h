@@ -79,8 +79,32 @@ RT_FUNC int rt_max_i(int a, int b) { return max(a, b); }
 
 #define RT_INFINITY __int_as_float(0x7f800000)
 #define RT_GLOBAL_PTR(type) type* __restrict__
+#define RT_GLOBAL_PTR_ro(type) const type* __restrict__  // an array the stages only read
+#define RT_GLOBAL_PTR_rw(type) type* __restrict__
 
-#define RT_FETCH(kg, array, i) ((kg).array[(i)])
+// An array the stages only read (`ro` in data_arrays.h: a const pointer in KernelGlobals) is loaded through the
+// read-only data path, 16 bytes at a time (ld.global.nc: nvcc emits it for __ldg, not for a const member of a
+// struct of pointers). Besides the cache path, ptxas then knows no store in the kernel changes what was loaded and
+// schedules the loads more freely: the shade kernel went from 161 to 128 registers (docs/kernels.md has the
+// timing). An array the stages write is loaded plainly.
+template <typename T>
+static __device__ __forceinline__ T rt_fetch(const T* __restrict__ array, uint i) {
+    if constexpr (sizeof(T) % 16 == 0) {
+        T value;
+        const uint4* from = reinterpret_cast<const uint4*>(array + i);
+        uint4* to = reinterpret_cast<uint4*>(&value);
+#pragma unroll
+        for (unsigned k = 0; k < sizeof(T) / 16; ++k) to[k] = __ldg(from + k);
+        return value;
+    } else {
+        return __ldg(array + i);
+    }
+}
+template <typename T>
+static __device__ __forceinline__ T rt_fetch(T* __restrict__ array, uint i) {
+    return array[i];
+}
+#define RT_FETCH(kg, array, i) rt_fetch((kg).array, (i))
 #define RT_STORE(kg, array, i, value) ((kg).array[(i)] = (value))
 #define RT_ATOMIC_ADD(kg, array, i, value) atomicAdd(&(kg).array[(i)], (value))
 #define RT_PREFETCH(kg, array, i, n) ((void)0)  // a CPU cache hint; GPUs hide latency with other warps

@@ -51,6 +51,8 @@ RT_FUNC uint rt_lowest_bit(uint x) { return 31u - clz(x & (0u - x)); }
 
 #define RT_INFINITY INFINITY
 #define RT_GLOBAL_PTR(type) __global type*
+#define RT_GLOBAL_PTR_ro(type) __global const type*  // an array the stages only read
+#define RT_GLOBAL_PTR_rw(type) __global type*
 
 #define RT_FETCH(kg, array, i) ((kg).array[(i)])
 #define RT_STORE(kg, array, i, value) ((kg).array[(i)] = (value))
