@@ -77,7 +77,8 @@ void write_stack(const EmbreeNode& node, const Aabb& box, uint32_t index, uint32
     uint32_t first_child = uint32_t(bvh.nodes.size());
     bvh.nodes.resize(bvh.nodes.size() + 2);
     set_w_bits(bvh.nodes[index], first_child, 0u);
-    for (uint32_t k = 0; k < 2; ++k) write_stack(*node.children[k], node.child_boxes[k], first_child + k, depth + 1, bvh);
+    for (uint32_t k = 0; k < 2; ++k)
+        write_stack(*node.children[k], node.child_boxes[k], first_child + k, depth + 1, bvh);
 }
 
 }  // namespace
@@ -108,11 +109,11 @@ double EmbreeBuilder::commit_ms(const TriangleSoupView& mesh, EmbreeQuality qual
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     rtcSetGeometryBuildQuality(geometry, to_rtc(quality));
     // New (padded) buffers: a shared one would have to be readable 16 bytes past its last vertex.
-    void* vertices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                             sizeof(glm::vec3), mesh.positions.size());
+    void* vertices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(glm::vec3),
+                                             mesh.positions.size());
     std::memcpy(vertices, mesh.positions.data(), mesh.positions.size_bytes());
-    void* indices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                            sizeof(glm::uvec3), mesh.triangles.size());
+    void* indices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, sizeof(glm::uvec3),
+                                            mesh.triangles.size());
     std::memcpy(indices, mesh.triangles.data(), mesh.triangles.size_bytes());
     rtcCommitGeometry(geometry);
     rtcAttachGeometry(scene, geometry);
@@ -134,8 +135,8 @@ Bvh EmbreeBuilder::build_binary(std::span<const Aabb> bounds, EmbreeQuality qual
         const Aabb& box = bounds[i];
         if (!bvh_usable_bounds(box)) continue;
         root_box.grow(box);
-        primitives.push_back(RTCBuildPrimitive{box.lower.x, box.lower.y, box.lower.z, 0, box.upper.x, box.upper.y,
-                                               box.upper.z, i});
+        primitives.push_back(
+            RTCBuildPrimitive{box.lower.x, box.lower.y, box.lower.z, 0, box.upper.x, box.upper.y, box.upper.z, i});
     }
     RTCBVH handle = rtcNewBVH(static_cast<RTCDevice>(device_));
     RTCBuildArguments arguments = rtcDefaultBuildArguments();
