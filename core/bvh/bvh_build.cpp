@@ -31,6 +31,7 @@ constexpr uint32_t kPassChunk = 1u << 15;
 constexpr uint32_t kBalancedDepth = 40;
 constexpr uint32_t kMaxBins = 256;
 constexpr uint32_t kFewestBins = 4;
+constexpr uint32_t kTwoBinSetsFrom = 1024;  // primitives
 constexpr uint32_t kPrimitivesPerExtraBin = 20;
 
 // Threads that may still be started, shared by subtree tasks and chunked passes so the total stays at `threads`.
@@ -308,20 +309,34 @@ private:
         return binning;
     }
 
-    void bin_range(uint32_t begin, uint32_t end, const Binning& binning, BinSet& set) const {
-        const uint32_t bin_count = binning.count;
-        Box4* boxes = set.boxes.data();
-        uint32_t* counts = set.counts.data();
-        for (uint32_t i = begin; i < end; ++i) {
-            const Reference& reference = references_[i];
-            int32_t bins[4];
-            binning.bins_of(reference, bins);
-            Float4 lower = reference.lo(), upper = reference.hi();
-            for (uint32_t axis = 0; axis < 3; ++axis) {
-                uint32_t slot = axis * bin_count + uint32_t(bins[axis]);
-                boxes[slot].grow(lower, upper);
-                counts[slot]++;
-            }
+    static void bin_one(const Reference& reference, const Binning& binning, BinSet& set) {
+        int32_t bins[4];
+        binning.bins_of(reference, bins);
+        Float4 lower = reference.lo(), upper = reference.hi();
+        for (uint32_t axis = 0; axis < 3; ++axis) {
+            uint32_t slot = axis * binning.count + uint32_t(bins[axis]);
+            set.boxes[slot].grow(lower, upper);
+            set.counts[slot]++;
+        }
+    }
+
+    // Adds references [begin, end) to `set` (reset). Long ranges alternate between it and `spare`: neighbouring
+    // references often fall in the same bins, and with one set each update would wait for the previous one's store.
+    void bin_range(uint32_t begin, uint32_t end, const Binning& binning, BinSet& set, BinSet& spare) const {
+        if (end - begin < kTwoBinSetsFrom) {
+            for (uint32_t i = begin; i < end; ++i) bin_one(references_[i], binning, set);
+            return;
+        }
+        spare.reset(binning.count);
+        uint32_t i = begin;
+        for (; i + 1 < end; i += 2) {
+            bin_one(references_[i], binning, set);
+            bin_one(references_[i + 1], binning, spare);
+        }
+        if (i < end) bin_one(references_[i], binning, set);
+        for (uint32_t slot = 0; slot < 3 * binning.count; ++slot) {
+            set.boxes[slot].grow(spare.boxes[slot]);
+            set.counts[slot] += spare.counts[slot];
         }
     }
 
@@ -330,16 +345,16 @@ private:
         const uint32_t bin_count = binning.count;
 
         // Reused per thread: a node's binning finishes before its children start.
-        thread_local BinSet bins;
+        thread_local BinSet bins, spare;
         bins.reset(bin_count);
         int helpers = helpers_for(task.end - task.begin);
         if (helpers == 0) {
-            bin_range(task.begin, task.end, binning, bins);
+            bin_range(task.begin, task.end, binning, bins, spare);
         } else {
-            std::vector<BinSet> parts(helpers + 1);
+            std::vector<BinSet> parts(helpers + 1), spares(helpers + 1);
             run_in_parts(task.begin, task.end, helpers + 1, [&](uint32_t b, uint32_t e, int part) {
                 parts[part].reset(bin_count);
-                bin_range(b, e, binning, parts[part]);
+                bin_range(b, e, binning, parts[part], spares[part]);
             });
             budget_.release(helpers);
             for (const auto& part : parts)
@@ -466,7 +481,9 @@ Bvh build_bvh(std::span<const Aabb> primitive_bounds, const BvhBuildOptions& opt
     BvhTree tree = build_bvh_tree(primitive_bounds, options, progress);
     Bvh bvh;
     bvh.nodes = flatten_bvh_tree(tree, options.layout == BvhLayout::Wide ? BvhLayout::Stack : options.layout);
-    if (options.layout == BvhLayout::Wide) bvh.wide_nodes = collapse_bvh_wide(bvh.nodes, options.wide_leaf_size);
+    if (options.layout == BvhLayout::Wide)
+        bvh.wide_nodes =
+            collapse_bvh_wide(bvh.nodes, options.wide_leaf_size, uint32_t(resolve_threads(options.threads)));
     bvh.primitive_order = std::move(tree.primitive_order);
     bvh.layout = options.layout;
     bvh.options = options;
