@@ -82,6 +82,26 @@ struct alignas(16) Reference {
     uint32_t primitive() const { return std::bit_cast<uint32_t>(lower[3]); }
 };
 
+// Leaves elements uninitialized on resize (a vector would zero the whole array on one thread first).
+template <class T>
+struct UninitializedAllocator : std::allocator<T> {
+    template <class U>
+    struct rebind {
+        using other = UninitializedAllocator<U>;
+    };
+    UninitializedAllocator() = default;
+    template <class U>
+    UninitializedAllocator(const UninitializedAllocator<U>&) {}
+    template <class U>
+    void construct(U* p) noexcept {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+};
+
 struct RangeBounds {
     Box4 box;        // of the primitive bounds
     Box4 centroids;  // of the primitives' doubled centroids (Reference::centroid2)
@@ -149,13 +169,7 @@ public:
         // blocks of four (as Embree does).
         if (options.layout == BvhLayout::Wide) max_leaf_ = std::min<uint32_t>(max_leaf_, RT_WIDE_LEAF_MAX);
         leaf_block_ = options.layout == BvhLayout::Wide ? 4u : 1u;
-        references_.reserve(bounds.size());
-        for (uint32_t i = 0; i < bounds.size(); ++i) {
-            const Aabb& box = bounds[i];
-            if (!bvh_usable_bounds(box)) continue;
-            references_.push_back(Reference{{box.lower.x, box.lower.y, box.lower.z, std::bit_cast<float>(i)},
-                                            {box.upper.x, box.upper.y, box.upper.z, 0.0f}});
-        }
+        make_references(bounds);
     }
 
     void build() {
@@ -182,6 +196,30 @@ private:
     std::deque<BvhBuildNode>& new_arena() {
         std::lock_guard lock(arenas_mutex_);
         return tree_.arenas.emplace_back();
+    }
+
+    // The usable bounds in input order, made in chunks on all threads: counted first, so each chunk knows where its
+    // references go (and the memory they fill is first touched by as many threads).
+    void make_references(std::span<const Aabb> bounds) {
+        uint32_t size = uint32_t(bounds.size());
+        int helpers = helpers_for(size);
+        std::vector<uint32_t> usable(helpers + 1), first(helpers + 1);
+        run_in_parts(0, size, helpers + 1, [&](uint32_t b, uint32_t e, int part) {
+            for (uint32_t i = b; i < e; ++i) usable[part] += bvh_usable_bounds(bounds[i]) ? 1 : 0;
+        });
+        uint32_t total = 0;
+        for (int part = 0; part <= helpers; ++part) first[part] = total, total += usable[part];
+        references_.resize(total);  // left uninitialized (UninitializedAllocator): the chunks fill every one
+        run_in_parts(0, size, helpers + 1, [&](uint32_t b, uint32_t e, int part) {
+            Reference* out = references_.data() + first[part];
+            for (uint32_t i = b; i < e; ++i) {
+                const Aabb& box = bounds[i];
+                if (!bvh_usable_bounds(box)) continue;
+                *out++ = Reference{{box.lower.x, box.lower.y, box.lower.z, std::bit_cast<float>(i)},
+                                   {box.upper.x, box.upper.y, box.upper.z, 0.0f}};
+            }
+        });
+        budget_.release(helpers);
     }
 
     int helpers_for(uint32_t count) {
@@ -429,7 +467,7 @@ private:
     BvhTree& tree_;
     ThreadBudget budget_;
     uint32_t max_leaf_ = 4;
-    std::vector<Reference> references_;
+    std::vector<Reference, UninitializedAllocator<Reference>> references_;
     std::mutex arenas_mutex_;
     uint32_t leaf_block_ = 1;
     const BvhProgress& progress_;
