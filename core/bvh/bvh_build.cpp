@@ -5,6 +5,7 @@
 // sums, which are exact and order-independent; partitions run sequentially. So the tree is the same for any
 // thread count, and images are bit-identical run to run.
 #include <algorithm>
+#include <bit>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -13,6 +14,7 @@
 #include <thread>
 
 #include "core/bvh/bvh.h"
+#include "core/bvh/bvh_float4.h"
 #include "core/bvh/bvh_tree.h"
 #include "core/util/error.h"
 
@@ -28,6 +30,9 @@ constexpr uint32_t kPassChunk = 1u << 15;
 // get near it (the bunny's SAH tree is ~25 deep).
 constexpr uint32_t kBalancedDepth = 40;
 constexpr uint32_t kMaxBins = 256;
+constexpr uint32_t kFewestBins = 4;
+constexpr uint32_t kTwoBinSetsFrom = 1024;  // primitives
+constexpr uint32_t kPrimitivesPerExtraBin = 20;
 
 // Threads that may still be started, shared by subtree tasks and chunked passes so the total stays at `threads`.
 class ThreadBudget {
@@ -61,43 +66,83 @@ void run_in_parts(uint32_t begin, uint32_t end, int parts, const Body& body) {
     for (auto& helper : helpers) helper.join();
 }
 
+using bvh_simd::Box4;
+using bvh_simd::Float4;
+using bvh_simd::Lanes;
+
+// One primitive in the working array. Builders move these (not indices into the caller's bounds) so every pass
+// reads memory in order; 32 bytes, two aligned SSE loads.
+struct alignas(16) Reference {
+    float lower[4];  // lower[3]: the primitive index's bits
+    float upper[4];  // upper[3]: 0
+    Float4 lo() const { return bvh_simd::load(lower); }
+    Float4 hi() const { return bvh_simd::load(upper); }
+    // Twice the centroid, computed the same way everywhere, so bins and partitions see identical values.
+    Float4 centroid2() const { return bvh_simd::xyz(lo()) + hi(); }
+    uint32_t primitive() const { return std::bit_cast<uint32_t>(lower[3]); }
+};
+
+// Leaves elements uninitialized on resize (a vector would zero the whole array on one thread first).
+template <class T>
+struct UninitializedAllocator : std::allocator<T> {
+    template <class U>
+    struct rebind {
+        using other = UninitializedAllocator<U>;
+    };
+    UninitializedAllocator() = default;
+    template <class U>
+    UninitializedAllocator(const UninitializedAllocator<U>&) {}
+    template <class U>
+    void construct(U* p) noexcept {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+};
+
 struct RangeBounds {
-    Aabb box;        // of the primitive bounds
-    Aabb centroids;  // of the primitive centroids
+    Box4 box;        // of the primitive bounds
+    Box4 centroids;  // of the primitives' doubled centroids (Reference::centroid2)
+    void grow(const Reference& reference) {
+        box.grow(reference.lo(), reference.hi());
+        centroids.grow(reference.centroid2());
+    }
     void grow(const RangeBounds& other) {
         box.grow(other.box);
         centroids.grow(other.centroids);
     }
 };
 
-// One primitive in the working array. Builders move these (not indices into the caller's bounds) so every pass
-// reads memory in order.
-struct Reference {
-    glm::vec3 lower;
-    uint32_t primitive;
-    glm::vec3 upper;
-    uint32_t unused;
-    // Always computed the same way, so bins and partitions see identical values.
-    glm::vec3 centroid() const { return 0.5f * (lower + upper); }
-};
+Aabb to_aabb(const Box4& box) {
+    Lanes lower = bvh_simd::lanes(box.lower), upper = bvh_simd::lanes(box.upper);
+    Aabb out;
+    out.lower = {lower.v[0], lower.v[1], lower.v[2]};
+    out.upper = {upper.v[0], upper.v[1], upper.v[2]};
+    return out;
+}
 
-struct Bin {
-    Aabb box;
-    uint32_t count = 0;
-    void grow(const Bin& other) {
-        box.grow(other.box);
-        count += other.count;
+// Maps doubled centroids to bins on all three axes at once; the same function counts and partitions, so both agree.
+struct Binning {
+    Float4 origin = bvh_simd::splat(0.0f);
+    Float4 scale = bvh_simd::splat(0.0f);  // 0 on an axis that cannot be binned (no centroid extent)
+    Float4 last_bin = bvh_simd::splat(0.0f);
+    uint32_t count = 0;  // bins per axis
+    bool usable[3] = {false, false, false};
+    void bins_of(const Reference& reference, int32_t (&bins)[4]) const {
+        Float4 position = (reference.centroid2() - origin) * scale;
+        bvh_simd::truncate(bvh_simd::min(bvh_simd::max(position, bvh_simd::splat(0.0f)), last_bin), bins);
     }
 };
 
-// Maps a centroid coordinate to its bin on one axis; the same function counts and partitions, so both agree.
-struct AxisBinning {
-    float origin = 0.0f;
-    float scale = 0.0f;  // 0: the axis cannot be binned (no centroid extent)
-    uint32_t bins = 0;
-    uint32_t bin(float coordinate) const {
-        float position = (coordinate - origin) * scale;
-        return std::min(uint32_t(std::max(position, 0.0f)), bins - 1);
+// Bin boxes and counts per axis: entry axis * bins + bin.
+struct BinSet {
+    std::vector<Box4> boxes;
+    std::vector<uint32_t> counts;
+    void reset(uint32_t bins) {
+        boxes.assign(3 * bins, Box4{});
+        counts.assign(3 * bins, 0);
     }
 };
 
@@ -124,8 +169,7 @@ public:
         // blocks of four (as Embree does).
         if (options.layout == BvhLayout::Wide) max_leaf_ = std::min<uint32_t>(max_leaf_, RT_WIDE_LEAF_MAX);
         leaf_block_ = options.layout == BvhLayout::Wide ? 4u : 1u;
-        for (uint32_t i = 0; i < bounds.size(); ++i)
-            if (bvh_usable_bounds(bounds[i])) references_.push_back({bounds[i].lower, i, bounds[i].upper, 0});
+        make_references(bounds);
     }
 
     void build() {
@@ -139,17 +183,43 @@ public:
             return;
         }
         Task root{0, count, bounds_of(0, count), 0};
-        tree_.root = build_subtree(root, arena);
-        tree_.node_count = node_count_.load();
-        tree_.depth = depth_.load();
+        uint32_t depth = 0;
+        tree_.root = build_subtree(root, arena, depth);
+        tree_.node_count = 0;
+        for (const auto& nodes : tree_.arenas) tree_.node_count += uint32_t(nodes.size());
+        tree_.depth = depth;
         tree_.primitive_order.resize(count);
-        for (uint32_t i = 0; i < count; ++i) tree_.primitive_order[i] = references_[i].primitive;
+        for (uint32_t i = 0; i < count; ++i) tree_.primitive_order[i] = references_[i].primitive();
     }
 
 private:
     std::deque<BvhBuildNode>& new_arena() {
         std::lock_guard lock(arenas_mutex_);
         return tree_.arenas.emplace_back();
+    }
+
+    // The usable bounds in input order, made in chunks on all threads: counted first, so each chunk knows where its
+    // references go (and the memory they fill is first touched by as many threads).
+    void make_references(std::span<const Aabb> bounds) {
+        uint32_t size = uint32_t(bounds.size());
+        int helpers = helpers_for(size);
+        std::vector<uint32_t> usable(helpers + 1), first(helpers + 1);
+        run_in_parts(0, size, helpers + 1, [&](uint32_t b, uint32_t e, int part) {
+            for (uint32_t i = b; i < e; ++i) usable[part] += bvh_usable_bounds(bounds[i]) ? 1 : 0;
+        });
+        uint32_t total = 0;
+        for (int part = 0; part <= helpers; ++part) first[part] = total, total += usable[part];
+        references_.resize(total);  // left uninitialized (UninitializedAllocator): the chunks fill every one
+        run_in_parts(0, size, helpers + 1, [&](uint32_t b, uint32_t e, int part) {
+            Reference* out = references_.data() + first[part];
+            for (uint32_t i = b; i < e; ++i) {
+                const Aabb& box = bounds[i];
+                if (!bvh_usable_bounds(box)) continue;
+                *out++ = Reference{{box.lower.x, box.lower.y, box.lower.z, std::bit_cast<float>(i)},
+                                   {box.upper.x, box.upper.y, box.upper.z, 0.0f}};
+            }
+        });
+        budget_.release(helpers);
     }
 
     int helpers_for(uint32_t count) {
@@ -162,11 +232,7 @@ private:
         std::vector<RangeBounds> parts(helpers + 1);
         run_in_parts(begin, end, helpers + 1, [&](uint32_t b, uint32_t e, int part) {
             RangeBounds bounds;
-            for (uint32_t i = b; i < e; ++i) {
-                const Reference& reference = references_[i];
-                bounds.box.grow(Aabb{reference.lower, reference.upper});
-                bounds.centroids.grow(reference.centroid());
-            }
+            for (uint32_t i = b; i < e; ++i) bounds.grow(references_[i]);
             parts[part] = bounds;
         });
         budget_.release(helpers);
@@ -175,13 +241,11 @@ private:
         return total;
     }
 
-    const BvhBuildNode* build_subtree(const Task& task, std::deque<BvhBuildNode>& arena) {
+    // `deepest` is the calling thread's own (shared counters would bounce between cores once per node).
+    const BvhBuildNode* build_subtree(const Task& task, std::deque<BvhBuildNode>& arena, uint32_t& deepest) {
         BvhBuildNode& node = arena.emplace_back();
-        node_count_.fetch_add(1, std::memory_order_relaxed);
-        node.box = task.bounds.box;
-        uint32_t depth = task.depth + 1;
-        for (uint32_t seen = depth_.load(); seen < depth && !depth_.compare_exchange_weak(seen, depth);) {
-        }
+        node.box = to_aabb(task.bounds.box);
+        deepest = std::max(deepest, task.depth + 1);
 
         uint32_t count = task.end - task.begin;
         Task left, right;
@@ -196,15 +260,17 @@ private:
                         budget_.acquire(1) == 1;
         if (parallel) {
             // The worker gives its thread back as soon as it is done, so the other side can split it again.
+            uint32_t worker_deepest = 0;
             std::thread worker([&] {
-                node.children[0] = build_subtree(left, new_arena());
+                node.children[0] = build_subtree(left, new_arena(), worker_deepest);
                 budget_.release(1);
             });
-            node.children[1] = build_subtree(right, arena);
+            node.children[1] = build_subtree(right, arena, deepest);
             worker.join();
+            deepest = std::max(deepest, worker_deepest);
         } else {
-            node.children[0] = build_subtree(left, arena);
-            node.children[1] = build_subtree(right, arena);
+            node.children[0] = build_subtree(left, arena, deepest);
+            node.children[1] = build_subtree(right, arena, deepest);
         }
         return &node;
     }
@@ -218,7 +284,7 @@ private:
         if (task.depth >= kBalancedDepth) return count > max_leaf_ && split_at_index_median(task, left, right);
         if (options_.method == BvhMethod::Median) return count > max_leaf_ && split_at_box_median(task, left, right);
 
-        Split best = find_sah_split(task);
+        Split best = find_binned_split(task);
         if (count <= max_leaf_) {
             // Small enough for a leaf: split only where the SAH says it pays.
             if (best.axis < 0) return false;
@@ -229,10 +295,12 @@ private:
         }
         if (best.axis < 0) return split_at_index_median(task, left, right);  // all centroids equal
 
-        AxisBinning binning = binning_for(task.bounds.centroids, best.axis);
+        Binning binning = binning_for(task.bounds.centroids, count);
         int axis = best.axis;
         return partition(task, left, right, [&](const Reference& reference) {
-            return binning.bin(reference.centroid()[axis]) <= best.last_left_bin;
+            int32_t bins[4];
+            binning.bins_of(reference, bins);
+            return uint32_t(bins[axis]) <= best.last_left_bin;
         });
     }
 
@@ -241,17 +309,14 @@ private:
     bool partition(const Task& task, Task& left, Task& right, const Predicate& goes_left) {
         RangeBounds left_bounds, right_bounds;
         uint32_t i = task.begin, j = task.end;
-        while (i < j) {
-            const Reference& reference = references_[i];
-            if (goes_left(reference)) {
-                left_bounds.box.grow(Aabb{reference.lower, reference.upper});
-                left_bounds.centroids.grow(reference.centroid());
-                ++i;
-            } else {
-                right_bounds.box.grow(Aabb{reference.lower, reference.upper});
-                right_bounds.centroids.grow(reference.centroid());
-                std::swap(references_[i], references_[--j]);
-            }
+        for (;;) {
+            while (i < j && goes_left(references_[i])) left_bounds.grow(references_[i++]);
+            while (i < j && !goes_left(references_[j - 1])) right_bounds.grow(references_[--j]);
+            if (i == j) break;
+            // references_[i] goes right and references_[j - 1] left: exchange them.
+            std::swap(references_[i], references_[j - 1]);
+            left_bounds.grow(references_[i++]);
+            right_bounds.grow(references_[--j]);
         }
         if (i == task.begin || i == task.end) return split_at_index_median(task, left, right);
         left = {task.begin, i, left_bounds, task.depth + 1};
@@ -259,81 +324,117 @@ private:
         return true;
     }
 
-    AxisBinning binning_for(const Aabb& centroids, int axis) const {
-        AxisBinning binning;
-        binning.bins = options_.bins;
-        binning.origin = centroids.lower[axis];
-        float extent = centroids.upper[axis] - centroids.lower[axis];
-        float scale = extent > 0.0f ? float(options_.bins) / extent : 0.0f;
-        binning.scale = std::isfinite(scale) ? scale : 0.0f;
+    // Fewer bins for fewer primitives (most of a small node's bins would stay empty, yet each costs a reset and a
+    // step of the cost sweep), the option for large ones (the same rule as Embree's binning).
+    uint32_t bins_for(uint32_t primitives) const {
+        return std::min(options_.bins, kFewestBins + primitives / kPrimitivesPerExtraBin);
+    }
+
+    Binning binning_for(const Box4& centroids, uint32_t primitives) const {
+        Binning binning;
+        binning.count = bins_for(primitives);
+        Lanes lower = bvh_simd::lanes(centroids.lower), upper = bvh_simd::lanes(centroids.upper);
+        float scale[3];
+        for (int axis = 0; axis < 3; ++axis) {
+            float extent = upper.v[axis] - lower.v[axis];
+            scale[axis] = extent > 0.0f ? float(binning.count) / extent : 0.0f;
+            if (!std::isfinite(scale[axis])) scale[axis] = 0.0f;
+            binning.usable[axis] = scale[axis] != 0.0f;
+        }
+        binning.origin = bvh_simd::set(lower.v[0], lower.v[1], lower.v[2], 0.0f);
+        binning.scale = bvh_simd::set(scale[0], scale[1], scale[2], 0.0f);
+        binning.last_bin = bvh_simd::splat(float(binning.count - 1));
         return binning;
     }
 
-    void bin_range(uint32_t begin, uint32_t end, const AxisBinning (&binnings)[3], Bin* bins) const {
-        const uint32_t bin_count = options_.bins;
-        for (uint32_t i = begin; i < end; ++i) {
-            const Reference& reference = references_[i];
-            glm::vec3 centroid = reference.centroid();
-            for (int axis = 0; axis < 3; ++axis) {
-                if (binnings[axis].scale == 0.0f) continue;
-                Bin& bin = bins[axis * bin_count + binnings[axis].bin(centroid[axis])];
-                bin.box.lower = glm::min(bin.box.lower, reference.lower);
-                bin.box.upper = glm::max(bin.box.upper, reference.upper);
-                bin.count++;
-            }
+    static void bin_one(const Reference& reference, const Binning& binning, BinSet& set) {
+        int32_t bins[4];
+        binning.bins_of(reference, bins);
+        Float4 lower = reference.lo(), upper = reference.hi();
+        for (uint32_t axis = 0; axis < 3; ++axis) {
+            uint32_t slot = axis * binning.count + uint32_t(bins[axis]);
+            set.boxes[slot].grow(lower, upper);
+            set.counts[slot]++;
         }
     }
 
-    Split find_sah_split(const Task& task) {
-        const uint32_t bin_count = options_.bins;
-        AxisBinning binnings[3];
-        for (int axis = 0; axis < 3; ++axis) binnings[axis] = binning_for(task.bounds.centroids, axis);
+    // Adds references [begin, end) to `set` (reset). Long ranges alternate between it and `spare`: neighbouring
+    // references often fall in the same bins, and with one set each update would wait for the previous one's store.
+    void bin_range(uint32_t begin, uint32_t end, const Binning& binning, BinSet& set, BinSet& spare) const {
+        if (end - begin < kTwoBinSetsFrom) {
+            for (uint32_t i = begin; i < end; ++i) bin_one(references_[i], binning, set);
+            return;
+        }
+        spare.reset(binning.count);
+        uint32_t i = begin;
+        for (; i + 1 < end; i += 2) {
+            bin_one(references_[i], binning, set);
+            bin_one(references_[i + 1], binning, spare);
+        }
+        if (i < end) bin_one(references_[i], binning, set);
+        for (uint32_t slot = 0; slot < 3 * binning.count; ++slot) {
+            set.boxes[slot].grow(spare.boxes[slot]);
+            set.counts[slot] += spare.counts[slot];
+        }
+    }
+
+    Split find_binned_split(const Task& task) {
+        Binning binning = binning_for(task.bounds.centroids, task.end - task.begin);
+        const uint32_t bin_count = binning.count;
 
         // Reused per thread: a node's binning finishes before its children start.
-        thread_local std::vector<Bin> bins;
-        bins.assign(3 * bin_count, Bin{});
+        thread_local BinSet bins, spare;
+        bins.reset(bin_count);
         int helpers = helpers_for(task.end - task.begin);
         if (helpers == 0) {
-            bin_range(task.begin, task.end, binnings, bins.data());
+            bin_range(task.begin, task.end, binning, bins, spare);
         } else {
-            std::vector<std::vector<Bin>> parts(helpers + 1, std::vector<Bin>(3 * bin_count));
-            run_in_parts(task.begin, task.end, helpers + 1,
-                         [&](uint32_t b, uint32_t e, int part) { bin_range(b, e, binnings, parts[part].data()); });
+            std::vector<BinSet> parts(helpers + 1), spares(helpers + 1);
+            run_in_parts(task.begin, task.end, helpers + 1, [&](uint32_t b, uint32_t e, int part) {
+                parts[part].reset(bin_count);
+                bin_range(b, e, binning, parts[part], spares[part]);
+            });
             budget_.release(helpers);
             for (const auto& part : parts)
-                for (uint32_t i = 0; i < 3 * bin_count; ++i) bins[i].grow(part[i]);
+                for (uint32_t i = 0; i < 3 * bin_count; ++i) {
+                    bins.boxes[i].grow(part.boxes[i]);
+                    bins.counts[i] += part.counts[i];
+                }
         }
 
         Split best;
         float right_costs[kMaxBins];  // area * count of bins i.. on the right
         for (int axis = 0; axis < 3; ++axis) {
-            if (binnings[axis].scale == 0.0f) continue;
-            const Bin* axis_bins = &bins[axis * bin_count];
+            if (!binning.usable[axis]) continue;
+            const Box4* boxes = &bins.boxes[axis * bin_count];
+            const uint32_t* counts = &bins.counts[axis * bin_count];
             // Empty bins are skipped: a split after one equals the split after the last non-empty bin before it,
-            // which comes first and so wins the strict comparison anyway. Small nodes have mostly empty bins.
-            Bin sum;
+            // which comes first and so wins the strict comparison anyway.
+            Box4 sum;
+            uint32_t sum_count = 0;
             float right_cost = 0.0f;
             for (uint32_t i = bin_count; i-- > 1;) {
-                if (axis_bins[i].count != 0) {
-                    sum.grow(axis_bins[i]);
-                    right_cost = sum.box.half_area() * blocks(sum.count);
+                if (counts[i] != 0) {
+                    sum.grow(boxes[i]);
+                    sum_count += counts[i];
+                    right_cost = sum.half_area() * blocks(sum_count);
                 }
-                right_costs[i] = sum.count ? right_cost : -1.0f;
+                right_costs[i] = sum_count ? right_cost : -1.0f;
             }
-            Bin left;
+            Box4 left;
+            uint32_t left_count = 0;
             for (uint32_t i = 0; i + 1 < bin_count; ++i) {
-                if (axis_bins[i].count == 0) continue;
-                left.grow(axis_bins[i]);
+                if (counts[i] == 0) continue;
+                left.grow(boxes[i]);
+                left_count += counts[i];
                 if (right_costs[i + 1] < 0.0f) continue;
-                float cost = left.box.half_area() * blocks(left.count) + right_costs[i + 1];
+                float cost = left.half_area() * blocks(left_count) + right_costs[i + 1];
                 if (cost < best.cost) best = {axis, i, cost};
             }
         }
         return best;
     }
 
-    // Thesis Algorithm 6-1: pivot at the middle of the node box on an axis cycling x, y, z per level; primitives
-    // go left when their centroid lies below it. An empty side falls back to the index median.
     // Primitives in leaves so far, reported when a whole percent more of them is placed (whichever thread crosses it).
     void report_leaf(uint32_t count) {
         const uint64_t total = references_.size();
@@ -344,11 +445,15 @@ private:
             progress_(double(placed) / double(total));
     }
 
+    // Thesis Algorithm 6-1: pivot at the middle of the node box on an axis cycling x, y, z per level; primitives
+    // go left when their centroid lies below it (compared doubled: exact, so the same split as undoubled). An empty
+    // side falls back to the index median.
     bool split_at_box_median(const Task& task, Task& left, Task& right) {
         int axis = int(task.depth % 3);
-        float pivot = task.bounds.box.center()[axis];
-        return partition(task, left, right,
-                         [&](const Reference& reference) { return reference.centroid()[axis] < pivot; });
+        float pivot2 = bvh_simd::lanes(task.bounds.box.lower + task.bounds.box.upper).v[axis];
+        return partition(task, left, right, [&](const Reference& reference) {
+            return bvh_simd::lanes(reference.centroid2()).v[axis] < pivot2;
+        });
     }
 
     bool split_at_index_median(const Task& task, Task& left, Task& right) {
@@ -362,10 +467,8 @@ private:
     BvhTree& tree_;
     ThreadBudget budget_;
     uint32_t max_leaf_ = 4;
-    std::vector<Reference> references_;
+    std::vector<Reference, UninitializedAllocator<Reference>> references_;
     std::mutex arenas_mutex_;
-    std::atomic<uint32_t> node_count_{0};
-    std::atomic<uint32_t> depth_{0};
     uint32_t leaf_block_ = 1;
     const BvhProgress& progress_;
     std::atomic<uint64_t> placed_{0};
@@ -416,7 +519,9 @@ Bvh build_bvh(std::span<const Aabb> primitive_bounds, const BvhBuildOptions& opt
     BvhTree tree = build_bvh_tree(primitive_bounds, options, progress);
     Bvh bvh;
     bvh.nodes = flatten_bvh_tree(tree, options.layout == BvhLayout::Wide ? BvhLayout::Stack : options.layout);
-    if (options.layout == BvhLayout::Wide) bvh.wide_nodes = collapse_bvh_wide(bvh.nodes, options.wide_leaf_size);
+    if (options.layout == BvhLayout::Wide)
+        bvh.wide_nodes =
+            collapse_bvh_wide(bvh.nodes, options.wide_leaf_size, uint32_t(resolve_threads(options.threads)));
     bvh.primitive_order = std::move(tree.primitive_order);
     bvh.layout = options.layout;
     bvh.options = options;

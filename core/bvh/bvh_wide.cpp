@@ -1,9 +1,11 @@
 // The wide layout (kernels/types.h BvhWideNode): the binary SAH tree collapsed into 8-ary nodes whose child boxes
 // are stored per axis, so a traversal tests eight children with vector arithmetic (AVX or SSE on the cpu backend).
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <limits>
 #include <string>
+#include <thread>
 
 #include "core/bvh/bvh.h"
 #include "core/bvh/bvh_tree.h"
@@ -12,6 +14,9 @@
 namespace prism {
 
 namespace {
+
+// Subtrees of fewer primitives collapse on one thread (starting threads would cost more than it saves).
+constexpr uint32_t kParallelCollapseFrom = 1u << 16;
 
 uint32_t lower_w(const BvhNode& node) { return std::bit_cast<uint32_t>(node.lower.w); }
 uint32_t upper_w(const BvhNode& node) { return std::bit_cast<uint32_t>(node.upper.w); }
@@ -28,9 +33,10 @@ auto& lane(Vector& lanes_0_3, Vector& lanes_4_7, uint32_t k) {
 class Collapser {
 public:
     Collapser(const std::vector<BvhNode>& binary, uint32_t leaf_size)
-        : binary_(binary), range_(binary.size()), leaf_size_(leaf_size) {
+        : binary_(binary), range_(binary.size()), area_(binary.size()), leaf_size_(leaf_size) {
         // Each subtree's primitive range (its leaves are contiguous): children follow their parent.
         for (uint32_t index = uint32_t(binary.size()); index-- > 0;) {
+            area_[index] = node_bounds(binary[index]).half_area();
             if (upper_w(binary[index]) != 0) {
                 range_[index] = {lower_w(binary[index]), upper_w(binary[index])};
             } else if (binary.size() > 1) {
@@ -41,15 +47,16 @@ public:
         }
     }
 
-    std::vector<BvhWideNode> run() {
-        wide_.push_back(empty_wide_node());
+    std::vector<BvhWideNode> run(uint32_t threads) {
+        std::vector<BvhWideNode> wide;
         // A root small enough for one leaf (or the empty tree's node, count 0, which needs no lane) takes lane 0.
         if (leaf(0)) {
-            if (range_[0].count != 0) set_leaf_lane(wide_[0], 0, 0);
+            wide.push_back(empty_);
+            if (range_[0].count != 0) set_leaf_lane(wide[0], 0, 0);
         } else {
-            fill(0, 0);
+            wide = collapse_below(0, threads);
         }
-        return std::move(wide_);
+        return wide;
     }
 
 private:
@@ -61,17 +68,79 @@ private:
     // triangles costs less than visiting a node that holds only its two leaves, the collapse's usual bottom level.
     bool leaf(uint32_t index) const { return upper_w(binary_[index]) != 0 || range_[index].count <= leaf_size_; }
 
-    // Wide node `target` takes the children of binary node `source`, then opens the interior child with the
-    // largest surface area (the likeliest to be entered) until it has RT_BVH_WIDTH children or only leaves.
-    void fill(uint32_t target, uint32_t source) {
-        uint32_t children[RT_BVH_WIDTH] = {lower_w(binary_[source]), lower_w(binary_[source]) + 1};
+    // The wide nodes of the subtree under binary interior node `source`, its root first, indices local to it.
+    // With threads to spare, the subtrees under the root's interior lanes collapse at the same time, each into its
+    // own array, then follow the root in lane order: exactly where the one-thread recursion puts them.
+    std::vector<BvhWideNode> collapse_below(uint32_t source, uint32_t threads) {
+        std::vector<BvhWideNode> wide;
+        // Each wide node opens at least one binary interior node, and a subtree of n primitives has fewer than 2n
+        // binary nodes: reserved so growing never copies (pages never written are never touched).
+        wide.reserve(range_[source].count + 1);
+        wide.push_back(empty_);
+        if (threads <= 1 || range_[source].count < kParallelCollapseFrom) {
+            fill(wide, 0, source);
+            return wide;
+        }
+        uint32_t children[RT_BVH_WIDTH];
+        uint32_t count = open_children(source, children);
+        std::vector<uint32_t> interior;  // lanes whose child is a wide node
+        for (uint32_t k = 0; k < count; ++k) {
+            set_wide_lane_box(wide[0], k, node_bounds(binary_[children[k]]));
+            if (leaf(children[k]))
+                set_leaf_lane(wide[0], k, children[k]);
+            else
+                interior.push_back(k);
+        }
+        std::vector<std::vector<BvhWideNode>> parts(interior.size());
+        std::atomic<size_t> next{0};
+        auto work = [&] {
+            for (size_t i = next++; i < interior.size(); i = next++) {
+                parts[i].reserve(range_[children[interior[i]]].count + 1);
+                parts[i].push_back(empty_);
+                fill(parts[i], 0, children[interior[i]]);
+            }
+        };
+        std::vector<std::thread> helpers;
+        for (uint32_t t = 1; t < std::min<size_t>(threads, interior.size()); ++t) helpers.emplace_back(work);
+        work();
+        for (auto& helper : helpers) helper.join();
+
+        // Part i's root takes slot 1 + i (the root's interior lanes are numbered first), its other nodes follow
+        // the parts before it.
+        uint32_t next_slot = 1 + uint32_t(interior.size());
+        std::vector<uint32_t> base(parts.size());
+        for (size_t i = 0; i < parts.size(); ++i) {
+            base[i] = next_slot;
+            next_slot += uint32_t(parts[i].size()) - 1;
+        }
+        wide.resize(next_slot);
+        for (size_t i = 0; i < parts.size(); ++i) {
+            set_wide_lane_node(wide[0], interior[i], 1 + uint32_t(i));
+            auto place = [&](uint32_t local) { return local == 0 ? 1 + uint32_t(i) : base[i] + local - 1; };
+            for (uint32_t local = 0; local < parts[i].size(); ++local) {
+                BvhWideNode node = parts[i][local];
+                for (uint32_t k = 0; k < RT_BVH_WIDTH; ++k)
+                    if (wide_lane_used(node, k) && !wide_lane_leaf(node, k))
+                        set_wide_lane_node(node, k, place(wide_lane_ref(node, k)));
+                wide[place(local)] = node;
+            }
+        }
+        return wide;
+    }
+
+    // The children a wide node takes for binary node `source`: its two, then the interior child with the largest
+    // surface area (the likeliest to be entered) opened until there are RT_BVH_WIDTH or only leaves. Returns how
+    // many.
+    uint32_t open_children(uint32_t source, uint32_t (&children)[RT_BVH_WIDTH]) const {
+        children[0] = lower_w(binary_[source]);
+        children[1] = children[0] + 1;
         uint32_t count = 2;
         while (count < RT_BVH_WIDTH) {
             int widest = -1;
             float widest_area = -1.0f;
             for (uint32_t k = 0; k < count; ++k) {
                 if (leaf(children[k])) continue;
-                float area = node_bounds(binary_[children[k]]).half_area();
+                float area = area_[children[k]];
                 if (area > widest_area) widest = int(k), widest_area = area;
             }
             if (widest < 0) break;
@@ -79,20 +148,28 @@ private:
             children[widest] = lower_w(binary_[opened]);
             children[count++] = lower_w(binary_[opened]) + 1;
         }
+        return count;
+    }
+
+    // Wide node `target` of `wide` takes the children open_children() picks for binary node `source`; its interior
+    // children are appended and filled the same way.
+    void fill(std::vector<BvhWideNode>& wide, uint32_t target, uint32_t source) {
+        uint32_t children[RT_BVH_WIDTH];
+        uint32_t count = open_children(source, children);
         // Interior children get consecutive slots now and are filled after, so a parent precedes its children.
         uint32_t interior[RT_BVH_WIDTH];
         for (uint32_t k = 0; k < count; ++k) {
             if (leaf(children[k])) {
-                set_leaf_lane(wide_[target], k, children[k]);
+                set_leaf_lane(wide[target], k, children[k]);
             } else {
-                interior[k] = uint32_t(wide_.size());
-                set_wide_lane_box(wide_[target], k, node_bounds(binary_[children[k]]));
-                set_wide_lane_node(wide_[target], k, interior[k]);
-                wide_.push_back(empty_wide_node());
+                interior[k] = uint32_t(wide.size());
+                set_wide_lane_box(wide[target], k, node_bounds(binary_[children[k]]));
+                set_wide_lane_node(wide[target], k, interior[k]);
+                wide.push_back(empty_);
             }
         }
         for (uint32_t k = 0; k < count; ++k)
-            if (!leaf(children[k])) fill(interior[k], children[k]);
+            if (!leaf(children[k])) fill(wide, interior[k], children[k]);
     }
 
     void set_leaf_lane(BvhWideNode& node, uint32_t k, uint32_t source) {
@@ -102,8 +179,9 @@ private:
 
     const std::vector<BvhNode>& binary_;
     std::vector<Range> range_;
+    std::vector<float> area_;  // each binary node's half area, looked up many times while opening children
     uint32_t leaf_size_;
-    std::vector<BvhWideNode> wide_;
+    const BvhWideNode empty_ = empty_wide_node();
 };
 
 }  // namespace
@@ -157,9 +235,10 @@ void set_wide_lane_leaf(BvhWideNode& node, uint32_t k, uint32_t first, uint32_t 
     PRISM_WIDE_LANE(node, child, k) = RT_WIDE_LEAF | first << 3 | (count - 1);
 }
 
-std::vector<BvhWideNode> collapse_bvh_wide(const std::vector<BvhNode>& stack_nodes, uint32_t leaf_size) {
+std::vector<BvhWideNode> collapse_bvh_wide(const std::vector<BvhNode>& stack_nodes, uint32_t leaf_size,
+                                           uint32_t threads) {
     if (stack_nodes.empty()) throw Error("internal: collapsing an empty BVH");
-    return Collapser(stack_nodes, std::min(leaf_size, RT_WIDE_LEAF_MAX)).run();
+    return Collapser(stack_nodes, std::min(leaf_size, RT_WIDE_LEAF_MAX)).run(threads);
 }
 
 uint32_t wide_stack_bound(const std::vector<BvhWideNode>& wide, uint32_t root) {

@@ -257,7 +257,16 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
     device.mesh_bounds.resize(scene.meshes.size());
     // The meshes' builds report their share of every triangle the scene's BVHs will hold.
     double triangles_to_place = 0.0, triangles_placed = 0.0;
-    for (const Mesh& mesh : scene.meshes) triangles_to_place += double(mesh.triangles.size());
+    size_t vertex_total = 0, triangle_total = 0;
+    for (const Mesh& mesh : scene.meshes) {
+        triangles_to_place += double(mesh.triangles.size());
+        vertex_total += mesh.positions.size();
+        triangle_total += mesh.triangles.size();
+    }
+    // Reserved: grown one element at a time, a million-triangle mesh would copy these arrays over and over.
+    device.vertices.reserve(vertex_total);
+    device.triangle_shading.reserve(triangle_total);
+    device.triangles.reserve(triangle_total);
     for (size_t m = 0; m < scene.meshes.size(); ++m) {
         const Mesh& mesh = scene.meshes[m];
         MeshPlacement placement{static_cast<uint32_t>(device.vertices.size()),
@@ -295,6 +304,7 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
             device.mesh_bounds[m].grow(bounds[t]);
         }
         if (flatten) {
+            placement.bvh.primitive_order.reserve(bounds.size());
             for (uint32_t t = 0; t < bounds.size(); ++t)
                 if (!bounds[t].empty()) placement.bvh.primitive_order.push_back(t);
         } else {

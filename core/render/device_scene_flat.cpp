@@ -30,6 +30,9 @@ auto& lane(auto& v, uint32_t k) { return k == 0 ? v.x : k == 1 ? v.y : k == 2 ? 
 void build_flat_instances(DeviceScene& device, const Scene& scene, const std::vector<uint32_t>& first_triangle,
                           const std::vector<uint32_t>& triangle_count, const BvhProgress& progress) {
     std::vector<WorldTriangle> triangles;
+    size_t triangle_total = 0;
+    for (const prism::Instance& instance : scene.instances) triangle_total += triangle_count[instance.mesh];
+    triangles.reserve(triangle_total);
     for (uint32_t i = 0; i < scene.instances.size(); ++i) {
         const prism::Instance& instance = scene.instances[i];
         const Mesh& mesh = scene.meshes[instance.mesh];
@@ -57,6 +60,8 @@ void build_flat_instances(DeviceScene& device, const Scene& scene, const std::ve
 
     // Leaves become blocks of four world-space triangles; each lane remembers its instance, primitive and slot.
     device.triangle_blocks.clear();
+    // Leaves hold 1 to 8 triangles, mostly 3 to 8: about one block per two triangles (a hint; it may still grow).
+    device.triangle_blocks.reserve(triangles.size() / 2 + 1);
     device.wide_nodes = std::move(bvh.wide_nodes);
     for (BvhWideNode& node : device.wide_nodes)
         for (uint32_t k = 0; k < RT_BVH_WIDTH; ++k) {
