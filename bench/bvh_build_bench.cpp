@@ -165,8 +165,10 @@ int main(int argc, char** argv) {
     app.add_option("--runs", runs, "builds per configuration (the median is reported)")->check(CLI::PositiveNumber);
     app.add_option("--only", only, "scene names to run (default: the whole series)");
     app.add_option("--methods", methods,
-                   "Prism configurations to run: sah, sah-wide, sah-32bins, median (default: all)");
-    app.add_option("--threads", thread_counts, "thread counts (default: 1 and all)");
+                   "Prism configurations to run: sah, sah-wide, sah-32bins, median (default: all)")
+        ->delimiter(',')
+        ->check(CLI::IsMember({"sah", "sah-wide", "sah-32bins", "median"}));
+    app.add_option("--threads", thread_counts, "thread counts (default: 1 and all)")->delimiter(',');
     app.add_flag("!--no-embree", embree, "leave out Embree's builds");
     CLI11_PARSE(app, argc, argv);
 
