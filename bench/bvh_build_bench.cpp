@@ -115,6 +115,12 @@ const Configuration kConfigurations[] = {
     {"median", prism::BvhMethod::Median, prism::BvhLayout::Stack, 16},
 };
 
+std::vector<std::string> configuration_names() {
+    std::vector<std::string> names;
+    for (const Configuration& configuration : kConfigurations) names.push_back(configuration.name);
+    return names;
+}
+
 std::string default_host_name() {
     char name[256] = {};
     if (gethostname(name, sizeof name - 1) != 0 || name[0] == 0) return "unknown";
@@ -163,11 +169,11 @@ int main(int argc, char** argv) {
     app.add_option("--scenes", scenes_dir, "folder of the shared test scenes");
     app.add_option("--out", out, "JSON result file");
     app.add_option("--runs", runs, "builds per configuration (the median is reported)")->check(CLI::PositiveNumber);
-    app.add_option("--only", only, "scene names to run (default: the whole series)");
+    app.add_option("--only", only, "scene names to run (default: the whole series)")->delimiter(',');
     app.add_option("--methods", methods,
                    "Prism configurations to run: sah, sah-wide, sah-32bins, median (default: all)")
         ->delimiter(',')
-        ->check(CLI::IsMember({"sah", "sah-wide", "sah-32bins", "median"}));
+        ->check(CLI::IsMember(configuration_names()));
     app.add_option("--threads", thread_counts, "thread counts (default: 1 and all)")->delimiter(',');
     app.add_flag("!--no-embree", embree, "leave out Embree's builds");
     CLI11_PARSE(app, argc, argv);

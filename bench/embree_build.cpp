@@ -1,6 +1,5 @@
 #include "bench/embree_build.h"
 
-#include <bit>
 #include <chrono>
 #include <cstring>
 #include <string>
@@ -60,25 +59,21 @@ void* create_leaf(RTCThreadLocalAllocator allocator, const RTCBuildPrimitive* pr
     return node;
 }
 
-void set_w_bits(BvhNode& node, uint32_t lower_w, uint32_t upper_w) {
-    node.lower.w = std::bit_cast<float>(lower_w);
-    node.upper.w = std::bit_cast<float>(upper_w);
-}
-
-// Embree's tree in Prism's stack layout (bvh_flatten.cpp): children in adjacent pairs after their parent.
-void write_stack(const EmbreeNode& node, const Aabb& box, uint32_t index, uint32_t depth, Bvh& bvh) {
-    bvh.depth = std::max(bvh.depth, depth);
-    set_node_box(bvh.nodes[index], box);
+// Embree's tree as Prism's intermediate tree, so bvh_flatten.cpp lays it out exactly as it lays out Prism's own.
+const BvhBuildNode* to_build_node(const EmbreeNode& node, const Aabb& box, uint32_t depth, BvhTree& tree) {
+    BvhBuildNode& out = tree.arenas.back().emplace_back();
+    out.box = box;
+    tree.node_count += 1;
+    tree.depth = std::max(tree.depth, depth);
     if (node.leaf) {
-        set_w_bits(bvh.nodes[index], uint32_t(bvh.primitive_order.size()), node.count);
-        bvh.primitive_order.insert(bvh.primitive_order.end(), node.primitives, node.primitives + node.count);
-        return;
+        out.first = uint32_t(tree.primitive_order.size());
+        out.count = node.count;
+        tree.primitive_order.insert(tree.primitive_order.end(), node.primitives, node.primitives + node.count);
+        return &out;
     }
-    uint32_t first_child = uint32_t(bvh.nodes.size());
-    bvh.nodes.resize(bvh.nodes.size() + 2);
-    set_w_bits(bvh.nodes[index], first_child, 0u);
     for (uint32_t k = 0; k < 2; ++k)
-        write_stack(*node.children[k], node.child_boxes[k], first_child + k, depth + 1, bvh);
+        out.children[k] = to_build_node(*node.children[k], node.child_boxes[k], depth + 1, tree);
+    return &out;
 }
 
 }  // namespace
@@ -163,10 +158,14 @@ Bvh EmbreeBuilder::build_binary(std::span<const Aabb> bounds, EmbreeQuality qual
         rtcReleaseBVH(handle);
         throw Error("embree: rtcBuildBVH failed");
     }
-    Bvh bvh;
-    bvh.nodes.resize(1);
-    write_stack(*root, root_box, 0, 1, bvh);
+    BvhTree tree;
+    tree.arenas.emplace_back();
+    tree.root = to_build_node(*root, root_box, 1, tree);
     rtcReleaseBVH(handle);
+    Bvh bvh;
+    bvh.nodes = flatten_bvh_tree(tree, BvhLayout::Stack);
+    bvh.primitive_order = std::move(tree.primitive_order);
+    bvh.depth = tree.depth;
     bvh.layout = BvhLayout::Stack;
     bvh.options.max_leaf_size = max_leaf_size;
     bvh.primitive_count = uint32_t(bounds.size());
