@@ -426,7 +426,10 @@ void hostile_seeds(SeedWriter& seeds, const fs::path& scratch) {
     seeds.add("scene_json", "escaping.json", R"({"objects":[{"file":"../tri.obj"},{"file":"/etc/passwd.obj"}]})");
     seeds.add("image", "blank-2048x4096.png", prism::test::blank_png(2048, 4096));
 
-    seeds.add("scene_refs", "fixtures.txt", "tri.obj\ntex.png\ntri.bin\ntex.png\ntri.mtl\ntex.png\n");
+    seeds.add("scene_refs", "fixtures.txt", "tri.obj\ntex.png\ntri.bin\ntex.png\nref.mtl\ntex.png\n");
+    seeds.add("scene_refs", "mtl-texture-climbing.txt", "tri.obj\ntex.png\ntri.bin\ntex.png\nref.mtl\n../tex.png\n");
+    // A texture reference in an MTL that no mtllib line names is never read (a harness false finding once).
+    seeds.add("scene_refs", "unread-mtl.txt", "tri.obj\ntex.png\ntri.bin\ntex.png\ntri.mtl\n//\n");
     seeds.add("scene_refs", "climbing.txt",
               "../tri.obj\n../tex.png\n../tri.bin\n../../../../etc/passwd\n../tri.mtl\n../tex.png\n");
     seeds.add("scene_refs", "absolute.txt", "/etc/passwd\n/dev/zero\n/proc/self/status\n/etc/hostname\n/dev/null\n/\n");
