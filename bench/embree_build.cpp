@@ -71,8 +71,10 @@ const BvhBuildNode* to_build_node(const EmbreeNode& node, const Aabb& box, uint3
         tree.primitive_order.insert(tree.primitive_order.end(), node.primitives, node.primitives + node.count);
         return &out;
     }
-    for (uint32_t k = 0; k < 2; ++k)
+    for (uint32_t k = 0; k < 2; ++k) {
         out.children[k] = to_build_node(*node.children[k], node.child_boxes[k], depth + 1, tree);
+        out.nodes += out.children[k]->nodes;
+    }
     return &out;
 }
 

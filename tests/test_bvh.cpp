@@ -500,7 +500,7 @@ TEST(BvhBuild, SahIsCheaperThanTheSeedsMedianSplitOnTheBunny) {
 
 TEST(BvhBuild, SameNodesForAnyThreadCount) {
     const Soup& bunny_soup = bunny();
-    Soup large = random_soup(150000, 2);  // several parallel binning chunks at the top levels
+    Soup large = random_soup(150000, 2);  // chunked binning and partitions at the top, subtrees flattened apart
     for (const Soup* soup : {&bunny_soup, const_cast<const Soup*>(&large)}) {
         for (BvhMethod method : kMethods) {
             for (BvhLayout layout : kLayouts) {

@@ -1,9 +1,10 @@
 // BVH builders into the intermediate tree: binned SAH and the seed's median split (thesis 6.2.1, Algorithm 6-1).
 //
 // Determinism: every split decision is taken by one thread from values that do not depend on how the work was
-// divided. Parallel passes only bin or bound primitives, and their partial results merge with min/max and integer
-// sums, which are exact and order-independent; partitions run sequentially. So the tree is the same for any
-// thread count, and images are bit-identical run to run.
+// divided. Parallel passes bin, bound or partition primitives in pieces, and their partial results merge with
+// min/max and integer sums, which are exact and order-independent; a large node is partitioned in chunks of a fixed
+// size, never one per thread, so the order it leaves its references in is the same too. So the tree is the same
+// for any thread count, and images are bit-identical run to run.
 #include <algorithm>
 #include <bit>
 #include <atomic>
@@ -25,6 +26,10 @@ namespace {
 constexpr uint32_t kTaskThreshold = 4096;              // subtrees larger than this may run on another thread
 constexpr uint32_t kParallelPassThreshold = 1u << 16;  // binning/bounding passes this large are split in chunks
 constexpr uint32_t kPassChunk = 1u << 15;
+// Nodes this large are partitioned chunk by chunk (each chunk in place, then the references on the wrong side of
+// the node's split point exchanged), which threads can share; smaller ones in one sweep.
+constexpr uint32_t kChunkedPartitionFrom = kParallelPassThreshold;
+constexpr uint32_t kPartitionChunk = 1u << 14;
 // Below this depth every split is an index median, so no input can make the tree deeper than
 // kBalancedDepth + log2(primitives): with 2^24 primitives that still fits RT_BVH_STACK_SIZE (64). Real meshes never
 // get near it (the bunny's SAH tree is ~25 deep).
@@ -272,6 +277,7 @@ private:
             node.children[0] = build_subtree(left, arena, deepest);
             node.children[1] = build_subtree(right, arena, deepest);
         }
+        node.nodes = 1 + node.children[0]->nodes + node.children[1]->nodes;
         return &node;
     }
 
@@ -308,20 +314,92 @@ private:
     template <class Predicate>
     bool partition(const Task& task, Task& left, Task& right, const Predicate& goes_left) {
         RangeBounds left_bounds, right_bounds;
-        uint32_t i = task.begin, j = task.end;
+        uint32_t middle = task.end - task.begin >= kChunkedPartitionFrom
+                              ? partition_in_chunks(task.begin, task.end, goes_left, left_bounds, right_bounds)
+                              : partition_range(task.begin, task.end, goes_left, left_bounds, right_bounds);
+        if (middle == task.begin || middle == task.end) return split_at_index_median(task, left, right);
+        left = {task.begin, middle, left_bounds, task.depth + 1};
+        right = {middle, task.end, right_bounds, task.depth + 1};
+        return true;
+    }
+
+    // One two-sided sweep over [begin, end); returns where the right side starts.
+    template <class Predicate>
+    uint32_t partition_range(uint32_t begin, uint32_t end, const Predicate& goes_left, RangeBounds& left_bounds,
+                             RangeBounds& right_bounds) {
+        uint32_t i = begin, j = end;
         for (;;) {
             while (i < j && goes_left(references_[i])) left_bounds.grow(references_[i++]);
             while (i < j && !goes_left(references_[j - 1])) right_bounds.grow(references_[--j]);
-            if (i == j) break;
+            if (i == j) return i;
             // references_[i] goes right and references_[j - 1] left: exchange them.
             std::swap(references_[i], references_[j - 1]);
             left_bounds.grow(references_[i++]);
             right_bounds.grow(references_[--j]);
         }
-        if (i == task.begin || i == task.end) return split_at_index_median(task, left, right);
-        left = {task.begin, i, left_bounds, task.depth + 1};
-        right = {i, task.end, right_bounds, task.depth + 1};
-        return true;
+    }
+
+    // Each kPartitionChunk-sized chunk is partitioned in place on its own (in parallel when threads are spare);
+    // then the right-goers still before the node's split point and the left-goers after it, equally many, are
+    // exchanged in position order. Both steps' results depend on the chunk size only.
+    template <class Predicate>
+    uint32_t partition_in_chunks(uint32_t begin, uint32_t end, const Predicate& goes_left, RangeBounds& left_bounds,
+                                 RangeBounds& right_bounds) {
+        const uint32_t chunks = (end - begin + kPartitionChunk - 1) / kPartitionChunk;
+        auto chunk_begin = [&](uint32_t c) { return begin + c * kPartitionChunk; };
+        auto chunk_end = [&](uint32_t c) { return std::min(end, begin + (c + 1) * kPartitionChunk); };
+        struct Chunk {
+            uint32_t middle;
+            RangeBounds left, right;
+        };
+        std::vector<Chunk> parts(chunks);
+        int helpers = helpers_for(end - begin);
+        run_in_parts(0, chunks, std::min<int>(helpers + 1, int(chunks)), [&](uint32_t first, uint32_t last, int) {
+            for (uint32_t c = first; c < last; ++c)
+                parts[c].middle =
+                    partition_range(chunk_begin(c), chunk_end(c), goes_left, parts[c].left, parts[c].right);
+        });
+        uint32_t middle = begin;
+        for (const Chunk& part : parts) {
+            left_bounds.grow(part.left);
+            right_bounds.grow(part.right);
+            middle += part.middle - chunk_begin(uint32_t(&part - parts.data()));
+        }
+
+        // Misplaced runs: right-goers in [begin, middle) and left-goers in [middle, end), each in position order.
+        struct Run {
+            uint32_t first, last;
+        };
+        std::vector<Run> wrong_right, wrong_left;
+        for (uint32_t c = 0; c < chunks; ++c) {
+            Run right_goers{std::max(parts[c].middle, begin), std::min(chunk_end(c), middle)};
+            if (right_goers.first < right_goers.last) wrong_right.push_back(right_goers);
+            Run left_goers{std::max(chunk_begin(c), middle), std::min(parts[c].middle, end)};
+            if (left_goers.first < left_goers.last) wrong_left.push_back(left_goers);
+        }
+        // Pair them up into exchanges of equal length.
+        struct Exchange {
+            uint32_t a, b, length;
+        };
+        std::vector<Exchange> exchanges;
+        for (size_t r = 0, l = 0; r < wrong_right.size() && l < wrong_left.size();) {
+            Run& a = wrong_right[r];
+            Run& b = wrong_left[l];
+            uint32_t length = std::min(a.last - a.first, b.last - b.first);
+            exchanges.push_back({a.first, b.first, length});
+            a.first += length, b.first += length;
+            if (a.first == a.last) ++r;
+            if (b.first == b.last) ++l;
+        }
+        run_in_parts(0, uint32_t(exchanges.size()), std::max(1, std::min<int>(helpers + 1, int(exchanges.size()))),
+                     [&](uint32_t first, uint32_t last, int) {
+                         for (uint32_t e = first; e < last; ++e)
+                             std::swap_ranges(references_.begin() + exchanges[e].a,
+                                              references_.begin() + exchanges[e].a + exchanges[e].length,
+                                              references_.begin() + exchanges[e].b);
+                     });
+        budget_.release(helpers);
+        return middle;
     }
 
     // Fewer bins for fewer primitives (most of a small node's bins would stay empty, yet each costs a reset and a
@@ -518,7 +596,8 @@ Bvh build_bvh(std::span<const Aabb> primitive_bounds, const BvhBuildOptions& opt
     auto start = std::chrono::steady_clock::now();
     BvhTree tree = build_bvh_tree(primitive_bounds, options, progress);
     Bvh bvh;
-    bvh.nodes = flatten_bvh_tree(tree, options.layout == BvhLayout::Wide ? BvhLayout::Stack : options.layout);
+    bvh.nodes = flatten_bvh_tree(tree, options.layout == BvhLayout::Wide ? BvhLayout::Stack : options.layout,
+                                 uint32_t(resolve_threads(options.threads)));
     if (options.layout == BvhLayout::Wide)
         bvh.wide_nodes =
             collapse_bvh_wide(bvh.nodes, options.wide_leaf_size, uint32_t(resolve_threads(options.threads)));

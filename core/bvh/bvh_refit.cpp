@@ -1,10 +1,13 @@
 // Work on a flat BVH after the build: refit, SAH cost, node decoding.
+#include <algorithm>
 #include <bit>
 #include <string>
+#include <thread>
 
 #include "core/bvh/bvh.h"
 #include "core/bvh/bvh_tree.h"
 #include "core/util/error.h"
+#include "core/util/parallel_indices.h"
 
 namespace prism {
 
@@ -72,17 +75,29 @@ float sah_cost(const Bvh& bvh, const BvhBuildOptions& options) {
     if (bvh.nodes.empty()) return 0.0f;
     float root_area = node_bounds(bvh.nodes[0]).half_area();
     if (!(root_area > 0.0f)) return 0.0f;  // empty tree (or only points): no ray hits it
-    // Summed in double: a million terms in float would lose the small ones.
-    double interior = 0.0, leaves = 0.0;
-    for (uint32_t index = 0; index < bvh.nodes.size(); ++index) {
-        BvhNodeView view = decode_bvh_node(bvh, index);
-        double area = node_bounds(bvh.nodes[index]).half_area();
-        if (view.leaf)
-            leaves += area * view.count;
-        else
-            interior += area;
-    }
-    return float((options.traversal_cost * interior + options.intersection_cost * leaves) / root_area);
+    // Summed in double (a million terms in float would lose the small ones), per chunk of a fixed size on up to
+    // bvh.options.threads threads, then chunk by chunk in order: the same sum for any thread count.
+    constexpr uint32_t kChunk = 1u << 16;
+    const uint32_t node_count = uint32_t(bvh.nodes.size());
+    const uint32_t chunks = (node_count + kChunk - 1) / kChunk;
+    std::vector<double> interior(chunks), leaves(chunks);
+    uint32_t threads = bvh.options.threads != 0 ? bvh.options.threads : std::thread::hardware_concurrency();
+    for_each_index_on_threads(threads, chunks, [&](size_t chunk) {
+        double interior_part = 0.0, leaves_part = 0.0;
+        for (uint32_t index = uint32_t(chunk) * kChunk; index < std::min(node_count, uint32_t(chunk + 1) * kChunk);
+             ++index) {
+            BvhNodeView view = decode_bvh_node(bvh, index);
+            double area = node_bounds(bvh.nodes[index]).half_area();
+            if (view.leaf)
+                leaves_part += area * view.count;
+            else
+                interior_part += area;
+        }
+        interior[chunk] = interior_part, leaves[chunk] = leaves_part;
+    });
+    double interior_sum = 0.0, leaves_sum = 0.0;
+    for (uint32_t chunk = 0; chunk < chunks; ++chunk) interior_sum += interior[chunk], leaves_sum += leaves[chunk];
+    return float((options.traversal_cost * interior_sum + options.intersection_cost * leaves_sum) / root_area);
 }
 
 }  // namespace prism

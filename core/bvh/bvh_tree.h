@@ -17,6 +17,7 @@ struct BvhBuildNode {
     const BvhBuildNode* children[2] = {nullptr, nullptr};
     uint32_t first = 0;  // leaf: first position in BvhTree::primitive_order
     uint32_t count = 0;  // leaf: primitive count (0 only for the single leaf of an empty input)
+    uint32_t nodes = 1;  // in the subtree rooted here, this one included: where flattening places each subtree
     bool leaf() const { return children[0] == nullptr; }
 };
 
@@ -35,7 +36,8 @@ bool bvh_usable_bounds(const Aabb& box);
 BvhTree build_bvh_tree(std::span<const Aabb> primitive_bounds, const BvhBuildOptions& options,
                        const BvhProgress& progress = {});
 
-std::vector<BvhNode> flatten_bvh_tree(const BvhTree& tree, BvhLayout layout);
+// Large subtrees are written on up to `threads` threads (0: all); the array is the same for any count.
+std::vector<BvhNode> flatten_bvh_tree(const BvhTree& tree, BvhLayout layout, uint32_t threads = 1);
 
 // The node box as written to a flat node: an empty box becomes lower = +FLT_MAX, upper = -FLT_MAX, which every
 // slab test rejects without producing NaN (infinities would give inf - inf).

@@ -1,15 +1,14 @@
 // The wide layout (kernels/types.h BvhWideNode): the binary SAH tree collapsed into 8-ary nodes whose child boxes
 // are stored per axis, so a traversal tests eight children with vector arithmetic (AVX or SSE on the cpu backend).
 #include <algorithm>
-#include <atomic>
 #include <bit>
 #include <limits>
 #include <string>
-#include <thread>
 
 #include "core/bvh/bvh.h"
 #include "core/bvh/bvh_tree.h"
 #include "core/util/error.h"
+#include "core/util/parallel_indices.h"
 
 namespace prism {
 
@@ -17,6 +16,7 @@ namespace {
 
 // Subtrees of fewer primitives collapse on one thread (starting threads would cost more than it saves).
 constexpr uint32_t kParallelCollapseFrom = 1u << 16;
+constexpr size_t kAreaChunk = 1u << 16;  // nodes
 
 uint32_t lower_w(const BvhNode& node) { return std::bit_cast<uint32_t>(node.lower.w); }
 uint32_t upper_w(const BvhNode& node) { return std::bit_cast<uint32_t>(node.upper.w); }
@@ -32,11 +32,15 @@ auto& lane(Vector& lanes_0_3, Vector& lanes_4_7, uint32_t k) {
 
 class Collapser {
 public:
-    Collapser(const std::vector<BvhNode>& binary, uint32_t leaf_size)
+    Collapser(const std::vector<BvhNode>& binary, uint32_t leaf_size, uint32_t threads)
         : binary_(binary), range_(binary.size()), area_(binary.size()), leaf_size_(leaf_size) {
+        const size_t chunks = (binary.size() + kAreaChunk - 1) / kAreaChunk;
+        for_each_index_on_threads(threads, chunks, [&](size_t chunk) {
+            for (size_t index = chunk * kAreaChunk; index < std::min(binary.size(), (chunk + 1) * kAreaChunk); ++index)
+                area_[index] = node_bounds(binary[index]).half_area();
+        });
         // Each subtree's primitive range (its leaves are contiguous): children follow their parent.
         for (uint32_t index = uint32_t(binary.size()); index-- > 0;) {
-            area_[index] = node_bounds(binary[index]).half_area();
             if (upper_w(binary[index]) != 0) {
                 range_[index] = {lower_w(binary[index]), upper_w(binary[index])};
             } else if (binary.size() > 1) {
@@ -92,18 +96,11 @@ private:
                 interior.push_back(k);
         }
         std::vector<std::vector<BvhWideNode>> parts(interior.size());
-        std::atomic<size_t> next{0};
-        auto work = [&] {
-            for (size_t i = next++; i < interior.size(); i = next++) {
-                parts[i].reserve(range_[children[interior[i]]].count + 1);
-                parts[i].push_back(empty_);
-                fill(parts[i], 0, children[interior[i]]);
-            }
-        };
-        std::vector<std::thread> helpers;
-        for (uint32_t t = 1; t < std::min<size_t>(threads, interior.size()); ++t) helpers.emplace_back(work);
-        work();
-        for (auto& helper : helpers) helper.join();
+        for_each_index_on_threads(threads, interior.size(), [&](size_t i) {
+            parts[i].reserve(range_[children[interior[i]]].count + 1);
+            parts[i].push_back(empty_);
+            fill(parts[i], 0, children[interior[i]]);
+        });
 
         // Part i's root takes slot 1 + i (the root's interior lanes are numbered first), its other nodes follow
         // the parts before it.
@@ -112,10 +109,11 @@ private:
         for (size_t i = 0; i < parts.size(); ++i) {
             base[i] = next_slot;
             next_slot += uint32_t(parts[i].size()) - 1;
+            set_wide_lane_node(wide[0], interior[i], 1 + uint32_t(i));
         }
         wide.resize(next_slot);
-        for (size_t i = 0; i < parts.size(); ++i) {
-            set_wide_lane_node(wide[0], interior[i], 1 + uint32_t(i));
+        // The parts' destinations are disjoint: they are moved in at the same time too.
+        for_each_index_on_threads(threads, parts.size(), [&](size_t i) {
             auto place = [&](uint32_t local) { return local == 0 ? 1 + uint32_t(i) : base[i] + local - 1; };
             for (uint32_t local = 0; local < parts[i].size(); ++local) {
                 BvhWideNode node = parts[i][local];
@@ -124,7 +122,8 @@ private:
                         set_wide_lane_node(node, k, place(wide_lane_ref(node, k)));
                 wide[place(local)] = node;
             }
-        }
+            std::vector<BvhWideNode>().swap(parts[i]);
+        });
         return wide;
     }
 
@@ -238,7 +237,7 @@ void set_wide_lane_leaf(BvhWideNode& node, uint32_t k, uint32_t first, uint32_t 
 std::vector<BvhWideNode> collapse_bvh_wide(const std::vector<BvhNode>& stack_nodes, uint32_t leaf_size,
                                            uint32_t threads) {
     if (stack_nodes.empty()) throw Error("internal: collapsing an empty BVH");
-    return Collapser(stack_nodes, std::min(leaf_size, RT_WIDE_LEAF_MAX)).run(threads);
+    return Collapser(stack_nodes, std::min(leaf_size, RT_WIDE_LEAF_MAX), threads).run(threads);
 }
 
 uint32_t wide_stack_bound(const std::vector<BvhWideNode>& wide, uint32_t root) {
