@@ -194,7 +194,11 @@ public:
         for (const auto& nodes : tree_.arenas) tree_.node_count += uint32_t(nodes.size());
         tree_.depth = depth;
         tree_.primitive_order.resize(count);
-        for (uint32_t i = 0; i < count; ++i) tree_.primitive_order[i] = references_[i].primitive();
+        int helpers = helpers_for(count);
+        run_in_parts(0, count, helpers + 1, [&](uint32_t b, uint32_t e, int) {
+            for (uint32_t i = b; i < e; ++i) tree_.primitive_order[i] = references_[i].primitive();
+        });
+        budget_.release(helpers);
     }
 
 private:

@@ -73,7 +73,7 @@ private:
     bool leaf(uint32_t index) const { return upper_w(binary_[index]) != 0 || range_[index].count <= leaf_size_; }
 
     // The wide nodes of the subtree under binary interior node `source`, its root first, indices local to it.
-    // With threads to spare, the subtrees under the root's interior lanes collapse at the same time, each into its
+    // With threads to spare, the subtrees under its root's interior lanes collapse at the same time, each into its
     // own array, then follow the root in lane order: exactly where the one-thread recursion puts them.
     std::vector<BvhWideNode> collapse_below(uint32_t source, uint32_t threads) {
         std::vector<BvhWideNode> wide;
@@ -95,11 +95,15 @@ private:
             else
                 interior.push_back(k);
         }
+        // A part collapses the same way again with its share of the threads (by primitives), so a large one
+        // does not keep the others waiting.
+        uint64_t primitives = 0;
+        for (uint32_t k : interior) primitives += range_[children[k]].count;
         std::vector<std::vector<BvhWideNode>> parts(interior.size());
         for_each_index_on_threads(threads, interior.size(), [&](size_t i) {
-            parts[i].reserve(range_[children[interior[i]]].count + 1);
-            parts[i].push_back(empty_);
-            fill(parts[i], 0, children[interior[i]]);
+            const uint32_t child = children[interior[i]];
+            parts[i] =
+                collapse_below(child, uint32_t(std::max<uint64_t>(1, threads * range_[child].count / primitives)));
         });
 
         // Part i's root takes slot 1 + i (the root's interior lanes are numbered first), its other nodes follow
