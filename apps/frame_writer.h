@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/image/image_output.h"
+#include "core/util/non_copyable.h"
 
 namespace prism::app {
 
@@ -24,13 +25,11 @@ struct PendingFrame {
     std::vector<float> radiance;
 };
 
-class FrameWriter {
+class FrameWriter : private NonCopyable {
 public:
     // threads: encoders; 0 picks a quarter of the host's cores, 1 to 4.
     explicit FrameWriter(unsigned threads = 0);
     ~FrameWriter();  // drops what was not finished; call finish() to keep it
-    FrameWriter(const FrameWriter&) = delete;
-    FrameWriter& operator=(const FrameWriter&) = delete;
 
     // Queues a frame; throws the first failed write (a full disk stops the sequence at the next frame).
     void submit(PendingFrame frame);

@@ -7,6 +7,7 @@
 #include <mutex>
 
 #include "apps/work_message.h"
+#include "core/util/non_copyable.h"
 
 namespace prism::app {
 
@@ -16,12 +17,10 @@ bool started_as_mpi_rank();
 // This process's rank as the launcher's environment gives it (0 when not started by one), known before MPI starts.
 int launcher_rank();
 
-class MpiSession {
+class MpiSession : private NonCopyable {
 public:
     MpiSession();   // MPI_Init_thread; throws prism::Error when the build has no MPI
     ~MpiSession();  // MPI_Finalize
-    MpiSession(const MpiSession&) = delete;
-    MpiSession& operator=(const MpiSession&) = delete;
 
     int rank() const { return rank_; }
     int size() const { return size_; }

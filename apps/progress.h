@@ -10,14 +10,14 @@
 #include <string>
 #include <thread>
 
+#include "core/util/non_copyable.h"
+
 namespace prism::app {
 
-class Progress {
+class Progress : private NonCopyable {
 public:
     explicit Progress(std::string task);
     ~Progress();  // a step abandoned by an exception clears its line
-    Progress(const Progress&) = delete;
-    Progress& operator=(const Progress&) = delete;
 
     // `fraction` of the step is done (0 to 1); `detail` says where it stands, e.g. "depth 3/8".
     void update(double fraction, const std::string& detail = "");

@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "core/bvh/bvh.h"
+#include "core/util/non_copyable.h"
 
 namespace prism::oracle {
 
@@ -23,12 +24,10 @@ struct TriangleSoupView {
 };
 
 // One device with `threads` threads (0: all) for all the builds below.
-class EmbreeBuilder {
+class EmbreeBuilder : private NonCopyable {
 public:
     explicit EmbreeBuilder(unsigned threads);
     ~EmbreeBuilder();
-    EmbreeBuilder(const EmbreeBuilder&) = delete;
-    EmbreeBuilder& operator=(const EmbreeBuilder&) = delete;
 
     // Milliseconds spent in rtcCommitScene for a new scene holding the mesh as one triangle geometry (buffers
     // shared, not copied; making the scene and geometry is not timed).

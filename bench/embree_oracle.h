@@ -10,15 +10,14 @@
 #include "bench/query_rays.h"
 #include "core/render/renderer.h"
 #include "core/scene/scene.h"
+#include "core/util/non_copyable.h"
 
 namespace prism::oracle {
 
-class EmbreeScene {
+class EmbreeScene : private NonCopyable {
 public:
     explicit EmbreeScene(const Scene& scene, unsigned threads = 0);  // every instance, world space
     ~EmbreeScene();
-    EmbreeScene(const EmbreeScene&) = delete;
-    EmbreeScene& operator=(const EmbreeScene&) = delete;
 
     // Closest hits with rtcIntersect1 (one ray at a time) or rtcIntersect8 (packets), on `threads` threads.
     std::vector<RayHit> intersect1(const std::vector<RayQuery>& rays) const;

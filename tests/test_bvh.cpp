@@ -345,13 +345,22 @@ void test_leaf(const Ray& ray, const Soup& soup, const Bvh& bvh, uint32_t first,
     }
 }
 
-Hit trace_stack_layout(const Ray& ray, const Soup& soup, const Bvh& bvh) {
-    Hit hit;
+// Depth first from the root (node 0): visit(index, stack) is given each node popped and pushes what comes next.
+template <typename Visit>
+void walk_from_root(Visit visit) {
     std::vector<uint32_t> stack{0};
     while (!stack.empty()) {
-        const BvhNode& node = bvh.nodes[stack.back()];
+        uint32_t index = stack.back();
         stack.pop_back();
-        if (!hits_box(ray, node, hit.t)) continue;
+        visit(index, stack);
+    }
+}
+
+Hit trace_stack_layout(const Ray& ray, const Soup& soup, const Bvh& bvh) {
+    Hit hit;
+    walk_from_root([&](uint32_t index, std::vector<uint32_t>& stack) {
+        const BvhNode& node = bvh.nodes[index];
+        if (!hits_box(ray, node, hit.t)) return;
         uint32_t first = bits(node.lower.w), count = bits(node.upper.w);
         if (count != 0) {
             test_leaf(ray, soup, bvh, first, count, hit);
@@ -359,7 +368,7 @@ Hit trace_stack_layout(const Ray& ray, const Soup& soup, const Bvh& bvh) {
             stack.push_back(first + 1);
             stack.push_back(first);
         }
-    }
+    });
     return hit;
 }
 
@@ -383,10 +392,8 @@ Hit trace_escape_layout(const Ray& ray, const Soup& soup, const Bvh& bvh) {
 
 Hit trace_wide_layout(const Ray& ray, const Soup& soup, const Bvh& bvh) {
     Hit hit;
-    std::vector<uint32_t> stack{0};
-    while (!stack.empty()) {
-        const BvhWideNode& node = bvh.wide_nodes[stack.back()];
-        stack.pop_back();
+    walk_from_root([&](uint32_t index, std::vector<uint32_t>& stack) {
+        const BvhWideNode& node = bvh.wide_nodes[index];
         for (uint32_t k = 0; k < RT_BVH_WIDTH; ++k) {
             uint32_t ref = wide_ref(node, k);
             if (ref == 0 || !hits_box(ray, wide_box(node, k), hit.t)) continue;
@@ -395,7 +402,7 @@ Hit trace_wide_layout(const Ray& ray, const Soup& soup, const Bvh& bvh) {
             else
                 stack.push_back(ref);
         }
-    }
+    });
     return hit;
 }
 
@@ -570,11 +577,23 @@ TEST(BvhBuild, EqualCentroidsAreSplitByIndex) {
     }
 }
 
-TEST(BvhBuild, EscapeLayoutCapsLeavesAt255) {
-    std::vector<Aabb> same(1000);
-    for (auto& box : same) box.lower = glm::vec3(0.0f), box.upper = glm::vec3(1.0f);
-    BvhBuildOptions options = options_for(BvhMethod::BinnedSah, BvhLayout::Escape);
+// A thousand copies of the unit box, and options under which one leaf may hold them all: no split can pay, so only
+// the layout's own cap on a leaf's primitives splits them.
+std::vector<Aabb> unit_box_copies() {
+    Aabb unit;
+    unit.lower = glm::vec3(0.0f), unit.upper = glm::vec3(1.0f);
+    return std::vector<Aabb>(1000, unit);
+}
+
+BvhBuildOptions one_leaf_options(BvhLayout layout) {
+    BvhBuildOptions options = options_for(BvhMethod::BinnedSah, layout);
     options.max_leaf_size = 2000;
+    return options;
+}
+
+TEST(BvhBuild, EscapeLayoutCapsLeavesAt255) {
+    std::vector<Aabb> same = unit_box_copies();
+    BvhBuildOptions options = one_leaf_options(BvhLayout::Escape);
     Bvh escape = build_bvh(same, options);
     check_structure(escape, same, 255);
     EXPECT_GT(escape.nodes.size(), 1u);
@@ -610,11 +629,8 @@ TEST(BvhBuild, WideLeavesMergeSmallSubtrees) {
 }
 
 TEST(BvhBuild, WideLayoutCapsLeavesAt8) {
-    std::vector<Aabb> same(1000);
-    for (auto& box : same) box.lower = glm::vec3(0.0f), box.upper = glm::vec3(1.0f);
-    BvhBuildOptions options = options_for(BvhMethod::BinnedSah, BvhLayout::Wide);
-    options.max_leaf_size = 2000;
-    Bvh wide = build_bvh(same, options);
+    std::vector<Aabb> same = unit_box_copies();
+    Bvh wide = build_bvh(same, one_leaf_options(BvhLayout::Wide));
     check_structure(wide, same, RT_WIDE_LEAF_MAX);
     EXPECT_GT(wide.wide_nodes.size(), 1u);
 }

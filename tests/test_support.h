@@ -12,6 +12,7 @@
 #include "core/render/device_scene.h"
 #include "core/render/renderer.h"
 #include "core/scene/scene.h"
+#include "core/util/non_copyable.h"
 
 namespace prism::test {
 
@@ -84,7 +85,7 @@ CommandResult run_prism(const std::string& arguments, const std::string& launche
 void expect_clean_failure(const std::string& scene_file, const std::string& must_mention);
 
 // Sets an environment variable for one scope (backends read theirs when created), then restores it.
-class ScopedEnv {
+class ScopedEnv : private NonCopyable {
 public:
     ScopedEnv(const char* name, const std::string& value) : name_(name) {
         if (const char* old = std::getenv(name)) old_ = old;
@@ -96,8 +97,6 @@ public:
         else
             unsetenv(name_);
     }
-    ScopedEnv(const ScopedEnv&) = delete;
-    ScopedEnv& operator=(const ScopedEnv&) = delete;
 
 private:
     const char* name_;

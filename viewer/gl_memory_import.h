@@ -7,18 +7,17 @@
 #include <cstddef>
 
 #include "core/render/gl_interop.h"
+#include "core/util/non_copyable.h"
 #include "viewer/gl_external.h"
 
 namespace prism::viewer {
 
-class ImportedBuffer {
+class ImportedBuffer : private NonCopyable {
 public:
     // Takes ownership of the fds in `exported` (closing them itself when the import fails). Throws prism::Error
     // naming the GL call that failed. Needs a current context with GL_EXT_memory_object_fd.
     ImportedBuffer(const ExportedBuffer& exported, size_t bytes);
     ~ImportedBuffer();
-    ImportedBuffer(const ImportedBuffer&) = delete;
-    ImportedBuffer& operator=(const ImportedBuffer&) = delete;
 
     GLuint buffer() const { return buffer_; }
     bool has_semaphores() const { return ready_ != 0; }

@@ -7,16 +7,15 @@
 #include <utility>
 #include <vector>
 
+#include "core/util/non_copyable.h"
 #include "viewer/gl.h"
 
 namespace prism::viewer {
 
-class GlTimer {
+class GlTimer : private NonCopyable {
 public:
     GlTimer();
     ~GlTimer();
-    GlTimer(const GlTimer&) = delete;
-    GlTimer& operator=(const GlTimer&) = delete;
 
     // Brackets one frame's display commands; `frame` is returned with its result.
     void begin(size_t frame);

@@ -4,19 +4,18 @@
 
 #include <string>
 
+#include "core/util/non_copyable.h"
 #include "viewer/window.h"
 
 struct GLFWwindow;
 
 namespace prism::viewer {
 
-class GlfwWindow final : public Window {
+class GlfwWindow final : public Window, private NonCopyable {
 public:
     // Throws prism::Error "view: cannot open a window (...)" when there is no display or no GL 3.3 context.
     GlfwWindow(const std::string& title, int width, int height, bool vsync);
     ~GlfwWindow() override;
-    GlfwWindow(const GlfwWindow&) = delete;
-    GlfwWindow& operator=(const GlfwWindow&) = delete;
 
     bool should_close() const override;
     Input poll() override;

@@ -7,17 +7,16 @@
 #include <cstdint>
 #include <string>
 
+#include "core/util/non_copyable.h"
 #include "viewer/window.h"
 
 namespace prism::viewer {
 
-class OffscreenWindow final : public Window {
+class OffscreenWindow final : public Window, private NonCopyable {
 public:
     // Throws prism::Error "view: cannot create an offscreen GL context (...)".
     OffscreenWindow(int width, int height);
     ~OffscreenWindow() override;
-    OffscreenWindow(const OffscreenWindow&) = delete;
-    OffscreenWindow& operator=(const OffscreenWindow&) = delete;
 
     bool should_close() const override { return false; }
     Input poll() override;

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/util/non_copyable.h"
 #include "viewer/window.h"
 
 namespace prism::viewer {
@@ -40,13 +41,11 @@ struct PanelRequest {
     bool toggle_help = false;
 };
 
-class Panel {
+class Panel : private NonCopyable {
 public:
     // Needs the window's GL context current; throws prism::Error when Dear ImGui's GL backend cannot start.
     explicit Panel(Window& window);
     ~Panel();
-    Panel(const Panel&) = delete;
-    Panel& operator=(const Panel&) = delete;
 
     // Draws the panel (and the help overlay when `help`) over what the framebuffer holds.
     PanelRequest draw(const PanelView& view, bool help);

@@ -8,16 +8,15 @@
 
 #include <cstdint>
 
+#include "core/util/non_copyable.h"
 #include "viewer/gl.h"
 
 namespace prism::viewer {
 
-class TextureQuad {
+class TextureQuad : private NonCopyable {
 public:
     TextureQuad();  // throws prism::Error when the shaders do not build
     ~TextureQuad();
-    TextureQuad(const TextureQuad&) = delete;
-    TextureQuad& operator=(const TextureQuad&) = delete;
 
     // RGBA8 pixels, row 0 at the top, packed words with r in the low byte.
     void upload_from_host(uint32_t width, uint32_t height, const void* pixels);

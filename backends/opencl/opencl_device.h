@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/render/gl_interop.h"
+#include "core/util/non_copyable.h"
 
 namespace prism::opencl {
 
@@ -48,12 +49,10 @@ void check(cl_int err, const char* what, const DeviceEntry& device);
 // A context and an in-order, profiling queue on one device. With `gl`, the context is created together with the
 // viewer's GL context where the device can share with it (cl_khr_gl_sharing); otherwise, or when that fails, as
 // a plain context, with gl_reason() saying why.
-class ClDevice {
+class ClDevice : private NonCopyable {
 public:
     explicit ClDevice(const std::string& filter, const GlContextHandles* gl = nullptr);
     ~ClDevice();
-    ClDevice(const ClDevice&) = delete;
-    ClDevice& operator=(const ClDevice&) = delete;
 
     const DeviceEntry& entry() const { return entry_; }
     cl_context context() const { return context_; }

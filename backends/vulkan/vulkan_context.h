@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "core/util/non_copyable.h"
+
 namespace prism::vk {
 
 // Throws prism::Error("vulkan: <what> failed: <VkResult>") unless `result` is VK_SUCCESS.
@@ -33,13 +35,11 @@ struct DeviceCandidate {
     std::string describe() const;           // "llvmpipe (LLVM 15.0.6, 256 bits) [llvmpipe, Vulkan 1.3.230]"
 };
 
-class Instance {
+class Instance : private NonCopyable {
 public:
     // Throws prism::Error when there is no loader/driver or validation is requested but not installed.
     explicit Instance(bool validation);
     ~Instance();
-    Instance(const Instance&) = delete;
-    Instance& operator=(const Instance&) = delete;
 
     VkInstance handle() const { return instance_; }
     std::vector<DeviceCandidate> devices() const;

@@ -4,25 +4,29 @@
 
 namespace prism::bandwidth {
 
-const char* direction_key(Direction direction) {
+namespace {
+
+// A direction's JSON key and its label in tables and plots, in one switch so that a new direction gets both.
+struct DirectionNames {
+    const char* key;
+    const char* label;
+};
+
+DirectionNames direction_names(Direction direction) {
     switch (direction) {
-        case Direction::HostToDevice: return "h2d";
-        case Direction::DeviceToHost: return "d2h";
-        case Direction::DeviceToDevice: return "d2d";
-        case Direction::KernelCopy: return "kernel_copy";
+        case Direction::HostToDevice: return {"h2d", "H2D"};
+        case Direction::DeviceToHost: return {"d2h", "D2H"};
+        case Direction::DeviceToDevice: return {"d2d", "D2D copy"};
+        case Direction::KernelCopy: return {"kernel_copy", "D2D kernel"};
     }
-    return "?";
+    return {"?", "?"};
 }
 
-const char* direction_label(Direction direction) {
-    switch (direction) {
-        case Direction::HostToDevice: return "H2D";
-        case Direction::DeviceToHost: return "D2H";
-        case Direction::DeviceToDevice: return "D2D copy";
-        case Direction::KernelCopy: return "D2D kernel";
-    }
-    return "?";
-}
+}  // namespace
+
+const char* direction_key(Direction direction) { return direction_names(direction).key; }
+
+const char* direction_label(Direction direction) { return direction_names(direction).label; }
 
 const char* memory_key(Memory memory) {
     switch (memory) {

@@ -154,45 +154,63 @@ Scene sphere_scene() {
     return scene;
 }
 
-Scene bunny_scene(const LoadOptions& options) {
+// A Stanford model standing on the checker floor with a small sphere beside it, under the cube map and the lights.
+struct ModelScene {
+    const char* file;  // under --data-dir
+    const char* name;  // the builtin scene's and the model's instance
+    float size;        // the model's largest extent
+    Material material;
+    Material sphere_material;
+    const char* sphere_name;
+    glm::vec3 sphere_centre;  // radius 0.5, so y = 0.5 rests it on the floor
+    glm::vec3 camera_position;
+    glm::vec3 camera_target;
+};
+
+Scene model_scene(const LoadOptions& options, const ModelScene& spec) {
     Scene scene;
-    Mesh bunny = load_data_model(options, "stanford/bunny.ply", "bunny");
-    glm::mat4 placement = stand_on_floor(bunny, 2.0f, {0.0f, 0.0f});
+    Mesh model = load_data_model(options, spec.file, spec.name);
+    glm::mat4 placement = stand_on_floor(model, spec.size, {0.0f, 0.0f});
     add_checker_floor(scene);
-    uint32_t chrome = add_material(scene, mirror("bunny mirror", glm::vec3(0.75f, 0.75f, 0.8f), 0.6f));
-    add_instance(scene, add_mesh(scene, std::move(bunny), chrome), placement, "bunny");
-    Material small_glass = glass("glass", glm::vec3(1.5f));
-    small_glass.use_vertex_colors = false;
-    uint32_t sphere_material = add_material(scene, small_glass);
-    add_instance(
-        scene, add_mesh(scene, make_uv_sphere(24, 48), sphere_material),
-        glm::translate(glm::mat4(1.0f), glm::vec3(1.8f, 0.5f, 0.8f)) * glm::scale(glm::mat4(1.0f), glm::vec3(0.5f)),
-        "glass sphere");
+    uint32_t material = add_material(scene, spec.material);
+    add_instance(scene, add_mesh(scene, std::move(model), material), placement, spec.name);
+    uint32_t sphere_material = add_material(scene, spec.sphere_material);
+    add_instance(scene, add_mesh(scene, make_uv_sphere(24, 48), sphere_material),
+                 glm::translate(glm::mat4(1.0f), spec.sphere_centre) * glm::scale(glm::mat4(1.0f), glm::vec3(0.5f)),
+                 spec.sphere_name);
     add_data_environment(scene, options);
     add_lights(scene);
-    set_camera(scene, {0.0f, 2.0f, 5.5f}, {0.3f, 0.9f, 0.0f});
+    set_camera(scene, spec.camera_position, spec.camera_target);
     return scene;
 }
 
+Scene bunny_scene(const LoadOptions& options) {
+    Material small_glass = glass("glass", glm::vec3(1.5f));
+    small_glass.use_vertex_colors = false;
+    return model_scene(options, {.file = "stanford/bunny.ply",
+                                 .name = "bunny",
+                                 .size = 2.0f,
+                                 .material = mirror("bunny mirror", glm::vec3(0.75f, 0.75f, 0.8f), 0.6f),
+                                 .sphere_material = small_glass,
+                                 .sphere_name = "glass sphere",
+                                 .sphere_centre = {1.8f, 0.5f, 0.8f},
+                                 .camera_position = {0.0f, 2.0f, 5.5f},
+                                 .camera_target = {0.3f, 0.9f, 0.0f}});
+}
+
 Scene dragon_scene(const LoadOptions& options) {
-    Scene scene;
-    Mesh dragon = load_data_model(options, "stanford/dragon.ply.gz", "dragon");
-    glm::mat4 placement = stand_on_floor(dragon, 3.0f, {0.0f, 0.0f});
-    add_checker_floor(scene);
     Material dragon_glass = glass("dispersive glass", {1.50f, 1.53f, 1.56f});
     dragon_glass.diffuse = {0.85f, 0.95f, 0.9f};
     dragon_glass.use_vertex_colors = false;
-    uint32_t glass_material = add_material(scene, dragon_glass);
-    add_instance(scene, add_mesh(scene, std::move(dragon), glass_material), placement, "dragon");
-    uint32_t chrome = add_material(scene, mirror("mirror", glm::vec3(0.8f), 0.8f));
-    add_instance(
-        scene, add_mesh(scene, make_uv_sphere(24, 48), chrome),
-        glm::translate(glm::mat4(1.0f), glm::vec3(2.0f, 0.5f, 1.0f)) * glm::scale(glm::mat4(1.0f), glm::vec3(0.5f)),
-        "mirror sphere");
-    add_data_environment(scene, options);
-    add_lights(scene);
-    set_camera(scene, {0.0f, 2.3f, 6.0f}, {0.3f, 0.9f, 0.0f});
-    return scene;
+    return model_scene(options, {.file = "stanford/dragon.ply.gz",
+                                 .name = "dragon",
+                                 .size = 3.0f,
+                                 .material = dragon_glass,
+                                 .sphere_material = mirror("mirror", glm::vec3(0.8f), 0.8f),
+                                 .sphere_name = "mirror sphere",
+                                 .sphere_centre = {2.0f, 0.5f, 1.0f},
+                                 .camera_position = {0.0f, 2.3f, 6.0f},
+                                 .camera_target = {0.3f, 0.9f, 0.0f}});
 }
 
 }  // namespace

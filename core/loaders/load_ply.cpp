@@ -23,6 +23,7 @@
 #include "core/util/error.h"
 #include "core/util/input_file.h"
 #include "core/util/load_progress.h"
+#include "core/util/non_copyable.h"
 
 namespace prism {
 namespace {
@@ -33,14 +34,12 @@ namespace {
 // prefix and answers how much the whole may take (once the header is in, what its element counts need).
 // The inflater's state, released however reading ends: the limit callback throws when the header is malformed
 // (fuzz_ply found the leak when it did not).
-class Inflater {
+class Inflater : private NonCopyable {
 public:
     explicit Inflater(const std::filesystem::path& path) {
         if (inflateInit2(&stream_, 15 + 32) != Z_OK) throw file_error(path.string(), "cannot start zlib");
     }
     ~Inflater() { inflateEnd(&stream_); }
-    Inflater(const Inflater&) = delete;
-    Inflater& operator=(const Inflater&) = delete;
     z_stream& stream() { return stream_; }
 
 private:

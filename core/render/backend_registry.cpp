@@ -41,23 +41,33 @@ DeviceArrayRole device_array_role(DeviceArray array) {
     return roles[static_cast<size_t>(array)];
 }
 
-const char* stage_name(Stage stage) {
-    static constexpr const char* names[] = {
-#define RT_STAGE(name, Name, pass, launch, needs) #name,
-#include "kernels/stage_list.h"
-#undef RT_STAGE
-    };
-    return names[static_cast<size_t>(stage)];
-}
+namespace {
 
-StagePass stage_pass(Stage stage) {
-    static constexpr StagePass passes[] = {
-#define RT_STAGE(name, Name, pass, launch, needs) StagePass::pass,
+// kernels/stage_list.h's rows, indexed by Stage.
+struct StageRow {
+    const char* name;
+    StagePass pass;
+    StageLaunch launch;
+    uint32_t needs;
+};
+
+constexpr StageRow kStages[] = {
+#define RT_STAGE(name, Name, pass, launch, needs) {#name, StagePass::pass, StageLaunch::launch, needs},
 #include "kernels/stage_list.h"
 #undef RT_STAGE
-    };
-    return passes[static_cast<size_t>(stage)];
-}
+};
+
+const StageRow& stage_row(Stage stage) { return kStages[static_cast<size_t>(stage)]; }
+
+}  // namespace
+
+const char* stage_name(Stage stage) { return stage_row(stage).name; }
+
+StagePass stage_pass(Stage stage) { return stage_row(stage).pass; }
+
+uint32_t stage_needs(Stage stage) { return stage_row(stage).needs; }
+
+StageLaunch stage_launch(Stage stage) { return stage_row(stage).launch; }
 
 // kernels/stage_list.h's rule, checked: a GridSizesQueue stage writes the indirect launches' arguments, so no frame
 // may skip it.
@@ -66,24 +76,6 @@ StagePass stage_pass(Stage stage) {
                   "kernels/stage_list.h: stage '" #name "' sizes the queues and must run in every frame");
 #include "kernels/stage_list.h"
 #undef RT_STAGE
-
-uint32_t stage_needs(Stage stage) {
-    static constexpr uint32_t needs[] = {
-#define RT_STAGE(name, Name, pass, launch, needs) needs,
-#include "kernels/stage_list.h"
-#undef RT_STAGE
-    };
-    return needs[static_cast<size_t>(stage)];
-}
-
-StageLaunch stage_launch(Stage stage) {
-    static constexpr StageLaunch launches[] = {
-#define RT_STAGE(name, Name, pass, launch, needs) StageLaunch::launch,
-#include "kernels/stage_list.h"
-#undef RT_STAGE
-    };
-    return launches[static_cast<size_t>(stage)];
-}
 
 BackendSpec parse_backend_spec(const std::string& text) {
     BackendSpec spec;

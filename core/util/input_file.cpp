@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "core/util/error.h"
+#include "core/util/non_copyable.h"
 
 namespace prism {
 namespace {
@@ -22,14 +23,12 @@ const char* refusal(mode_t mode) {
     return "is not a regular file";
 }
 
-class Descriptor {
+class Descriptor : private NonCopyable {
 public:
     explicit Descriptor(int fd) : fd_(fd) {}
     ~Descriptor() {
         if (fd_ >= 0) ::close(fd_);
     }
-    Descriptor(const Descriptor&) = delete;
-    Descriptor& operator=(const Descriptor&) = delete;
     int get() const { return fd_; }
 
 private:

@@ -6,17 +6,17 @@
 
 #include <functional>
 
+#include "core/util/non_copyable.h"
+
 namespace prism {
 
 using LoadProgressCallback = std::function<void(double fraction)>;
 
 // Reports of this thread go to `callback` (0 to 1) while the scope lives.
-class LoadProgressScope {
+class LoadProgressScope : private NonCopyable {
 public:
     explicit LoadProgressScope(LoadProgressCallback callback);
     ~LoadProgressScope();
-    LoadProgressScope(const LoadProgressScope&) = delete;
-    LoadProgressScope& operator=(const LoadProgressScope&) = delete;
 
 private:
     LoadProgressCallback callback_;
@@ -24,12 +24,10 @@ private:
 };
 
 // Within this scope, a report of f in [0, 1] stands for begin + f * (end - begin) of the enclosing range.
-class LoadProgressShare {
+class LoadProgressShare : private NonCopyable {
 public:
     LoadProgressShare(double begin, double end);
     ~LoadProgressShare();
-    LoadProgressShare(const LoadProgressShare&) = delete;
-    LoadProgressShare& operator=(const LoadProgressShare&) = delete;
 
 private:
     double previous_offset_, previous_scale_;

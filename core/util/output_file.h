@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <string_view>
 
+#include "core/util/non_copyable.h"
+
 namespace prism {
 
 void write_file_atomically(const std::filesystem::path& path, std::string_view bytes);
@@ -12,12 +14,10 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view b
 // A file written now under its temporary name and moved into place by commit(), or removed when dropped
 // uncommitted: a run writing several outputs stages all but the last, writes the last, then commits, so its
 // outputs appear together or not at all.
-class StagedOutput {
+class StagedOutput : private NonCopyable {
 public:
     StagedOutput(std::filesystem::path path, std::string_view bytes);
     ~StagedOutput();
-    StagedOutput(const StagedOutput&) = delete;
-    StagedOutput& operator=(const StagedOutput&) = delete;
     void commit();
 
 private:

@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <string>
 
+#include "core/util/non_copyable.h"
+
 namespace prism {
 
 // Texel memory one scene may decode (every texture, environment maps included).
@@ -14,12 +16,10 @@ constexpr uint64_t kSceneTextureBudgetBytes = uint64_t(512) << 20;
 
 // The rules while one scene loads (load_scene opens one around its loaders). Without an open scope, a loader
 // called on its own applies them to its own file's folder, and the texture budget counts per texture.
-class SceneReadScope {
+class SceneReadScope : private NonCopyable {
 public:
     SceneReadScope(const std::filesystem::path& scene_file, bool allow_any_path);
     ~SceneReadScope();
-    SceneReadScope(const SceneReadScope&) = delete;
-    SceneReadScope& operator=(const SceneReadScope&) = delete;
 
 private:
     struct Saved;

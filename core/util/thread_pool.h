@@ -10,14 +10,14 @@
 #include <thread>
 #include <vector>
 
+#include "core/util/non_copyable.h"
+
 namespace prism {
 
-class ThreadPool {
+class ThreadPool : private NonCopyable {
 public:
     explicit ThreadPool(unsigned threads = 0);  // 0: std::thread::hardware_concurrency()
     ~ThreadPool();
-    ThreadPool(const ThreadPool&) = delete;
-    ThreadPool& operator=(const ThreadPool&) = delete;
 
     unsigned size() const { return static_cast<unsigned>(workers_.size()) + 1; }
     // Runs job(worker) on every worker (the calling thread is worker 0) and returns when all are done.
