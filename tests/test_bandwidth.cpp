@@ -9,6 +9,9 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <string>
+
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 #include <stb_image.h>
@@ -34,9 +37,11 @@ void set_runtime_dir() {
 class BandwidthRun : public ::testing::Test {
 protected:
     // One measured run shared by the tests below: 1 MiB, 3 repeats, JSON, and the plot where matplotlib is there.
+    // ctest runs each test in a process of its own, several at once: each process writes into a folder of its own.
     static void SetUpTestSuite() {
         set_runtime_dir();
-        fs::path dir = prism::test::temp_dir("bandwidth");
+        dir_ = prism::test::temp_dir("bandwidth-run-" + std::to_string(getpid()));
+        const fs::path& dir = dir_;
         json_path_ = dir / "result.json";
         plot_path_ = dir / "result.png";
         fs::remove(json_path_);
@@ -47,8 +52,9 @@ protected:
         std::ifstream in(json_path_);
         if (in) result_ = json::parse(in, nullptr, false);
     }
+    static void TearDownTestSuite() { fs::remove_all(dir_); }
     static inline prism::test::CommandResult run_;
-    static inline fs::path json_path_, plot_path_;
+    static inline fs::path dir_, json_path_, plot_path_;
     static inline json result_;
     static inline bool can_plot_ = false;
 };
