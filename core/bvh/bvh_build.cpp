@@ -52,6 +52,9 @@ public:
         return 0;
     }
     void release(int count) { spare_ += count; }
+    // Takes threads back whether or not any are spare: the count may go below zero for a while, and no thread
+    // starts until it is positive again.
+    void take_back(int count) { spare_ -= count; }
 
 private:
     std::atomic<int> spare_;
@@ -275,7 +278,10 @@ private:
                 budget_.release(1);
             });
             node.children[1] = build_subtree(right, arena, deepest);
+            // Waiting for the worker, this thread is idle: its core may start other work meanwhile.
+            budget_.release(1);
             worker.join();
+            budget_.take_back(1);
             deepest = std::max(deepest, worker_deepest);
         } else {
             node.children[0] = build_subtree(left, arena, deepest);
