@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <bit>
 #include <limits>
+#include <memory>
 #include <string>
+#include <thread>
 
 #include "core/bvh/bvh.h"
 #include "core/bvh/bvh_tree.h"
@@ -16,7 +18,6 @@ namespace {
 
 // Subtrees of fewer primitives collapse on one thread (starting threads would cost more than it saves).
 constexpr uint32_t kParallelCollapseFrom = 1u << 16;
-constexpr size_t kAreaChunk = 1u << 16;  // nodes
 
 uint32_t lower_w(const BvhNode& node) { return std::bit_cast<uint32_t>(node.lower.w); }
 uint32_t upper_w(const BvhNode& node) { return std::bit_cast<uint32_t>(node.upper.w); }
@@ -32,22 +33,15 @@ auto& lane(Vector& lanes_0_3, Vector& lanes_4_7, uint32_t k) {
 
 class Collapser {
 public:
+    // The per-node tables are left uninitialized (zeroing them would be a serial pass over every node): the walk
+    // below writes each node's entries, every node being reachable from the root.
     Collapser(const std::vector<BvhNode>& binary, uint32_t leaf_size, uint32_t threads)
-        : binary_(binary), range_(binary.size()), area_(binary.size()), leaf_size_(leaf_size) {
-        const size_t chunks = (binary.size() + kAreaChunk - 1) / kAreaChunk;
-        for_each_index_on_threads(threads, chunks, [&](size_t chunk) {
-            for (size_t index = chunk * kAreaChunk; index < std::min(binary.size(), (chunk + 1) * kAreaChunk); ++index)
-                area_[index] = node_bounds(binary[index]).half_area();
-        });
-        // Each subtree's primitive range (its leaves are contiguous): children follow their parent.
-        for (uint32_t index = uint32_t(binary.size()); index-- > 0;) {
-            if (upper_w(binary[index]) != 0) {
-                range_[index] = {lower_w(binary[index]), upper_w(binary[index])};
-            } else if (binary.size() > 1) {
-                const Range& left = range_[lower_w(binary[index])];
-                const Range& right = range_[lower_w(binary[index]) + 1];
-                range_[index] = {left.first, left.count + right.count};
-            }
+        : binary_(binary), range_(new Range[binary.size()]), area_(new float[binary.size()]), leaf_size_(leaf_size) {
+        if (binary.size() == 1 && upper_w(binary[0]) == 0) {
+            range_[0] = {0, 0};  // the empty tree's one node (a leaf of count 0)
+            area_[0] = node_bounds(binary[0]).half_area();
+        } else {
+            measure(0, threads);
         }
     }
 
@@ -65,8 +59,26 @@ public:
 
 private:
     struct Range {
-        uint32_t first = 0, count = 0;
+        uint32_t first, count;
     };
+
+    // Each subtree's primitive range (its leaves are contiguous) and each node's half area, children before their
+    // parent; the top subtrees on threads of their own (as bvh_flatten.cpp splits them).
+    Range measure(uint32_t index, uint32_t threads) {
+        area_[index] = node_bounds(binary_[index]).half_area();
+        if (upper_w(binary_[index]) != 0) return range_[index] = {lower_w(binary_[index]), upper_w(binary_[index])};
+        const uint32_t left = lower_w(binary_[index]);
+        Range left_range, right_range;
+        if (threads > 1) {
+            std::thread worker([&] { left_range = measure(left, threads / 2); });
+            right_range = measure(left + 1, threads - threads / 2);
+            worker.join();
+        } else {
+            left_range = measure(left, 1);
+            right_range = measure(left + 1, 1);
+        }
+        return range_[index] = {left_range.first, left_range.count + right_range.count};
+    }
 
     // A subtree of at most leaf_size_ primitives becomes one leaf lane: testing its (at most two) blocks of four
     // triangles costs less than visiting a node that holds only its two leaves, the collapse's usual bottom level.
@@ -181,8 +193,8 @@ private:
     }
 
     const std::vector<BvhNode>& binary_;
-    std::vector<Range> range_;
-    std::vector<float> area_;  // each binary node's half area, looked up many times while opening children
+    std::unique_ptr<Range[]> range_;
+    std::unique_ptr<float[]> area_;  // each binary node's half area, looked up many times while opening children
     uint32_t leaf_size_;
     const BvhWideNode empty_ = empty_wide_node();
 };
