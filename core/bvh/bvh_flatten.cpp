@@ -24,7 +24,7 @@ constexpr uint32_t kParallelSubtreeFrom = 1u << 14;
 // left child), with the same array as a result.
 class Flattener {
 public:
-    Flattener(std::vector<BvhNode>& nodes) : nodes_(nodes) {}
+    explicit Flattener(std::vector<BvhNode>& nodes) : nodes_(nodes) {}
 
     // Children sit in adjacent pairs allocated as their parent is written, so a parent always precedes its
     // children and the two children of a node are fetched together. `next`: where the pairs below `node` begin.
