@@ -18,6 +18,7 @@ namespace {
 
 // Subtrees of fewer primitives collapse on one thread (starting threads would cost more than it saves).
 constexpr uint32_t kParallelCollapseFrom = 1u << 16;
+constexpr size_t kParallelMeasureFrom = 1u << 16;  // binary nodes
 
 uint32_t lower_w(const BvhNode& node) { return std::bit_cast<uint32_t>(node.lower.w); }
 uint32_t upper_w(const BvhNode& node) { return std::bit_cast<uint32_t>(node.upper.w); }
@@ -41,7 +42,8 @@ public:
             range_[0] = {0, 0};  // the empty tree's one node (a leaf of count 0)
             area_[0] = node_bounds(binary[0]).half_area();
         } else {
-            measure(0, threads);
+            // A small tree (most meshes of a many-mesh scene) is measured faster than threads would start.
+            measure(0, binary.size() >= kParallelMeasureFrom ? threads : 1u);
         }
     }
 
