@@ -99,9 +99,10 @@ const LoadedScene& loaded(const std::string& spec, const std::string& backend) {
     static std::map<std::pair<std::string, prism::BvhLayout>, std::unique_ptr<LoadedScene>> cache;
     prism::BvhLayout layout = prism::resolve_bvh_layout("auto", backend);
     std::unique_ptr<LoadedScene>& entry = cache[{spec, layout}];
-    if (!entry) {
-        entry = std::make_unique<LoadedScene>();
-        entry->device = prism::test::load_device_scene(spec, &entry->scene, layout);
+    if (!entry) {  // kept only once loaded: a load that throws (a missing file) leaves no empty scene behind
+        auto scene = std::make_unique<LoadedScene>();
+        scene->device = prism::test::load_device_scene(spec, &scene->scene, layout);
+        entry = std::move(scene);
     }
     return *entry;
 }
