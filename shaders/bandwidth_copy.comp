@@ -9,6 +9,9 @@ layout(local_size_x = 256) in;
 layout(std430, set = 0, binding = 0) readonly buffer BandwidthSource { uvec4 bandwidth_src[]; };
 layout(std430, set = 0, binding = 1) writeonly buffer BandwidthDestination { uvec4 bandwidth_dst[]; };
 layout(push_constant) uniform BandwidthParams { uint count; } params;
+// The accessors RT_FETCH and RT_STORE call in GLSL (kernels/compat/glsl.h).
+uvec4 rt_fetch_bandwidth_src(uint i) { return bandwidth_src[i]; }
+void rt_store_bandwidth_dst(uint i, uvec4 v) { bandwidth_dst[i] = v; }
 
 #include "bandwidth_copy.h"
 

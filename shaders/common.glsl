@@ -19,6 +19,8 @@ layout(push_constant) uniform StagePush { uint depth; uint groups; } pc;
 
 #define RT_GLSL
 #include "vulkan_bindings.h"
+// The row accessors of the structs with 4-byte members, generated from layout_table.h (kernels/globals.h).
+#include "glsl_rows.h"
 #ifdef RT_GLSL_ADDRESS
 layout(std430, set = 0, binding = RT_VK_BINDING_ADDRESSES) readonly buffer rt_address_block { uint64_t rt_addresses[]; };
 #endif

@@ -75,13 +75,12 @@ uint rt_lane8_u(uvec4 lo, uvec4 hi, uint k) { return k < 4u ? lo[k] : hi[k - 4u]
 
 #define RT_INFINITY uintBitsToFloat(0x7f800000u)
 
-#if defined(RT_GLSL_ADDRESS)  // arrays through buffer device addresses (kernels/globals.h)
-#define RT_FETCH(kg, array, i) (rt_array_##array().array##_at[(i)])
-#define RT_STORE(kg, array, i, value) (rt_array_##array().array##_at[(i)] = (value))
+// The arrays' accessors (kernels/globals.h): rt_fetch_<array> and rt_store_<array> move whole 16-byte rows.
+#define RT_FETCH(kg, array, i) rt_fetch_##array(i)
+#define RT_STORE(kg, array, i, value) rt_store_##array((i), (value))
+#if defined(RT_GLSL_ADDRESS)
 #define RT_ATOMIC_ADD(kg, array, i, value) atomicAdd(rt_array_##array().array##_at[(i)], (value))
 #else
-#define RT_FETCH(kg, array, i) (array[(i)])
-#define RT_STORE(kg, array, i, value) (array[(i)] = (value))
 #define RT_ATOMIC_ADD(kg, array, i, value) atomicAdd(array[(i)], (value))
 #endif
 #define RT_PREFETCH(kg, array, i, n)  // a CPU cache hint; GPUs hide latency with other invocations
