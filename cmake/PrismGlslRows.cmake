@@ -10,11 +10,11 @@
 # accesses, where nvcc and NVIDIA's OpenCL move it as one 16-byte access; reading and writing the rows as uvec4
 # gives it the 16-byte accesses (docs/kernels.md, "Rows in GLSL").
 include_guard(GLOBAL)
+include(PrismListFile)
 
 function(prism_glsl_rows output)
   set(table ${PROJECT_SOURCE_DIR}/kernels/layout_table.h)
-  set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${table})
-  file(STRINGS ${table} lines REGEX "^RT_LAYOUT_(STRUCT|MEMBER)\\(")
+  prism_list_lines(${table} "^RT_LAYOUT_(STRUCT|MEMBER)\\(" lines)
   set(structs)
   foreach(line IN LISTS lines)
     if(line MATCHES "^RT_LAYOUT_STRUCT\\(([A-Za-z0-9_]+), ([0-9]+)\\)")

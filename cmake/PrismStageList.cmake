@@ -3,11 +3,11 @@
 # Editing the list re-runs the configure step, so the backends that generate files from it (the OpenCL entry
 # points, the Vulkan shaders) follow it.
 include_guard(GLOBAL)
+include(PrismListFile)
 
 function(prism_stage_list prefix)
   set(list_file ${PROJECT_SOURCE_DIR}/kernels/stage_list.h)
-  set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${list_file})
-  file(STRINGS ${list_file} lines REGEX "^RT_STAGE\\(")
+  prism_list_lines(${list_file} "^RT_STAGE\\(" lines)
   set(names)
   foreach(line IN LISTS lines)
     if(NOT line MATCHES "^RT_STAGE\\(([a-z][a-z0-9_]*), *([A-Za-z0-9]+), *(Before|Bounce|After), *(Grid|GridSizesQueue|Queue|QueueGrows), *(0|RT_FLAG_[A-Z0-9_]+)\\)")
