@@ -153,6 +153,19 @@ void report(nlohmann::json& results, const std::string& scene, const std::string
     results.push_back(row);
 }
 
+// Each step of build_bvh (tree, flatten, collapse, sah), its median over the runs.
+nlohmann::json phase_medians(const std::vector<prism::BvhBuildPhases>& runs) {
+    auto of = [&runs](double prism::BvhBuildPhases::*phase) {
+        std::vector<double> values;
+        for (const prism::BvhBuildPhases& run : runs) values.push_back(run.*phase);
+        return median(values);
+    };
+    return {{"tree", of(&prism::BvhBuildPhases::tree_ms)},
+            {"flatten", of(&prism::BvhBuildPhases::flatten_ms)},
+            {"collapse", of(&prism::BvhBuildPhases::collapse_ms)},
+            {"sah", of(&prism::BvhBuildPhases::sah_ms)}};
+}
+
 double cpu_ms_since(std::clock_t start) { return 1e3 * double(std::clock() - start) / CLOCKS_PER_SEC; }
 
 }  // namespace
@@ -239,15 +252,18 @@ int main(int argc, char** argv) {
                     options.bins = configuration.bins;
                     options.threads = threads;
                     std::vector<double> times, cpu_times;
+                    std::vector<prism::BvhBuildPhases> phases;
                     prism::Bvh bvh;
                     for (int run = 0; run < runs; ++run) {
                         std::clock_t cpu_start = std::clock();
                         bvh = prism::build_bvh(bounds, options);
                         cpu_times.push_back(cpu_ms_since(cpu_start));
                         times.push_back(bvh.build_ms);
+                        phases.push_back(bvh.phases);
                     }
                     report(result["results"], entry.name, entry.file, bounds.size(), configuration.name, threads, times,
                            cpu_times, &bvh);
+                    result["results"].back()["phase_ms_median"] = phase_medians(phases);
                 }
             }
 #ifdef PRISM_HAVE_EMBREE

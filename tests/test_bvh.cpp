@@ -505,6 +505,21 @@ TEST(BvhBuild, SahIsCheaperThanTheSeedsMedianSplitOnTheBunny) {
     EXPECT_FLOAT_EQ(sah.sah_cost, sah_cost(sah, BvhBuildOptions{}));
 }
 
+// The steps' times add up to at most the whole build's, and only the wide layout collapses.
+TEST(BvhBuild, PhasesAccountForTheBuildTime) {
+    const Soup& soup = bunny();
+    for (BvhLayout layout : kLayouts) {
+        SCOPED_TRACE(describe(BvhMethod::BinnedSah, layout));
+        Bvh bvh = build_bvh(soup.bounds, options_for(BvhMethod::BinnedSah, layout));
+        const BvhBuildPhases& p = bvh.phases;
+        EXPECT_GT(p.tree_ms, 0.0);
+        EXPECT_GE(p.flatten_ms, 0.0);
+        EXPECT_GE(p.sah_ms, 0.0);
+        EXPECT_EQ(p.collapse_ms > 0.0, layout == BvhLayout::Wide);
+        EXPECT_LE(p.tree_ms + p.flatten_ms + p.collapse_ms + p.sah_ms, bvh.build_ms);
+    }
+}
+
 TEST(BvhBuild, SameNodesForAnyThreadCount) {
     const Soup& bunny_soup = bunny();
     Soup large = random_soup(150000, 2);  // chunked binning and partitions at the top, subtrees flattened apart

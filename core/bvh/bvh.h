@@ -61,6 +61,14 @@ struct BvhBuildOptions {
     float flatten_growth_limit = 2.0f;
 };
 
+// Where a build's time went (build_bvh's steps, wall clock): the benchmark reports them per thread count.
+struct BvhBuildPhases {
+    double tree_ms = 0.0;      // references and binned SAH splits (the binary tree)
+    double flatten_ms = 0.0;   // the tree written as flat nodes in the layout's order
+    double collapse_ms = 0.0;  // the wide layout only: binary nodes collapsed into 8-wide ones
+    double sah_ms = 0.0;       // the SAH cost of the result
+};
+
 struct Bvh {
     std::vector<BvhNode> nodes;             // node 0 is the root; see kernels/types.h for the layouts
     std::vector<BvhWideNode> wide_nodes;    // the wide layout only: node 0 is the root
@@ -68,6 +76,7 @@ struct Bvh {
     BvhLayout layout = BvhLayout::Stack;
     float sah_cost = 0.0f;  // expected cost of a random ray that hits the root box
     double build_ms = 0.0;
+    BvhBuildPhases phases;         // build_ms by step
     BvhBuildOptions options;       // as built (threads resolved); refit keeps sah_cost in its terms
     uint32_t primitive_count = 0;  // input primitives, left-out ones included (refit checks it)
     uint32_t depth = 0;            // levels, root alone = 1; a stack traversal needs depth - 1 entries

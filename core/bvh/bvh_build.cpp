@@ -603,22 +603,34 @@ BvhTree build_bvh_tree(std::span<const Aabb> primitive_bounds, const BvhBuildOpt
 }
 
 Bvh build_bvh(std::span<const Aabb> primitive_bounds, const BvhBuildOptions& options, const BvhProgress& progress) {
-    auto start = std::chrono::steady_clock::now();
+    using Clock = std::chrono::steady_clock;
+    auto start = Clock::now(), step = start;
+    auto lap = [&step] {
+        auto now = Clock::now();
+        double ms = std::chrono::duration<double, std::milli>(now - step).count();
+        step = now;
+        return ms;
+    };
+    const uint32_t threads = uint32_t(resolve_threads(options.threads));
     BvhTree tree = build_bvh_tree(primitive_bounds, options, progress);
     Bvh bvh;
-    bvh.nodes = flatten_bvh_tree(tree, options.layout == BvhLayout::Wide ? BvhLayout::Stack : options.layout,
-                                 uint32_t(resolve_threads(options.threads)));
-    if (options.layout == BvhLayout::Wide)
-        bvh.wide_nodes =
-            collapse_bvh_wide(bvh.nodes, options.wide_leaf_size, uint32_t(resolve_threads(options.threads)));
+    bvh.phases.tree_ms = lap();
+    bvh.nodes = flatten_bvh_tree(tree, options.layout == BvhLayout::Wide ? BvhLayout::Stack : options.layout, threads);
+    bvh.phases.flatten_ms = lap();
+    if (options.layout == BvhLayout::Wide) {
+        bvh.wide_nodes = collapse_bvh_wide(bvh.nodes, options.wide_leaf_size, threads);
+        bvh.phases.collapse_ms = lap();
+    }
     bvh.primitive_order = std::move(tree.primitive_order);
     bvh.layout = options.layout;
     bvh.options = options;
-    bvh.options.threads = uint32_t(resolve_threads(options.threads));
+    bvh.options.threads = threads;
     bvh.primitive_count = uint32_t(primitive_bounds.size());
     bvh.depth = tree.depth;
+    lap();
     bvh.sah_cost = sah_cost(bvh, options);
-    bvh.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    bvh.phases.sah_ms = lap();
+    bvh.build_ms = std::chrono::duration<double, std::milli>(step - start).count();
     return bvh;
 }
 
