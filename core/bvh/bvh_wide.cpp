@@ -37,7 +37,11 @@ public:
     // The per-node tables are left uninitialized (zeroing them would be a serial pass over every node): the walk
     // below writes each node's entries, every node being reachable from the root.
     Collapser(const std::vector<BvhNode>& binary, uint32_t leaf_size, uint32_t threads)
-        : binary_(binary), range_(new Range[binary.size()]), area_(new float[binary.size()]), leaf_size_(leaf_size) {
+        : binary_(binary),
+          range_(new Range[binary.size()]),
+          area_(new float[binary.size()]),
+          count_(new uint32_t[binary.size()]),
+          leaf_size_(leaf_size) {
         if (binary.size() == 1 && upper_w(binary[0]) == 0) {
             range_[0] = {0, 0};  // the empty tree's one node (a leaf of count 0)
             area_[0] = node_bounds(binary[0]).half_area();
@@ -53,8 +57,17 @@ public:
         if (leaf(0)) {
             wide.push_back(empty_);
             if (range_[0].count != 0) set_leaf_lane(wide[0], 0, 0);
+        } else if (threads <= 1 || range_[0].count < kParallelCollapseFrom) {
+            // Each wide node opens at least one binary interior node, and a subtree of n primitives has fewer than
+            // 2n binary nodes: reserved so growing never copies (pages never written are never touched).
+            wide.reserve(range_[0].count + 1);
+            wide.push_back(empty_);
+            fill(wide, 0, 0);
         } else {
-            wide = collapse_below(0, threads);
+            // Counted first, so the array is sized once and every part of it written in place, on several threads.
+            count_below(0, threads);
+            wide.resize(count_[0]);
+            place(wide, 0, 0, 1, threads);
         }
         return wide;
     }
@@ -86,63 +99,70 @@ private:
     // triangles costs less than visiting a node that holds only its two leaves, the collapse's usual bottom level.
     bool leaf(uint32_t index) const { return upper_w(binary_[index]) != 0 || range_[index].count <= leaf_size_; }
 
-    // The wide nodes of the subtree under binary interior node `source`, its root first, indices local to it.
-    // With threads to spare, the subtrees under its root's interior lanes collapse at the same time, each into its
-    // own array, then follow the root in lane order: exactly where the one-thread recursion puts them.
-    std::vector<BvhWideNode> collapse_below(uint32_t source, uint32_t threads) {
-        std::vector<BvhWideNode> wide;
-        // Each wide node opens at least one binary interior node, and a subtree of n primitives has fewer than 2n
-        // binary nodes: reserved so growing never copies (pages never written are never touched).
-        wide.reserve(range_[source].count + 1);
-        wide.push_back(empty_);
+    // count_[source]: how many wide nodes the subtree under binary interior node `source` collapses into (itself
+    // and every wide node below it), and the same for each interior child it opens, recursively. With threads to
+    // spare, the children are counted at the same time, each with its share of the threads (by primitives).
+    uint32_t count_below(uint32_t source, uint32_t threads) {
+        uint32_t children[RT_BVH_WIDTH];
+        uint32_t count = open_children(source, children);
+        uint32_t interior[RT_BVH_WIDTH], interior_count = 0;
+        for (uint32_t k = 0; k < count; ++k)
+            if (!leaf(children[k])) interior[interior_count++] = children[k];
         if (threads <= 1 || range_[source].count < kParallelCollapseFrom) {
-            fill(wide, 0, source);
-            return wide;
+            uint32_t total = 1;
+            for (uint32_t i = 0; i < interior_count; ++i) total += count_below(interior[i], 1);
+            return count_[source] = total;
+        }
+        for_each_index_on_threads(threads, interior_count, [&](size_t i) {
+            count_below(interior[i], share_of(threads, interior[i], interior, interior_count));
+        });
+        uint32_t total = 1;
+        for (uint32_t i = 0; i < interior_count; ++i) total += count_[interior[i]];
+        return count_[source] = total;
+    }
+
+    // Writes the wide node of binary interior node `source` at `slot` and the count_[source] - 1 wide nodes below
+    // it at [first, ...), in the order fill() appends them: its interior children side by side first, then the
+    // nodes below each child in lane order. With threads to spare, the children's subtrees are written at the same
+    // time (they know where they go from the counts), each with its share of the threads.
+    void place(std::vector<BvhWideNode>& wide, uint32_t slot, uint32_t source, uint32_t first, uint32_t threads) {
+        if (threads <= 1 || range_[source].count < kParallelCollapseFrom) {
+            uint32_t next = first;
+            fill_at(wide, slot, source, next);
+            return;
         }
         uint32_t children[RT_BVH_WIDTH];
         uint32_t count = open_children(source, children);
-        std::vector<uint32_t> interior;  // lanes whose child is a wide node
+        BvhWideNode node = empty_;
+        uint32_t interior[RT_BVH_WIDTH], interior_slot[RT_BVH_WIDTH], below[RT_BVH_WIDTH], interior_count = 0;
+        uint32_t next_below = first;
+        for (uint32_t k = 0; k < count; ++k)
+            if (!leaf(children[k])) ++next_below;
         for (uint32_t k = 0; k < count; ++k) {
-            set_wide_lane_box(wide[0], k, node_bounds(binary_[children[k]]));
-            if (leaf(children[k]))
-                set_leaf_lane(wide[0], k, children[k]);
-            else
-                interior.push_back(k);
-        }
-        // A part collapses the same way again with its share of the threads (by primitives), so a large one
-        // does not keep the others waiting.
-        uint64_t primitives = 0;
-        for (uint32_t k : interior) primitives += range_[children[k]].count;
-        std::vector<std::vector<BvhWideNode>> parts(interior.size());
-        for_each_index_on_threads(threads, interior.size(), [&](size_t i) {
-            const uint32_t child = children[interior[i]];
-            parts[i] =
-                collapse_below(child, uint32_t(std::max<uint64_t>(1, threads * range_[child].count / primitives)));
-        });
-
-        // Part i's root takes slot 1 + i (the root's interior lanes are numbered first), its other nodes follow
-        // the parts before it.
-        uint32_t next_slot = 1 + uint32_t(interior.size());
-        std::vector<uint32_t> base(parts.size());
-        for (size_t i = 0; i < parts.size(); ++i) {
-            base[i] = next_slot;
-            next_slot += uint32_t(parts[i].size()) - 1;
-            set_wide_lane_node(wide[0], interior[i], 1 + uint32_t(i));
-        }
-        wide.resize(next_slot);
-        // The parts' destinations are disjoint: they are moved in at the same time too.
-        for_each_index_on_threads(threads, parts.size(), [&](size_t i) {
-            auto place = [&](uint32_t local) { return local == 0 ? 1 + uint32_t(i) : base[i] + local - 1; };
-            for (uint32_t local = 0; local < parts[i].size(); ++local) {
-                BvhWideNode node = parts[i][local];
-                for (uint32_t k = 0; k < RT_BVH_WIDTH; ++k)
-                    if (wide_lane_used(node, k) && !wide_lane_leaf(node, k))
-                        set_wide_lane_node(node, k, place(wide_lane_ref(node, k)));
-                wide[place(local)] = node;
+            if (leaf(children[k])) {
+                set_leaf_lane(node, k, children[k]);
+                continue;
             }
-            std::vector<BvhWideNode>().swap(parts[i]);
+            const uint32_t i = interior_count++;
+            interior[i] = children[k];
+            interior_slot[i] = first + i;
+            below[i] = next_below;
+            next_below += count_[children[k]] - 1;
+            set_wide_lane_box(node, k, node_bounds(binary_[children[k]]));
+            set_wide_lane_node(node, k, interior_slot[i]);
+        }
+        wide[slot] = node;
+        for_each_index_on_threads(threads, interior_count, [&](size_t i) {
+            place(wide, interior_slot[i], interior[i], below[i],
+                  share_of(threads, interior[i], interior, interior_count));
         });
-        return wide;
+    }
+
+    // A child's share of `threads` among the interior children `all`, by primitives (at least one).
+    uint32_t share_of(uint32_t threads, uint32_t child, const uint32_t* all, uint32_t all_count) const {
+        uint64_t primitives = 0;
+        for (uint32_t i = 0; i < all_count; ++i) primitives += range_[all[i]].count;
+        return uint32_t(std::max<uint64_t>(1, threads * uint64_t(range_[child].count) / primitives));
     }
 
     // The children a wide node takes for binary node `source`: its two, then the interior child with the largest
@@ -189,6 +209,26 @@ private:
             if (!leaf(children[k])) fill(wide, interior[k], children[k]);
     }
 
+    // fill() into an array already sized: the slots it would append at are taken from `next` on.
+    void fill_at(std::vector<BvhWideNode>& wide, uint32_t target, uint32_t source, uint32_t& next) {
+        uint32_t children[RT_BVH_WIDTH];
+        uint32_t count = open_children(source, children);
+        BvhWideNode node = empty_;
+        uint32_t interior[RT_BVH_WIDTH];
+        for (uint32_t k = 0; k < count; ++k) {
+            if (leaf(children[k])) {
+                set_leaf_lane(node, k, children[k]);
+            } else {
+                interior[k] = next++;
+                set_wide_lane_box(node, k, node_bounds(binary_[children[k]]));
+                set_wide_lane_node(node, k, interior[k]);
+            }
+        }
+        wide[target] = node;
+        for (uint32_t k = 0; k < count; ++k)
+            if (!leaf(children[k])) fill_at(wide, interior[k], children[k], next);
+    }
+
     void set_leaf_lane(BvhWideNode& node, uint32_t k, uint32_t source) {
         set_wide_lane_box(node, k, node_bounds(binary_[source]));
         set_wide_lane_leaf(node, k, range_[source].first, range_[source].count);
@@ -197,6 +237,8 @@ private:
     const std::vector<BvhNode>& binary_;
     std::unique_ptr<Range[]> range_;
     std::unique_ptr<float[]> area_;  // each binary node's half area, looked up many times while opening children
+    std::unique_ptr<uint32_t[]>
+        count_;  // wide nodes under a binary node (count_below), where a parallel collapse set it
     uint32_t leaf_size_;
     const BvhWideNode empty_ = empty_wide_node();
 };
