@@ -170,7 +170,7 @@ class TreeBuilder {
 public:
     TreeBuilder(std::span<const Aabb> bounds, const BvhBuildOptions& options, BvhTree& tree, int threads,
                 const BvhProgress& progress)
-        : options_(options), tree_(tree), budget_(threads - 1), progress_(progress) {
+        : options_(options), tree_(tree), threads_(threads), budget_(threads - 1), progress_(progress) {
         max_leaf_ = options.max_leaf_size;
         if (options.layout == BvhLayout::Escape) max_leaf_ = std::min<uint32_t>(max_leaf_, 255u);
         // The wide layout packs a leaf's count in 3 bits and tests its primitives four at a time: its SAH counts
@@ -234,9 +234,12 @@ private:
         budget_.release(helpers);
     }
 
+    // A pass takes at most its node's share of the threads (by references): the two halves of a node split at the
+    // same time, and the first to ask would otherwise take every spare thread, leaving the other's passes serial.
     int helpers_for(uint32_t count) {
         if (count < kParallelPassThreshold) return 0;
-        return budget_.acquire(int(count / kPassChunk) - 1);
+        int share = std::max(1, int(uint64_t(threads_) * count / std::max<size_t>(1, references_.size())));
+        return budget_.acquire(std::min(int(count / kPassChunk), share) - 1);
     }
 
     RangeBounds bounds_of(uint32_t begin, uint32_t end) {
@@ -553,6 +556,7 @@ private:
 
     const BvhBuildOptions& options_;
     BvhTree& tree_;
+    int threads_;  // the build's, the calling thread's among them
     ThreadBudget budget_;
     uint32_t max_leaf_ = 4;
     std::vector<Reference, UninitializedAllocator<Reference>> references_;
