@@ -61,8 +61,9 @@ public:
             // Each wide node opens at least one binary interior node, and a subtree of n primitives has fewer than
             // 2n binary nodes: reserved so growing never copies (pages never written are never touched).
             wide.reserve(range_[0].count + 1);
-            wide.push_back(empty_);
-            fill(wide, 0, 0);
+            wide.resize(1);
+            uint32_t next = 1;
+            fill(wide, 0, 0, next);
         } else {
             // Counted first, so the array is sized once and every part of it written in place, on several threads.
             count_below(0, threads);
@@ -128,32 +129,19 @@ private:
     void place(std::vector<BvhWideNode>& wide, uint32_t slot, uint32_t source, uint32_t first, uint32_t threads) {
         if (threads <= 1 || range_[source].count < kParallelCollapseFrom) {
             uint32_t next = first;
-            fill_at(wide, slot, source, next);
+            fill(wide, slot, source, next);
             return;
         }
-        uint32_t children[RT_BVH_WIDTH];
-        uint32_t count = open_children(source, children);
-        BvhWideNode node = empty_;
-        uint32_t interior[RT_BVH_WIDTH], interior_slot[RT_BVH_WIDTH], below[RT_BVH_WIDTH], interior_count = 0;
-        uint32_t next_below = first;
-        for (uint32_t k = 0; k < count; ++k)
-            if (!leaf(children[k])) ++next_below;
-        for (uint32_t k = 0; k < count; ++k) {
-            if (leaf(children[k])) {
-                set_leaf_lane(node, k, children[k]);
-                continue;
-            }
-            const uint32_t i = interior_count++;
-            interior[i] = children[k];
-            interior_slot[i] = first + i;
+        uint32_t interior[RT_BVH_WIDTH], below[RT_BVH_WIDTH];
+        uint32_t interior_count = 0;
+        wide[slot] = make_node(source, first, interior, interior_count);
+        uint32_t next_below = first + interior_count;
+        for (uint32_t i = 0; i < interior_count; ++i) {
             below[i] = next_below;
-            next_below += count_[children[k]] - 1;
-            set_wide_lane_box(node, k, node_bounds(binary_[children[k]]));
-            set_wide_lane_node(node, k, interior_slot[i]);
+            next_below += count_[interior[i]] - 1;
         }
-        wide[slot] = node;
         for_each_index_on_threads(threads, interior_count, [&](size_t i) {
-            place(wide, interior_slot[i], interior[i], below[i],
+            place(wide, first + uint32_t(i), interior[i], below[i],
                   share_of(threads, interior[i], interior, interior_count));
         });
     }
@@ -188,57 +176,49 @@ private:
         return count;
     }
 
-    // Wide node `target` of `wide` takes the children open_children() picks for binary node `source`; its interior
-    // children are appended and filled the same way.
-    void fill(std::vector<BvhWideNode>& wide, uint32_t target, uint32_t source) {
-        uint32_t children[RT_BVH_WIDTH];
-        uint32_t count = open_children(source, children);
-        // Interior children get consecutive slots now and are filled after, so a parent precedes its children.
-        uint32_t interior[RT_BVH_WIDTH];
-        for (uint32_t k = 0; k < count; ++k) {
-            if (leaf(children[k])) {
-                set_leaf_lane(wide[target], k, children[k]);
-            } else {
-                interior[k] = uint32_t(wide.size());
-                set_wide_lane_box(wide[target], k, node_bounds(binary_[children[k]]));
-                set_wide_lane_node(wide[target], k, interior[k]);
-                wide.push_back(empty_);
-            }
-        }
-        for (uint32_t k = 0; k < count; ++k)
-            if (!leaf(children[k])) fill(wide, interior[k], children[k]);
-    }
-
-    // fill() into an array already sized: the slots it would append at are taken from `next` on.
-    void fill_at(std::vector<BvhWideNode>& wide, uint32_t target, uint32_t source, uint32_t& next) {
+    // The wide node of binary interior node `source`: the children open_children() picks, a leaf one as a leaf lane,
+    // the interior ones pointing at slots first, first + 1, ... in lane order. `interior` gets those children.
+    BvhWideNode make_node(uint32_t source, uint32_t first, uint32_t (&interior)[RT_BVH_WIDTH],
+                          uint32_t& interior_count) const {
         uint32_t children[RT_BVH_WIDTH];
         uint32_t count = open_children(source, children);
         BvhWideNode node = empty_;
-        uint32_t interior[RT_BVH_WIDTH];
+        interior_count = 0;
         for (uint32_t k = 0; k < count; ++k) {
             if (leaf(children[k])) {
                 set_leaf_lane(node, k, children[k]);
             } else {
-                interior[k] = next++;
                 set_wide_lane_box(node, k, node_bounds(binary_[children[k]]));
-                set_wide_lane_node(node, k, interior[k]);
+                set_wide_lane_node(node, k, first + interior_count);
+                interior[interior_count++] = children[k];
             }
         }
-        wide[target] = node;
-        for (uint32_t k = 0; k < count; ++k)
-            if (!leaf(children[k])) fill_at(wide, interior[k], children[k], next);
+        return node;
     }
 
-    void set_leaf_lane(BvhWideNode& node, uint32_t k, uint32_t source) {
+    // Writes the wide node of binary interior node `source` at `target` and the nodes below it from slot `next` on:
+    // its interior children side by side, then the nodes below each of them in lane order, so a parent precedes its
+    // children. Grows `wide` as needed (a collapse on one thread), or writes into it sized (place()).
+    void fill(std::vector<BvhWideNode>& wide, uint32_t target, uint32_t source, uint32_t& next) {
+        uint32_t interior[RT_BVH_WIDTH];
+        uint32_t interior_count = 0;
+        const uint32_t first = next;
+        BvhWideNode node = make_node(source, first, interior, interior_count);
+        next += interior_count;
+        if (wide.size() < next) wide.resize(next);
+        wide[target] = node;
+        for (uint32_t i = 0; i < interior_count; ++i) fill(wide, first + i, interior[i], next);
+    }
+
+    void set_leaf_lane(BvhWideNode& node, uint32_t k, uint32_t source) const {
         set_wide_lane_box(node, k, node_bounds(binary_[source]));
         set_wide_lane_leaf(node, k, range_[source].first, range_[source].count);
     }
 
     const std::vector<BvhNode>& binary_;
     std::unique_ptr<Range[]> range_;
-    std::unique_ptr<float[]> area_;  // each binary node's half area, looked up many times while opening children
-    std::unique_ptr<uint32_t[]>
-        count_;  // wide nodes under a binary node (count_below), where a parallel collapse set it
+    std::unique_ptr<float[]> area_;      // each binary node's half area, looked up many times while opening children
+    std::unique_ptr<uint32_t[]> count_;  // wide nodes under a binary node, where count_below() set it
     uint32_t leaf_size_;
     const BvhWideNode empty_ = empty_wide_node();
 };
