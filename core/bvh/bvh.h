@@ -120,7 +120,7 @@ Aabb node_bounds(const BvhNode& node);
 // of at most leaf_size primitives (capped at RT_WIDE_LEAF_MAX) is one leaf. A parent precedes its children; unused
 // lanes hold the empty box and child 0. A root that is a leaf becomes one wide node with it in lane 0 (the empty
 // tree: no lane used). Binary leaves must hold at most RT_WIDE_LEAF_MAX primitives.
-// The same nodes for any `threads` (the subtrees below the top wide nodes collapse in parallel, then join in order).
+// The same nodes for any `threads` (counted first, then the subtrees below the top nodes written in place at once).
 std::vector<BvhWideNode> collapse_bvh_wide(const std::vector<BvhNode>& stack_nodes,
                                            uint32_t leaf_size = RT_WIDE_LEAF_MAX, uint32_t threads = 1);
 // Refits the boxes of collapsed nodes in place (leaf ranges index primitive_order, as in the binary tree).
