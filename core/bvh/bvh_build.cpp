@@ -236,6 +236,7 @@ private:
 
     // A pass takes at most its node's share of the threads (by references): the two halves of a node split at the
     // same time, and the first to ask would otherwise take every spare thread, leaving the other's passes serial.
+    // (The passes over the whole input, before references_ is filled, are not held back.)
     int helpers_for(uint32_t count) {
         if (count < kParallelPassThreshold) return 0;
         int share = std::max(1, int(uint64_t(threads_) * count / std::max<size_t>(1, references_.size())));

@@ -66,8 +66,7 @@ public:
             fill(wide, 0, 0, next);
         } else {
             // Counted first, so the array is sized once and every part of it written in place, on several threads.
-            count_below(0, threads);
-            wide.resize(count_[0]);
+            wide.resize(count_below(0, threads));
             place(wide, 0, 0, 1, threads);
         }
         return wide;
