@@ -47,6 +47,7 @@
 #endif
 #include "data_arrays.h"
 #undef RT_DATA_ARRAY
+RT_GLSL_RESERVE_FUNCTION(counters)
 #define KernelGlobals int
 #else
 RT_STRUCT_BEGIN(KernelGlobals)

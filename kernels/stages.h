@@ -61,17 +61,22 @@ RT_FUNC void rt_stage_miss(KernelGlobals kg, uint index, uint depth) {
     rt_accumulate(kg, ray.pixel, rt_xyz(ray.weight) * rt_environment(kg, rt_xyz(ray.direction)));
 }
 
-// Appends to a queue; a full queue drops the item and counts it (reported, and asserted zero in the tests).
-RT_FUNC uint rt_queue_slot(KernelGlobals kg, uint counter, uint capacity) {
-    uint slot = RT_ATOMIC_ADD(kg, counters, counter, 1u);
-    if (slot >= capacity) {
-        RT_ATOMIC_ADD(kg, counters, RT_COUNTER_DROPPED, 1u);
-        return RT_NONE;
+// Takes n consecutive slots of a queue for one item and returns the first. RT_QUEUE_RESERVE sums the n of the
+// items running together (a warp, a subgroup) and takes all of their slots with one atomic add; taking one slot
+// per ray, the shade stage's warps spent a third of their time waiting for the counters (docs/kernels.md, "Queue
+// slots"). Slots past the capacity are dropped and counted (reported, and asserted zero in the tests).
+RT_FUNC uint rt_queue_reserve(KernelGlobals kg, uint counter, uint n, uint capacity) {
+    uint first = RT_QUEUE_RESERVE(kg, counters, counter, n);
+    if (n > 0u && first + n > capacity) {
+        uint kept = first < capacity ? capacity - first : 0u;
+        RT_ATOMIC_ADD(kg, counters, RT_COUNTER_DROPPED, n - kept);
     }
-    return slot;
+    return first;
 }
 
-// The seed's "Renderer" kernel: the local colour goes to the pixel, shadow rays and secondary rays to queues.
+// The seed's "Renderer" kernel: the local colour goes to the pixel, shadow rays and secondary rays to queues. The
+// shadow rays are counted before they are stored, so that both queues' slots are taken at once: the two atomics
+// are in flight together instead of one after the other for every ray.
 RT_FUNC void rt_stage_shade(KernelGlobals kg, uint index, uint depth) {
     Hit hit = RT_FETCH(kg, hits, index);
     if (!(hit.tuv.x < RT_INFINITY)) return;
@@ -79,17 +84,20 @@ RT_FUNC void rt_stage_shade(KernelGlobals kg, uint index, uint depth) {
     Ray ray = RT_FETCH(kg, rays, rt_queue_base(frame, depth) + index);
     ShadeResult shade = rt_shade(kg, ray, hit);
     rt_accumulate(kg, ray.pixel, rt_xyz(shade.emitted));
+    uint shadow_count = 0u;
+    for (uint l = 0u; l < frame.light_count; ++l)
+        if (rt_shadow_ray(kg, shade, l, ray.pixel).contribution.w != 0.0f) shadow_count += 1u;
+    uint shadow_slot = rt_queue_reserve(kg, RT_COUNTER_SHADOWS + depth, shadow_count, frame.shadow_capacity);
+    uint ray_slot = rt_queue_reserve(kg, RT_COUNTER_RAYS + depth + 1u, shade.child_count, frame.ray_capacity);
     for (uint l = 0u; l < frame.light_count; ++l) {
         ShadowRay sr = rt_shadow_ray(kg, shade, l, ray.pixel);
         if (sr.contribution.w == 0.0f) continue;
-        uint slot = rt_queue_slot(kg, RT_COUNTER_SHADOWS + depth, frame.shadow_capacity);
-        if (slot != RT_NONE) RT_STORE(kg, shadow_rays, slot, sr);
+        if (shadow_slot < frame.shadow_capacity) RT_STORE(kg, shadow_rays, shadow_slot, sr);
+        shadow_slot += 1u;
     }
     uint next_base = rt_queue_base(frame, depth + 1u);
-    for (uint c = 0u; c < shade.child_count; ++c) {
-        uint slot = rt_queue_slot(kg, RT_COUNTER_RAYS + depth + 1u, frame.ray_capacity);
-        if (slot != RT_NONE) RT_STORE(kg, rays, next_base + slot, shade.children[c]);
-    }
+    for (uint c = 0u; c < shade.child_count; ++c)
+        if (ray_slot + c < frame.ray_capacity) RT_STORE(kg, rays, next_base + ray_slot + c, shade.children[c]);
 }
 
 #define RT_SHADOW_LAYERS 8u  // cut-out or blended surfaces a shadow ray looks through before it counts as blocked

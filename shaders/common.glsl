@@ -9,6 +9,9 @@
 // with RT_GLSL_ADDRESS, each array reached through its buffer device address, for arrays larger than the device's
 // maxStorageBufferRange (lavapipe: 128 MiB). kernels/globals.h declares both.
 #extension GL_GOOGLE_include_directive : require
+// Queue slots are taken a subgroup at a time (kernels/compat/glsl.h, RT_QUEUE_RESERVE).
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_ballot : require
 #ifdef RT_GLSL_ADDRESS
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require

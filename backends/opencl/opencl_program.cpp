@@ -19,9 +19,13 @@ namespace {
 // The fixed build options (docs/fairness.md). No fast-math flags; FP_CONTRACT stays at the OpenCL C default (on),
 // as nvcc's default --fmad=true; divide and sqrt correctly rounded where the device supports it, as CUDA's
 // default -prec-div=true -prec-sqrt=true.
+// NVIDIA's compiler takes inline PTX: there the queue slots are taken a warp at a time with PTX warp votes and
+// shuffles (kernels/compat/opencl.h, RT_QUEUE_RESERVE).
 std::string build_options(const DeviceEntry& device) {
     std::string options = "-cl-std=CL1.2";
     if (device.fp_config & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) options += " -cl-fp32-correctly-rounded-divide-sqrt";
+    if (device.platform_vendor.find("NVIDIA") != std::string::npos && (device.type & CL_DEVICE_TYPE_GPU))
+        options += " -D RT_OPENCL_NVIDIA_PTX";
     return options;
 }
 

@@ -198,10 +198,18 @@ std::vector<DeviceCandidate> Instance::devices() const {
         vkGetPhysicalDeviceProperties(handle, &d.properties);
         if (d.properties.apiVersion >= VK_API_VERSION_1_2) {
             VkPhysicalDeviceProperties2 properties2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+            VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
             d.driver.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES;
+            d.driver.pNext = &subgroup;
             properties2.pNext = &d.driver;
             vkGetPhysicalDeviceProperties2(handle, &properties2);
             d.driver.pNext = nullptr;
+            // The stages take queue slots a subgroup at a time (kernels/compat/glsl.h, RT_QUEUE_RESERVE).
+            const VkSubgroupFeatureFlags needed =
+                VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT | VK_SUBGROUP_FEATURE_BALLOT_BIT;
+            if (!(subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) ||
+                (subgroup.supportedOperations & needed) != needed)
+                d.unusable = "no subgroup arithmetic and ballot in compute shaders";
         } else {
             d.unusable = "Vulkan " + api_version_string(d.properties.apiVersion) + " < 1.2";
         }

@@ -201,6 +201,8 @@ RT_FUNC float rt_int_as_float(int i) { return std::bit_cast<float>(i); }
 #define RT_STORE(kg, array, i, value) ((kg).array[(i)] = (value))
 // Atomic add on a uint buffer element, returning the old value. atomic_ref keeps the buffers plain arrays.
 #define RT_ATOMIC_ADD(kg, array, i, value) (std::atomic_ref<uint>((kg).array[(i)]).fetch_add((value)))
+// n consecutive slots of a queue counter (kernels/stages.h, rt_queue_reserve): one atomic add per item.
+#define RT_QUEUE_RESERVE(kg, array, i, n) RT_ATOMIC_ADD(kg, array, i, n)
 // A hint that elements [i, i + n) of a device array are needed soon (the wide traversal's pushed children).
 #define RT_PREFETCH(kg, array, i, n)                                             \
     do {                                                                         \

@@ -108,6 +108,28 @@ static __device__ __forceinline__ T rt_fetch(T* __restrict__ array, uint i) {
 #define RT_STORE(kg, array, i, value) ((kg).array[(i)] = (value))
 #define RT_ATOMIC_ADD(kg, array, i, value) atomicAdd(&(kg).array[(i)], (value))
 #define RT_PREFETCH(kg, array, i, n) ((void)0)  // a CPU cache hint; GPUs hide latency with other warps
+// n consecutive slots of a queue counter for each thread (kernels/stages.h, rt_queue_reserve): the threads of a
+// warp that arrive together sum their n a bit at a time with warp votes (n is small), the first takes all of the
+// slots with one atomic add, and each gets its own from there. nvcc aggregates an atomic add of 1 on its own, not
+// one of n; cooperative groups' exclusive_scan over the coalesced threads made the sphere's shade stage slower than
+// one atomic per slot had been (docs/kernels.md, "Queue slots").
+static __device__ __forceinline__ uint rt_reserve_warp(uint* counter, uint n) {
+    uint active = __activemask();
+    uint lane = threadIdx.x & 31u;  // the stages' blocks are one-dimensional
+    uint below = active & ((1u << lane) - 1u);
+    uint before = 0u;
+    uint total = 0u;
+    for (uint bit = 0u; __ballot_sync(active, n >> bit) != 0u; ++bit) {
+        uint set = __ballot_sync(active, (n >> bit) & 1u);
+        before += uint(__popc(set & below)) << bit;
+        total += uint(__popc(set)) << bit;
+    }
+    uint leader = uint(__ffs(active)) - 1u;
+    uint first = 0u;
+    if (lane == leader && total != 0u) first = atomicAdd(counter, total);
+    return __shfl_sync(active, first, leader) + before;
+}
+#define RT_QUEUE_RESERVE(kg, array, i, n) rt_reserve_warp(&(kg).array[(i)], (n))
 
 // Grid-stride loop: the backend launches a fixed grid sized to fill the GPU; the item count lives on the device.
 #define RT_GRID_LOOP(i, n) \

@@ -84,6 +84,20 @@ uint rt_lane8_u(uvec4 lo, uvec4 hi, uint k) { return k < 4u ? lo[k] : hi[k - 4u]
 #define RT_ATOMIC_ADD(kg, array, i, value) atomicAdd(array[(i)], (value))
 #endif
 #define RT_PREFETCH(kg, array, i, n)  // a CPU cache hint; GPUs hide latency with other invocations
+// n consecutive slots of a queue counter for each invocation (kernels/stages.h, rt_queue_reserve): the active
+// invocations of a subgroup sum their n, one takes all of the slots with one atomic add, and each gets its own
+// from there. kernels/globals.h defines rt_reserve_counters with RT_GLSL_RESERVE_FUNCTION once the array exists;
+// the shaders enable the subgroup extensions (shaders/common.glsl), which every usable device has (the Vulkan
+// backend checks).
+#define RT_QUEUE_RESERVE(kg, array, i, n) rt_reserve_##array((i), (n))
+#define RT_GLSL_RESERVE_FUNCTION(array)                                                 \
+    uint rt_reserve_##array(uint i, uint n) {                                           \
+        uint before = subgroupExclusiveAdd(n);                                          \
+        uint total = subgroupAdd(n);                                                    \
+        uint first = 0u;                                                                \
+        if (subgroupElect() && total != 0u) first = RT_ATOMIC_ADD(kg, array, i, total); \
+        return subgroupBroadcastFirst(first) + before;                                  \
+    }
 
 // The shader must declare layout(local_size_x = ...) BEFORE including kernels/: glslang compiles gl_WorkGroupSize
 // as (1, 1, 1), without a diagnostic, in functions defined before that declaration.

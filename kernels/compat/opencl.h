@@ -59,6 +59,55 @@ RT_FUNC uint rt_lowest_bit(uint x) { return 31u - clz(x & (0u - x)); }
 #define RT_ATOMIC_ADD(kg, array, i, value) atomic_add(&(kg).array[(i)], (value))
 #define RT_PREFETCH(kg, array, i, n) ((void)0)  // a CPU cache hint; GPUs hide latency with other work-items
 
+// n consecutive slots of a queue counter for each work-item (kernels/stages.h, rt_queue_reserve). OpenCL C 1.2
+// has no subgroup operations, and NVIDIA's OpenCL has no cl_khr_subgroups: there (RT_OPENCL_NVIDIA_PTX, set by the
+// backend for NVIDIA's platform) the warp's work-items sum their n with PTX warp votes and shuffles, as CUDA does,
+// and one atomic add takes the warp's slots. Elsewhere each work-item takes its own with one atomic add.
+#if defined(RT_OPENCL_NVIDIA_PTX)
+RT_FUNC uint rt_ptx_active_mask(void) {
+    uint mask;
+    asm volatile("activemask.b32 %0;" : "=r"(mask));
+    return mask;
+}
+RT_FUNC uint rt_ptx_lane(void) {
+    uint lane;
+    asm volatile("mov.u32 %0, %%laneid;" : "=r"(lane));
+    return lane;
+}
+RT_FUNC uint rt_ptx_ballot(uint mask, uint predicate) {
+    uint bits;
+    asm volatile("{ .reg .pred p; setp.ne.u32 p, %1, 0; vote.sync.ballot.b32 %0, p, %2; }"
+                 : "=r"(bits)
+                 : "r"(predicate), "r"(mask));
+    return bits;
+}
+RT_FUNC uint rt_ptx_shuffle(uint mask, uint value, uint lane) {
+    uint out;
+    asm volatile("shfl.sync.idx.b32 %0, %1, %2, 31, %3;" : "=r"(out) : "r"(value), "r"(lane), "r"(mask));
+    return out;
+}
+// The sum of n over the active lanes and over the lanes below this one, a bit of n at a time (n is small).
+RT_FUNC uint rt_reserve_warp(__global uint* counter, uint n) {
+    uint active = rt_ptx_active_mask();
+    uint lane = rt_ptx_lane();
+    uint below = active & ((1u << lane) - 1u);
+    uint before = 0u;
+    uint total = 0u;
+    for (uint bit = 0u; rt_ptx_ballot(active, n >> bit) != 0u; ++bit) {
+        uint set = rt_ptx_ballot(active, (n >> bit) & 1u);
+        before += popcount(set & below) << bit;
+        total += popcount(set) << bit;
+    }
+    uint leader = 31u - clz(active & (0u - active));
+    uint first = 0u;
+    if (lane == leader && total != 0u) first = atomic_add(counter, total);
+    return rt_ptx_shuffle(active, first, leader) + before;
+}
+#define RT_QUEUE_RESERVE(kg, array, i, n) rt_reserve_warp(&(kg).array[(i)], (n))
+#else
+#define RT_QUEUE_RESERVE(kg, array, i, n) atomic_add(&(kg).array[(i)], (n))
+#endif
+
 #define RT_GRID_LOOP(i, n) for (uint i = (uint)get_global_id(0), rt_n_ = (n); i < rt_n_; i += (uint)get_global_size(0))
 
 #endif
