@@ -19,6 +19,7 @@
 #include "bench/bandwidth/pci_link.h"
 #include "bench/bandwidth/sizes.h"
 #include "bench/bandwidth/sweep.h"
+#include "core/util/environment.h"
 #include "core/util/error.h"
 #include "kernels/bandwidth_copy.h"
 #include "spirv/bandwidth_copy.h"
@@ -104,6 +105,14 @@ public:
                                      : "H2D, D2H, D2D copy: vkCmdCopyBuffer on the " + compute +
                                            " [compute]; no transfer-only queue family, so no [transfer] rows");
         result.details.push_back("D2D kernel: dispatched on the compute queue");
+        result.details.push_back(
+            std::string("pinned H2D from ") +
+            (memory_.memoryTypes[upload_].propertyFlags & VK_MEMORY_PROPERTY_HOST_CACHED_BIT ? "host-cached"
+                                                                                             : "uncached") +
+            " system memory, D2H into " +
+            (memory_.memoryTypes[readback_].propertyFlags & VK_MEMORY_PROPERTY_HOST_CACHED_BIT ? "host-cached"
+                                                                                               : "uncached") +
+            " (PRISM_VULKAN_STAGING picks the upload's)");
         result.details.push_back("pageable: memcpy to/from the staging buffer plus the copy; wall time only");
         if (has_transfer_ && !transfer_copies_.copy.timestamps)
             result.details.push_back("the transfer queue has no timestamps: wall time only there");
@@ -221,9 +230,18 @@ private:
         const uint32_t any = ~0u;
         device_local_ = vk::find_memory_type(memory_, any, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0,
                                              VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
-        // Staging in system memory (not device-local BAR memory): what crosses the link is what we time.
-        upload_ = vk::find_memory_type(memory_, any, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
-                                       VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+        // Staging in system memory (not device-local BAR memory): what crosses the link is what we time. The upload
+        // buffer is the uncached (write-combined) kind an application writes once, unless PRISM_VULKAN_STAGING=cached
+        // asks for the cached kind the readback buffer uses (docs/bandwidth.md measures both).
+        const bool cached_upload =
+            setting_choice(Setting::VulkanStaging, {"uncached", "cached"}, "prism bandwidth") == "cached";
+        upload_ = cached_upload
+                      ? vk::find_memory_type(memory_, any, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
+                                             VK_MEMORY_PROPERTY_HOST_CACHED_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                                             VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT)
+                      : vk::find_memory_type(memory_, any, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
+                                             VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                                             VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
         readback_ = vk::find_memory_type(memory_, any, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
                                          VK_MEMORY_PROPERTY_HOST_CACHED_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
                                          VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);

@@ -20,6 +20,7 @@ enum class Setting {
     VulkanValidation,   // PRISM_VULKAN_VALIDATION
     VulkanAddressing,   // PRISM_VULKAN_ADDRESSING
     VulkanDispatch,     // PRISM_VULKAN_DISPATCH
+    VulkanStaging,      // PRISM_VULKAN_STAGING
     ViewPanel,          // PRISM_VIEW_PANEL
     ViewAblate,         // PRISM_VIEW_ABLATE
     Python,             // PRISM_PYTHON
