@@ -318,6 +318,15 @@ TEST(Bandwidth, PlotMustBeAPng) {
     EXPECT_NE(run.output.find("--plot: expected a .png"), std::string::npos) << run.output;
 }
 
+// A value PRISM_VULKAN_STAGING does not take stops the command before it measures anything.
+TEST(Bandwidth, BadStagingSettingFailsWithOneLine) {
+    auto run = prism::test::run_prism("bandwidth --sizes 4K", "env PRISM_VULKAN_STAGING=pinned");
+    EXPECT_NE(run.exit_code, 0);
+    EXPECT_EQ(line_count(run.output), 1) << run.output;
+    EXPECT_NE(run.output.find("PRISM_VULKAN_STAGING='pinned' is not one of uncached, cached"), std::string::npos)
+        << run.output;
+}
+
 TEST(Bandwidth, UnknownApiFailsWithOneLine) {
     auto run = prism::test::run_prism("bandwidth --api metal --sizes 4K");
     EXPECT_NE(run.exit_code, 0);

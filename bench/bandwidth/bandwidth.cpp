@@ -11,6 +11,7 @@
 #include "bench/bandwidth/sizes.h"
 #include "bench/bench_json.h"
 #include "bench/plot_script.h"
+#include "core/util/environment.h"
 #include "core/util/error.h"
 
 namespace prism::bandwidth {
@@ -45,6 +46,8 @@ Plan make_plan(const Options& options) {
     if (options.warmup < 0) throw Error("--warmup: must not be negative");
     plan.repeats = options.repeats;
     plan.warmup = options.warmup;
+    plan.vulkan_cached_upload =
+        setting_choice(Setting::VulkanStaging, {"uncached", "cached"}, "prism bandwidth") == "cached";
     for (const std::string& filter : options.devices) {
         size_t colon = filter.find(':');
         DeviceFilter parsed;

@@ -17,6 +17,7 @@ struct Plan {
     int warmup = 2;
     int repeats = 10;
     std::vector<DeviceFilter> filters;  // empty: every device
+    bool vulkan_cached_upload = false;  // PRISM_VULKAN_STAGING=cached: Vulkan uploads from host-cached memory
 
     // True when the device passes the filters that name its API (or no API).
     bool wants(const std::string& api, const std::string& platform, const std::string& device) const;

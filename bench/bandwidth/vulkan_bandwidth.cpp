@@ -19,7 +19,6 @@
 #include "bench/bandwidth/pci_link.h"
 #include "bench/bandwidth/sizes.h"
 #include "bench/bandwidth/sweep.h"
-#include "core/util/environment.h"
 #include "core/util/error.h"
 #include "kernels/bandwidth_copy.h"
 #include "spirv/bandwidth_copy.h"
@@ -58,13 +57,13 @@ struct CopyCommands {
 
 class VulkanDevice final : public CopyDevice {
 public:
-    explicit VulkanDevice(const vk::DeviceCandidate& candidate)
+    VulkanDevice(const vk::DeviceCandidate& candidate, bool cached_upload)
         : candidate_(candidate),
           physical_(candidate.handle),
           properties_(candidate.properties),
           driver_(candidate.driver),
           has_transfer_(candidate.transfer_family != UINT32_MAX) {
-        read_properties();
+        read_properties(cached_upload);
         if (candidate.compute_family == UINT32_MAX)
             throw Error(std::string("vulkan ") + properties_.deviceName + ": no compute queue");
         create_device();
@@ -213,7 +212,7 @@ public:
     }
 
 private:
-    void read_properties() {
+    void read_properties(bool cached_upload) {
         if (properties_.apiVersion < VK_API_VERSION_1_2)
             throw Error(std::string("vulkan ") + properties_.deviceName + ": device supports only Vulkan " +
                         vk::api_version_string(properties_.apiVersion) + ", 1.2 needed");
@@ -232,9 +231,7 @@ private:
                                              VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
         // Staging in system memory (not device-local BAR memory): what crosses the link is what we time. The upload
         // buffer is the uncached (write-combined) kind an application writes once, unless PRISM_VULKAN_STAGING=cached
-        // asks for the cached kind the readback buffer uses (docs/bandwidth.md measures both).
-        const bool cached_upload =
-            setting_choice(Setting::VulkanStaging, {"uncached", "cached"}, "prism bandwidth") == "cached";
+        // asks for the cached kind the readback buffer uses (docs/bandwidth.md measured both).
         upload_ = cached_upload
                       ? vk::find_memory_type(memory_, any, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
                                              VK_MEMORY_PROPERTY_HOST_CACHED_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
@@ -542,7 +539,7 @@ ApiResult measure_vulkan(const Plan& plan) {
     for (const vk::DeviceCandidate& device : devices) {
         if (!plan.wants("vulkan", "", device.properties.deviceName)) continue;
         try {
-            VulkanDevice copy_device(device);
+            VulkanDevice copy_device(device, plan.vulkan_cached_upload);
             api.devices.push_back(sweep(copy_device, plan));
         } catch (const Error& error) {
             DeviceResult failed{"vulkan", device.properties.deviceName};
