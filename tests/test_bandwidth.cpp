@@ -323,9 +323,47 @@ TEST(Bandwidth, BadStagingSettingFailsWithOneLine) {
     auto run = prism::test::run_prism("bandwidth --sizes 4K", "env PRISM_VULKAN_STAGING=pinned");
     EXPECT_NE(run.exit_code, 0);
     EXPECT_EQ(line_count(run.output), 1) << run.output;
-    EXPECT_NE(run.output.find("PRISM_VULKAN_STAGING='pinned' is not one of uncached, cached"), std::string::npos)
+    EXPECT_NE(run.output.find("PRISM_VULKAN_STAGING='pinned' is not one of uncached, cached, host, host-4k"),
+              std::string::npos)
         << run.output;
 }
+
+#ifdef PRISM_HAVE_VULKAN
+// PRISM_VULKAN_STAGING=host and host-4k: the pinned copies go through the application's memory imported with
+// VK_EXT_external_memory_host (lavapipe has it); the copies' data checks pass, and the device says how much of
+// the staging memory the kernel backed with huge pages: none where they were refused.
+TEST(Bandwidth, VulkanStagesThroughImportedHostMemory) {
+    set_runtime_dir();
+    for (const char* staging : {"host", "host-4k"}) {
+        fs::path file = prism::test::temp_dir("bandwidth-import") / (std::string(staging) + ".json");
+        auto run =
+            prism::test::run_prism("bandwidth --sizes 4M --repeats 2 --device vulkan: --json '" + file.string() + "'",
+                                   std::string("env PRISM_VULKAN_STAGING=") + staging);
+        ASSERT_EQ(run.exit_code, 0) << run.output;
+        std::ifstream in(file);
+        json result = json::parse(in, nullptr, false);
+        ASSERT_TRUE(result.is_object()) << run.output;
+        bool found = false;
+        for (const json& device : result["devices"]) {
+            if (device["api"] != "vulkan") continue;
+            EXPECT_TRUE(device["notes"].empty()) << staging << ": " << device["notes"].dump();
+            std::set<std::string> pinned;
+            for (const json& m : device["measurements"])
+                if (m["memory"] == "pinned") pinned.insert(m["direction"].get<std::string>());
+            // A copy whose data check fails is dropped: both directions there means both came back intact.
+            EXPECT_EQ(pinned, (std::set<std::string>{"h2d", "d2h"})) << staging;
+            std::string details = device["details"].dump();
+            found = details.find("imported with VK_EXT_external_memory_host") != std::string::npos;
+            EXPECT_TRUE(found) << staging << ": " << details;
+            if (std::string(staging) == "host-4k")
+                EXPECT_NE(details.find("0 of 8 MiB"), std::string::npos) << details;
+            else
+                EXPECT_NE(details.find("huge pages asked for"), std::string::npos) << details;
+        }
+        EXPECT_TRUE(found) << "no Vulkan device in\n" << run.output;
+    }
+}
+#endif
 
 TEST(Bandwidth, UnknownApiFailsWithOneLine) {
     auto run = prism::test::run_prism("bandwidth --api metal --sizes 4K");

@@ -46,8 +46,9 @@ Plan make_plan(const Options& options) {
     if (options.warmup < 0) throw Error("--warmup: must not be negative");
     plan.repeats = options.repeats;
     plan.warmup = options.warmup;
-    plan.vulkan_cached_upload =
-        setting_choice(Setting::VulkanStaging, {"uncached", "cached"}, "prism bandwidth") == "cached";
+    std::string staging =
+        setting_choice(Setting::VulkanStaging, {"uncached", "cached", "host", "host-4k"}, "prism bandwidth");
+    if (!staging.empty()) plan.vulkan_staging = staging;
     for (const std::string& filter : options.devices) {
         size_t colon = filter.find(':');
         DeviceFilter parsed;

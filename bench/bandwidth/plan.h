@@ -17,7 +17,10 @@ struct Plan {
     int warmup = 2;
     int repeats = 10;
     std::vector<DeviceFilter> filters;  // empty: every device
-    bool vulkan_cached_upload = false;  // PRISM_VULKAN_STAGING=cached: Vulkan uploads from host-cached memory
+    // PRISM_VULKAN_STAGING: Vulkan's pinned copies stage through "uncached" (the upload) or "cached" driver
+    // memory, or through the application's own memory imported with VK_EXT_external_memory_host: "host" (huge
+    // pages asked for) or "host-4k" (huge pages refused).
+    std::string vulkan_staging = "uncached";
 
     // True when the device passes the filters that name its API (or no API).
     bool wants(const std::string& api, const std::string& platform, const std::string& device) const;

@@ -4,14 +4,21 @@
 // as a driver does internally, so only wall time is meaningful for them. Every copy command is measured on the
 // compute queue and again on the transfer-only queue where the device has one: which is faster differs by driver,
 // and users choose. Device timer: vkCmdWriteTimestamp around the copy or dispatch.
+// PRISM_VULKAN_STAGING=host (or host-4k) stages the pinned copies through the application's own memory instead,
+// imported with VK_EXT_external_memory_host, with transparent huge pages asked for (or refused): the pinned copy
+// then reads the kind of memory CUDA's cudaHostRegister pins, and the report says how much of it the kernel backed
+// with huge pages.
+#include <sys/mman.h>
 #include <vulkan/vulkan.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <map>
 #include <memory>
+#include <sstream>
 
 #include "backends/vulkan/vulkan_context.h"
 #include "bench/bandwidth/api_runners.h"
@@ -38,7 +45,28 @@ struct Buffer {
     VkDeviceMemory memory = VK_NULL_HANDLE;
     std::byte* mapped = nullptr;
     bool coherent = true;
+    size_t imported_bytes = 0;  // > 0: `mapped` is the application's mmap imported into `memory`
 };
+
+constexpr size_t kHugePage = size_t(2) << 20;
+
+// KiB of the mapping that starts at `address` the kernel backs with transparent huge pages (/proc/self/smaps).
+size_t huge_page_kib(const void* address) {
+    std::ifstream smaps("/proc/self/smaps");
+    std::string line;
+    bool in_mapping = false;
+    while (std::getline(smaps, line)) {
+        uintptr_t start = 0;
+        char dash = 0;
+        std::istringstream head(line);
+        if (head >> std::hex >> start >> dash && dash == '-') {
+            in_mapping = start == reinterpret_cast<uintptr_t>(address);
+        } else if (in_mapping && line.rfind("AnonHugePages:", 0) == 0) {
+            return std::stoul(line.substr(14));
+        }
+    }
+    return 0;
+}
 
 // The instance, device list, queue families, memory-type choice and error text are the backend's
 // (backends/vulkan/vulkan_context.h); the staging buffers and copy commands are this test's own.
@@ -57,13 +85,15 @@ struct CopyCommands {
 
 class VulkanDevice final : public CopyDevice {
 public:
-    VulkanDevice(const vk::DeviceCandidate& candidate, bool cached_upload)
+    VulkanDevice(const vk::DeviceCandidate& candidate, const std::string& staging)
         : candidate_(candidate),
           physical_(candidate.handle),
           properties_(candidate.properties),
           driver_(candidate.driver),
-          has_transfer_(candidate.transfer_family != UINT32_MAX) {
-        read_properties(cached_upload);
+          has_transfer_(candidate.transfer_family != UINT32_MAX),
+          import_host_(staging == "host" || staging == "host-4k"),
+          huge_pages_(staging == "host") {
+        read_properties(staging == "cached");
         if (candidate.compute_family == UINT32_MAX)
             throw Error(std::string("vulkan ") + properties_.deviceName + ": no compute queue");
         create_device();
@@ -104,14 +134,21 @@ public:
                                      : "H2D, D2H, D2D copy: vkCmdCopyBuffer on the " + compute +
                                            " [compute]; no transfer-only queue family, so no [transfer] rows");
         result.details.push_back("D2D kernel: dispatched on the compute queue");
-        result.details.push_back(
-            std::string("pinned H2D from ") +
-            (memory_.memoryTypes[upload_].propertyFlags & VK_MEMORY_PROPERTY_HOST_CACHED_BIT ? "host-cached"
-                                                                                             : "uncached") +
-            " system memory, D2H into " +
-            (memory_.memoryTypes[readback_].propertyFlags & VK_MEMORY_PROPERTY_HOST_CACHED_BIT ? "host-cached"
-                                                                                               : "uncached") +
-            " (PRISM_VULKAN_STAGING picks the upload's)");
+        if (import_host_) {
+            result.details.push_back(std::string("pinned H2D and D2H through the application's memory imported with "
+                                                 "VK_EXT_external_memory_host, transparent huge pages ") +
+                                     (huge_pages_ ? "asked for" : "refused") + "; " + huge_page_report_ +
+                                     " (PRISM_VULKAN_STAGING)");
+        } else {
+            result.details.push_back(
+                std::string("pinned H2D from ") +
+                (memory_.memoryTypes[upload_].propertyFlags & VK_MEMORY_PROPERTY_HOST_CACHED_BIT ? "host-cached"
+                                                                                                 : "uncached") +
+                " system memory, D2H into " +
+                (memory_.memoryTypes[readback_].propertyFlags & VK_MEMORY_PROPERTY_HOST_CACHED_BIT ? "host-cached"
+                                                                                                   : "uncached") +
+                " (PRISM_VULKAN_STAGING picks the upload's)");
+        }
         result.details.push_back("pageable: memcpy to/from the staging buffer plus the copy; wall time only");
         if (has_transfer_ && !transfer_copies_.copy.timestamps)
             result.details.push_back("the transfer queue has no timestamps: wall time only there");
@@ -146,8 +183,18 @@ public:
         const VkBufferUsageFlags copy = VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
         buffer_a_ = create_buffer(copy | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, device_local_, "device buffer A");
         buffer_b_ = create_buffer(copy | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, device_local_, "device buffer B");
-        upload_staging_ = create_buffer(copy, upload_, "upload staging buffer");
-        readback_staging_ = create_buffer(copy, readback_, "readback staging buffer");
+        if (import_host_) {
+            upload_staging_ = import_buffer(copy, "upload staging buffer");
+            readback_staging_ = import_buffer(copy, "readback staging buffer");
+            size_t kib = huge_page_kib(upload_staging_.mapped) + huge_page_kib(readback_staging_.mapped);
+            huge_page_report_ =
+                std::to_string(kib / 1024) + " of " +
+                std::to_string((upload_staging_.imported_bytes + readback_staging_.imported_bytes) >> 20) +
+                " MiB of the last size's two staging buffers in huge pages";
+        } else {
+            upload_staging_ = create_buffer(copy, upload_, "upload staging buffer");
+            readback_staging_ = create_buffer(copy, readback_, "readback staging buffer");
+        }
         record_all();
     }
 
@@ -155,9 +202,10 @@ public:
         if (!device_) return;
         vkDeviceWaitIdle(device_);
         for (Buffer* buffer : {&buffer_a_, &buffer_b_, &upload_staging_, &readback_staging_}) {
-            if (buffer->mapped) vkUnmapMemory(device_, buffer->memory);
+            if (buffer->mapped && !buffer->imported_bytes) vkUnmapMemory(device_, buffer->memory);
             vkDestroyBuffer(device_, buffer->buffer, nullptr);
             vkFreeMemory(device_, buffer->memory, nullptr);
+            if (buffer->imported_bytes) munmap(buffer->mapped, buffer->imported_bytes);
             *buffer = Buffer{};
         }
     }
@@ -219,10 +267,20 @@ private:
         VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
         VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
         VkPhysicalDevicePCIBusInfoPropertiesEXT pci{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PCI_BUS_INFO_PROPERTIES_EXT};
+        VkPhysicalDeviceExternalMemoryHostPropertiesEXT host{
+            VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_EXTERNAL_MEMORY_HOST_PROPERTIES_EXT};
         properties.pNext = &maintenance3;
         bool has_pci = vk::has_device_extension(physical_, VK_EXT_PCI_BUS_INFO_EXTENSION_NAME);
         if (has_pci) maintenance3.pNext = &pci;
+        if (import_host_) {
+            if (!vk::has_device_extension(physical_, VK_EXT_EXTERNAL_MEMORY_HOST_EXTENSION_NAME))
+                throw Error(std::string("vulkan ") + properties_.deviceName +
+                            ": PRISM_VULKAN_STAGING=host needs VK_EXT_external_memory_host, which it lacks");
+            host.pNext = maintenance3.pNext;
+            maintenance3.pNext = &host;
+        }
         vkGetPhysicalDeviceProperties2(physical_, &properties);
+        import_alignment_ = std::max<size_t>(host.minImportedHostPointerAlignment, kHugePage);
         max_allocation_ = maintenance3.maxMemoryAllocationSize;
         if (has_pci) pci_address_ = pci_address(pci.pciDomain, pci.pciBus, pci.pciDevice, pci.pciFunction);
         vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
@@ -263,7 +321,19 @@ private:
         VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &enabled12};
         info.queueCreateInfoCount = static_cast<uint32_t>(queues.size());
         info.pQueueCreateInfos = queues.data();
+        const char* import_extension = VK_EXT_EXTERNAL_MEMORY_HOST_EXTENSION_NAME;
+        if (import_host_) {
+            info.enabledExtensionCount = 1;
+            info.ppEnabledExtensionNames = &import_extension;
+        }
         check(vkCreateDevice(physical_, &info, nullptr, &device_), "vkCreateDevice");
+        if (import_host_) {
+            host_pointer_properties_ = reinterpret_cast<PFN_vkGetMemoryHostPointerPropertiesEXT>(
+                vkGetDeviceProcAddr(device_, "vkGetMemoryHostPointerPropertiesEXT"));
+            if (!host_pointer_properties_)
+                throw Error(std::string("vulkan ") + properties_.deviceName +
+                            ": no vkGetMemoryHostPointerPropertiesEXT");
+        }
         vk::DeviceQueues queue = vk::get_device_queues(device_, candidate_, true);
 
         uint32_t count = 0;
@@ -357,6 +427,72 @@ private:
         set.descriptorSetCount = 1;
         set.pSetLayouts = &set_layout_;
         check(vkAllocateDescriptorSets(device_, &set, &descriptor_set_), "vkAllocateDescriptorSets");
+    }
+
+    // A staging buffer over an anonymous mapping of the application's, imported (VK_EXT_external_memory_host):
+    // the driver pins the pages it is given. Rounded up to 2 MiB (and the device's import alignment), so that
+    // transparent huge pages can back all of it when asked for.
+    Buffer import_buffer(VkBufferUsageFlags usage, const char* what) {
+        Buffer result;
+        size_t bytes = (bytes_ + import_alignment_ - 1) / import_alignment_ * import_alignment_;
+        // Twice the alignment reserved, the unused head and tail returned: mmap itself aligns to 4 KiB only.
+        size_t reserved = bytes + import_alignment_;
+        void* raw = mmap(nullptr, reserved, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        if (raw == MAP_FAILED) throw SizeSkipped(std::string("out of host memory for ") + what);
+        uintptr_t begin = reinterpret_cast<uintptr_t>(raw);
+        uintptr_t aligned = (begin + import_alignment_ - 1) / import_alignment_ * import_alignment_;
+        if (aligned > begin) munmap(raw, aligned - begin);
+        if (aligned + bytes < begin + reserved)
+            munmap(reinterpret_cast<void*>(aligned + bytes), begin + reserved - aligned - bytes);
+        result.mapped = reinterpret_cast<std::byte*>(aligned);
+        result.imported_bytes = bytes;
+        madvise(result.mapped, bytes, huge_pages_ ? MADV_HUGEPAGE : MADV_NOHUGEPAGE);
+        std::memset(result.mapped, 0, bytes);  // fault every page in before the driver pins them
+
+        VkMemoryHostPointerPropertiesEXT pointer{VK_STRUCTURE_TYPE_MEMORY_HOST_POINTER_PROPERTIES_EXT};
+        check(host_pointer_properties_(device_, VK_EXTERNAL_MEMORY_HANDLE_TYPE_HOST_ALLOCATION_BIT_EXT, result.mapped,
+                                       &pointer),
+              "vkGetMemoryHostPointerPropertiesEXT");
+        uint32_t type = vk::find_memory_type(memory_, pointer.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
+                                             VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, 0);
+        if (type == UINT32_MAX) type = vk::find_memory_type(memory_, pointer.memoryTypeBits, 0, 0, 0);
+        if (type == UINT32_MAX) {
+            munmap(result.mapped, bytes);
+            throw Error(std::string("vulkan ") + properties_.deviceName + ": no memory type imports host memory");
+        }
+        result.coherent = memory_.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+
+        uint32_t families[2] = {candidate_.compute_family, candidate_.transfer_family};
+        VkExternalMemoryBufferCreateInfo external{VK_STRUCTURE_TYPE_EXTERNAL_MEMORY_BUFFER_CREATE_INFO};
+        external.handleTypes = VK_EXTERNAL_MEMORY_HANDLE_TYPE_HOST_ALLOCATION_BIT_EXT;
+        VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO, &external};
+        info.size = bytes_;
+        info.usage = usage;
+        info.sharingMode = has_transfer_ ? VK_SHARING_MODE_CONCURRENT : VK_SHARING_MODE_EXCLUSIVE;
+        info.queueFamilyIndexCount = has_transfer_ ? 2 : 0;
+        info.pQueueFamilyIndices = has_transfer_ ? families : nullptr;
+        VkResult status = vkCreateBuffer(device_, &info, nullptr, &result.buffer);
+        if (status != VK_SUCCESS) {
+            munmap(result.mapped, bytes);
+            if (is_out_of_memory(status)) throw SizeSkipped(std::string("out of memory for ") + what);
+            check(status, "vkCreateBuffer");
+        }
+        VkImportMemoryHostPointerInfoEXT import{VK_STRUCTURE_TYPE_IMPORT_MEMORY_HOST_POINTER_INFO_EXT};
+        import.handleType = VK_EXTERNAL_MEMORY_HANDLE_TYPE_HOST_ALLOCATION_BIT_EXT;
+        import.pHostPointer = result.mapped;
+        VkMemoryAllocateInfo allocate{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO, &import};
+        allocate.allocationSize = bytes;
+        allocate.memoryTypeIndex = type;
+        status = vkAllocateMemory(device_, &allocate, nullptr, &result.memory);
+        if (status == VK_SUCCESS) status = vkBindBufferMemory(device_, result.buffer, result.memory, 0);
+        if (status != VK_SUCCESS) {
+            vkDestroyBuffer(device_, result.buffer, nullptr);
+            if (result.memory) vkFreeMemory(device_, result.memory, nullptr);
+            munmap(result.mapped, bytes);
+            if (is_out_of_memory(status)) throw SizeSkipped(std::string("out of memory importing ") + what);
+            check(status, "importing host memory");
+        }
+        return result;
     }
 
     Buffer create_buffer(VkBufferUsageFlags usage, uint32_t memory_type, const char* what) {
@@ -499,6 +635,11 @@ private:
     uint32_t device_local_ = UINT32_MAX, upload_ = UINT32_MAX, readback_ = UINT32_MAX;
     bool has_transfer_ = false;  // a transfer-only queue family exists, and its queue is created
     bool host_query_reset_ = false;
+    bool import_host_ = false;  // PRISM_VULKAN_STAGING=host or host-4k
+    bool huge_pages_ = false;   // host: transparent huge pages asked for
+    size_t import_alignment_ = kHugePage;
+    PFN_vkGetMemoryHostPointerPropertiesEXT host_pointer_properties_ = nullptr;
+    std::string huge_page_report_ = "no size measured yet";
 
     VkDevice device_ = VK_NULL_HANDLE;
     VkCommandPool compute_pool_ = VK_NULL_HANDLE, transfer_pool_ = VK_NULL_HANDLE;
@@ -539,7 +680,7 @@ ApiResult measure_vulkan(const Plan& plan) {
     for (const vk::DeviceCandidate& device : devices) {
         if (!plan.wants("vulkan", "", device.properties.deviceName)) continue;
         try {
-            VulkanDevice copy_device(device, plan.vulkan_cached_upload);
+            VulkanDevice copy_device(device, plan.vulkan_staging);
             api.devices.push_back(sweep(copy_device, plan));
         } catch (const Error& error) {
             DeviceResult failed{"vulkan", device.properties.deviceName};

@@ -20,7 +20,7 @@ constexpr auto kSettings = std::to_array<SettingInfo>({
     {Setting::VulkanAddressing, "PRISM_VULKAN_ADDRESSING", "auto, descriptors or addresses: how stages reach arrays"},
     {Setting::VulkanDispatch, "PRISM_VULKAN_DISPATCH", "indirect or fixed: how Vulkan launches the queue stages"},
     {Setting::VulkanStaging, "PRISM_VULKAN_STAGING",
-     "uncached or cached: the host memory of prism bandwidth's Vulkan upload staging buffer"},
+     "uncached, cached, host or host-4k: the host memory of prism bandwidth's Vulkan pinned copies"},
     {Setting::ViewPanel, "PRISM_VIEW_PANEL", "0: prism view starts without its panel"},
     {Setting::ViewAblate, "PRISM_VIEW_ABLATE", "copy or gl: prism view skips one half of showing a frame"},
     {Setting::Python, "PRISM_PYTHON", "the Python with matplotlib that draws plots"},
