@@ -76,6 +76,12 @@ void add_rays_command(CLI::App& app) {
     command->add_option("--height", bench.height, "--bench: primary rays down")->capture_default_str();
     command->add_option("--runs", bench.runs, "--bench: timed runs (median reported)")->capture_default_str();
     command->add_option("--warmup", bench.warmup, "--bench: untimed runs first")->capture_default_str();
+    command
+        ->add_option("--ray-order", bench.ray_order,
+                     "--bench: made (as made or read) or coherent (each set sorted by direction octant, then origin "
+                     "along a Morton curve, before it is traced: what reordering would give)")
+        ->check(CLI::IsMember({"made", "coherent"}))
+        ->capture_default_str();
     add_json_option(command, bench.json, "--bench: results as JSON");
     command->callback([options] { run_rays(*options); });
 }

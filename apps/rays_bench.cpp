@@ -96,6 +96,17 @@ void run_rays_bench(const RaysBenchOptions& options) {
     }
     for (RaySet& set : sets)
         if (set.reference.empty()) set.reference = reference.trace(set.rays);
+    if (options.ray_order == "coherent") {
+        for (RaySet& set : sets) {
+            std::vector<size_t> order = bench::coherent_order(set.rays);
+            RaySet sorted{set.name, {}, {}};
+            for (size_t i : order) {
+                sorted.rays.push_back(set.rays[i]);
+                sorted.reference.push_back(set.reference[i]);
+            }
+            set = std::move(sorted);
+        }
+    }
 
     nlohmann::json result = bench::result_header();
     result["kind"] = "ray_queries";
@@ -108,6 +119,7 @@ void run_rays_bench(const RaysBenchOptions& options) {
                           {"runs", options.runs},
                           {"warmup", options.warmup},
                           {"seed", options.seed},
+                          {"ray_order", options.ray_order},
                           {"time", "intersect launch, device timers, median of runs"}};
     result["backends"] = nlohmann::json::array();
     for (const std::string& backend : backends) {

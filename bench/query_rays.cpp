@@ -75,6 +75,47 @@ std::vector<RayQuery> framing_camera_rays(const Scene& scene, uint32_t width, ui
     return rays;
 }
 
+namespace {
+
+// The bits of a 10-bit value spread to every third bit (the usual Morton helper).
+uint64_t spread3(uint32_t v) {
+    uint64_t x = v & 0x3ffu;
+    x = (x | (x << 16)) & 0x30000ffull;
+    x = (x | (x << 8)) & 0x300f00full;
+    x = (x | (x << 4)) & 0x30c30c3ull;
+    x = (x | (x << 2)) & 0x9249249ull;
+    return x;
+}
+
+}  // namespace
+
+std::vector<size_t> coherent_order(const std::vector<RayQuery>& rays) {
+    glm::vec3 lower(kInfinity), upper(-kInfinity);
+    for (const RayQuery& r : rays) {
+        glm::vec3 o(r.origin[0], r.origin[1], r.origin[2]);
+        lower = glm::min(lower, o);
+        upper = glm::max(upper, o);
+    }
+    glm::vec3 extent = glm::max(upper - lower, glm::vec3(1e-30f));
+    std::vector<uint64_t> keys(rays.size());
+    for (size_t i = 0; i < rays.size(); ++i) {
+        const RayQuery& r = rays[i];
+        uint64_t octant =
+            (r.direction[0] < 0.0f ? 1u : 0u) | (r.direction[1] < 0.0f ? 2u : 0u) | (r.direction[2] < 0.0f ? 4u : 0u);
+        uint64_t morton = 0;
+        for (int axis = 0; axis < 3; ++axis) {
+            float unit = (r.origin[axis] - lower[axis]) / extent[axis];
+            uint32_t cell = static_cast<uint32_t>(std::clamp(unit, 0.0f, 1.0f) * 1023.0f);
+            morton |= spread3(cell) << axis;
+        }
+        keys[i] = octant << 30 | morton;
+    }
+    std::vector<size_t> order(rays.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&keys](size_t a, size_t b) { return keys[a] < keys[b]; });
+    return order;
+}
+
 std::vector<RayQuery> diffuse_rays(const Scene& scene, const std::vector<RayQuery>& primary,
                                    const std::vector<RayHit>& hits, size_t count, uint32_t seed) {
     std::vector<size_t> hit_rays;

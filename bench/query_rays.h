@@ -23,6 +23,10 @@ std::vector<RayQuery> framing_camera_rays(const Scene& scene, uint32_t width, ui
 // the surface. Empty when no primary ray hit.
 std::vector<RayQuery> diffuse_rays(const Scene& scene, const std::vector<RayQuery>& primary,
                                    const std::vector<RayHit>& hits, size_t count, uint32_t seed);
+// The order that groups rays likely to visit the same nodes (Garanzha & Loop 2010's ray hash, as a sort): by
+// direction octant, then along a Morton curve through the origins' bounding box (10 bits an axis); rays with one
+// key keep their order. Returns the indices of `rays` in that order.
+std::vector<size_t> coherent_order(const std::vector<RayQuery>& rays);
 
 struct Agreement {
     size_t rays = 0;

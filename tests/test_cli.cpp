@@ -189,6 +189,28 @@ TEST(Cli, RaysBenchReportsPrimaryAndDiffuseRaysPerBackend) {
         }
     }
     EXPECT_EQ(result["backends"][0]["primary"]["rays"], 64 * 48);
+    EXPECT_EQ(result["settings"]["ray_order"], "made");
+}
+
+// --ray-order coherent traces each set sorted (bench::coherent_order): the same rays, so the same agreement with
+// the reference, which is sorted with them.
+TEST(Cli, RaysBenchTracesRaysInCoherentOrder) {
+    fs::path json = prism::test::temp_dir("cli") / "rays-bench-coherent.json";
+    prism::test::CommandResult r =
+        run_prism("rays --bench --scene '" + prism::test::scene("stanford/bunny.ply").string() +
+                  "' --backends cpu --width 64 --height 48 --runs 1 --warmup 0 --ray-order coherent --json '" +
+                  json.string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    nlohmann::json result = parse_json_file(json);
+    ASSERT_TRUE(result.is_object()) << r.output;
+    EXPECT_EQ(result["settings"]["ray_order"], "coherent");
+    for (const char* set : {"primary", "diffuse"}) {
+        EXPECT_GT(result["backends"][0][set]["rays"].get<size_t>(), 100u) << set;
+        EXPECT_GE(result["backends"][0][set]["agreement"].get<double>(), 0.999) << set;
+    }
+    prism::test::CommandResult bad = run_prism("rays --bench --scene builtin:bunny --ray-order sorted");
+    EXPECT_NE(bad.exit_code, 0);
+    EXPECT_NE(bad.output.find("--ray-order"), std::string::npos) << bad.output;
 }
 
 // --- Command-line conventions (docs/cli.md) ---
