@@ -78,9 +78,10 @@ void add_rays_command(CLI::App& app) {
     command->add_option("--warmup", bench.warmup, "--bench: untimed runs first")->capture_default_str();
     command
         ->add_option("--ray-order", bench.ray_order,
-                     "--bench: made (as made or read) or coherent (each set sorted by direction octant, then origin "
-                     "along a Morton curve, before it is traced: what reordering would give)")
-        ->check(CLI::IsMember({"made", "coherent"}))
+                     "--bench: made (as made or read), coherent (each set sorted by direction octant, then origin "
+                     "along a Morton curve, before it is traced: what reordering would give) or two-point (sorted "
+                     "by a Morton code of the origin and a point along the ray)")
+        ->check(CLI::IsMember({"made", "coherent", "two-point"}))
         ->capture_default_str();
     add_json_option(command, bench.json, "--bench: results as JSON");
     command->callback([options] { run_rays(*options); });

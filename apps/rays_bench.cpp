@@ -96,9 +96,10 @@ void run_rays_bench(const RaysBenchOptions& options) {
     }
     for (RaySet& set : sets)
         if (set.reference.empty()) set.reference = reference.trace(set.rays);
-    if (options.ray_order == "coherent") {
+    if (options.ray_order != "made") {
         for (RaySet& set : sets) {
-            std::vector<size_t> order = bench::coherent_order(set.rays);
+            std::vector<size_t> order =
+                options.ray_order == "coherent" ? bench::coherent_order(set.rays) : bench::two_point_order(set.rays);
             RaySet sorted{set.name, {}, {}};
             for (size_t i : order) {
                 sorted.rays.push_back(set.rays[i]);

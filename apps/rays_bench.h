@@ -19,7 +19,8 @@ struct RaysBenchOptions {
     uint32_t runs = 21;
     uint32_t warmup = 2;
     uint32_t seed = 7;
-    std::string ray_order = "made";  // or "coherent": each set sorted by bench::coherent_order before tracing
+    // "coherent" or "two-point": each set sorted by bench::coherent_order or two_point_order before tracing
+    std::string ray_order = "made";
     std::string json;
 };
 

@@ -116,6 +116,41 @@ std::vector<size_t> coherent_order(const std::vector<RayQuery>& rays) {
     return order;
 }
 
+std::vector<size_t> two_point_order(const std::vector<RayQuery>& rays) {
+    glm::vec3 lower(kInfinity), upper(-kInfinity);
+    for (const RayQuery& r : rays) {
+        glm::vec3 o(r.origin[0], r.origin[1], r.origin[2]);
+        lower = glm::min(lower, o);
+        upper = glm::max(upper, o);
+    }
+    float length = 0.25f * glm::length(upper - lower);
+    if (!(length > 0.0f)) length = 1.0f;  // one origin (a camera's rays): order by the direction alone
+    lower -= glm::vec3(length);
+    upper += glm::vec3(length);
+    glm::vec3 extent = glm::max(upper - lower, glm::vec3(1e-30f));
+    auto cell = [&](float x, int axis) {
+        float unit = (x - lower[axis]) / extent[axis];
+        return static_cast<uint64_t>(std::clamp(unit, 0.0f, 1.0f) * 1023.0f);
+    };
+    std::vector<uint64_t> keys(rays.size());
+    for (size_t i = 0; i < rays.size(); ++i) {
+        const RayQuery& r = rays[i];
+        uint64_t c[6];
+        for (int axis = 0; axis < 3; ++axis) {
+            c[axis] = cell(r.origin[axis], axis);
+            c[3 + axis] = cell(r.origin[axis] + length * r.direction[axis], axis);
+        }
+        uint64_t key = 0;
+        for (int bit = 9; bit >= 0; --bit)
+            for (int k = 0; k < 6; ++k) key = key << 1 | ((c[k] >> bit) & 1u);
+        keys[i] = key;
+    }
+    std::vector<size_t> order(rays.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&keys](size_t a, size_t b) { return keys[a] < keys[b]; });
+    return order;
+}
+
 std::vector<RayQuery> diffuse_rays(const Scene& scene, const std::vector<RayQuery>& primary,
                                    const std::vector<RayHit>& hits, size_t count, uint32_t seed) {
     std::vector<size_t> hit_rays;

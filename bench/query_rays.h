@@ -27,6 +27,10 @@ std::vector<RayQuery> diffuse_rays(const Scene& scene, const std::vector<RayQuer
 // direction octant, then along a Morton curve through the origins' bounding box (10 bits an axis); rays with one
 // key keep their order. Returns the indices of `rays` in that order.
 std::vector<size_t> coherent_order(const std::vector<RayQuery>& rays);
+// Meister et al. 2020's two-point key, as a sort: the origin and a point a quarter of the origins' bounding-box
+// diagonal along the ray (1 along it when all share one origin), both quantized to 10 bits an axis in that box
+// (grown to hold both), interleaved into one 60-bit Morton code; rays with one key keep their order.
+std::vector<size_t> two_point_order(const std::vector<RayQuery>& rays);
 
 struct Agreement {
     size_t rays = 0;

@@ -24,7 +24,8 @@ TEST(CoherentRayOrder, IsAPermutationGroupedByOctant) {
     std::mt19937 rng(3);
     std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
     std::vector<prism::RayQuery> rays;
-    for (int i = 0; i < 5000; ++i) rays.push_back(ray(unit(rng), unit(rng), unit(rng), unit(rng), unit(rng), unit(rng)));
+    for (int i = 0; i < 5000; ++i)
+        rays.push_back(ray(unit(rng), unit(rng), unit(rng), unit(rng), unit(rng), unit(rng)));
     std::vector<size_t> order = prism::bench::coherent_order(rays);
     ASSERT_EQ(order.size(), rays.size());
     std::vector<size_t> sorted = order;
@@ -41,6 +42,18 @@ TEST(CoherentRayOrder, OrdersOriginsAlongTheCurveAndKeepsTies) {
                                          ray(0, 0, 0, 1, 2, 1)};
     std::vector<size_t> order = prism::bench::coherent_order(rays);
     EXPECT_EQ(order, (std::vector<size_t>{1, 3, 2, 0}));
+}
+
+TEST(TwoPointRayOrder, GroupsRaysThatGoTheSameWayAndKeepsTies) {
+    // From one origin, rays to +x and to -x alternate; the order puts each direction's rays together, in their
+    // order. From two origins far apart, rays group by origin.
+    std::vector<prism::RayQuery> rays = {ray(0, 0, 0, 1, 0, 0), ray(0, 0, 0, -1, 0, 0), ray(0, 0, 0, 1, 0, 0),
+                                         ray(0, 0, 0, -1, 0, 0)};
+    std::vector<size_t> order = prism::bench::two_point_order(rays);
+    EXPECT_EQ(order, (std::vector<size_t>{1, 3, 0, 2}));
+    std::vector<prism::RayQuery> apart = {ray(0, 0, 0, 0, 0, 1), ray(100, 100, 100, 0, 0, 1), ray(0, 0, 0, 0, 0, 1),
+                                          ray(100, 100, 100, 0, 0, 1)};
+    EXPECT_EQ(prism::bench::two_point_order(apart), (std::vector<size_t>{0, 2, 1, 3}));
 }
 
 }  // namespace
