@@ -117,6 +117,36 @@ TEST(OpenclProgram, BinaryCacheIsWrittenReusedAndOptional) {
     }
 }
 
+// PRISM_OPENCL_OPTIONS (experiments) goes after the fixed options, keys its own cache entry, and a bad option is
+// the build's one-line error.
+TEST(OpenclProgram, ExtraOptionsFollowTheFixedOnesAndKeyTheCache) {
+    REQUIRE_POCL();
+    const std::string source = "__kernel void cached(__global uint* out) { out[get_global_id(0)] = EXTRA; }\n";
+    std::filesystem::path dir = prism::test::temp_dir("opencl-cache-options");
+    std::filesystem::remove_all(dir);
+    ScopedEnv cache("PRISM_CACHE_DIR", dir.string());
+    prism::opencl_internal::BuildReport one, two;
+    {
+        ScopedEnv extra("PRISM_OPENCL_OPTIONS", "-D EXTRA=1u");
+        one = prism::opencl_internal::build_source(kPocl, source);
+        EXPECT_NE(one.options.find("-cl-std=CL1.2 "), std::string::npos) << one.options;
+        EXPECT_EQ(one.options.substr(one.options.size() - 11), "-D EXTRA=1u") << one.options;
+    }
+    {
+        ScopedEnv extra("PRISM_OPENCL_OPTIONS", "-D EXTRA=2u");
+        two = prism::opencl_internal::build_source(kPocl, source);
+        EXPECT_FALSE(two.from_cache);
+        EXPECT_NE(two.cache_file, one.cache_file);
+    }
+    {
+        ScopedEnv extra("PRISM_OPENCL_OPTIONS", "-cl-no-such-option");
+        std::string message =
+            prism::test::error_message([&] { prism::opencl_internal::build_source(kPocl, source + "\n"); });
+        EXPECT_NE(message.find("opencl: kernel build failed on "), std::string::npos) << message;
+        EXPECT_EQ(message.find('\n'), std::string::npos) << "errors are one line: " << message;
+    }
+}
+
 // ---- Device selection -------------------------------------------------------------------------------------------
 
 TEST(OpenclDevices, UnknownFilterListsTheDevices) {

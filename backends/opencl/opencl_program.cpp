@@ -26,6 +26,10 @@ std::string build_options(const DeviceEntry& device) {
     if (device.fp_config & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) options += " -cl-fp32-correctly-rounded-divide-sqrt";
     if (device.platform_vendor.find("NVIDIA") != std::string::npos && (device.type & CL_DEVICE_TYPE_GPU))
         options += " -D RT_OPENCL_NVIDIA_PTX";
+    // Experiments only (docs/environment.md): the options are part of the cache key, so a binary built with them
+    // is never taken for one built without.
+    if (std::optional<std::string> extra = setting(Setting::OpenclOptions); extra && !extra->empty())
+        options += " " + *extra;
     return options;
 }
 

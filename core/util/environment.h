@@ -17,6 +17,7 @@ enum class Setting {
     DeviceMemoryLimit,  // PRISM_DEVICE_MEMORY_LIMIT
     HostMemoryLimit,    // PRISM_HOST_MEMORY_LIMIT
     CudaGl,             // PRISM_CUDA_GL
+    OpenclOptions,      // PRISM_OPENCL_OPTIONS
     VulkanValidation,   // PRISM_VULKAN_VALIDATION
     VulkanAddressing,   // PRISM_VULKAN_ADDRESSING
     VulkanDispatch,     // PRISM_VULKAN_DISPATCH
