@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <utility>
 
 #include <glm/glm.hpp>
 
@@ -87,15 +88,29 @@ uint64_t spread3(uint32_t v) {
     return x;
 }
 
-}  // namespace
-
-std::vector<size_t> coherent_order(const std::vector<RayQuery>& rays) {
+// The box around the rays' origins.
+std::pair<glm::vec3, glm::vec3> origin_bounds(const std::vector<RayQuery>& rays) {
     glm::vec3 lower(kInfinity), upper(-kInfinity);
     for (const RayQuery& r : rays) {
         glm::vec3 o(r.origin[0], r.origin[1], r.origin[2]);
         lower = glm::min(lower, o);
         upper = glm::max(upper, o);
     }
+    return {lower, upper};
+}
+
+// The indices in ascending order of their keys, equal keys in index order.
+std::vector<size_t> stable_order(const std::vector<uint64_t>& keys) {
+    std::vector<size_t> order(keys.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&keys](size_t a, size_t b) { return keys[a] < keys[b]; });
+    return order;
+}
+
+}  // namespace
+
+std::vector<size_t> coherent_order(const std::vector<RayQuery>& rays) {
+    auto [lower, upper] = origin_bounds(rays);
     glm::vec3 extent = glm::max(upper - lower, glm::vec3(1e-30f));
     std::vector<uint64_t> keys(rays.size());
     for (size_t i = 0; i < rays.size(); ++i) {
@@ -110,19 +125,11 @@ std::vector<size_t> coherent_order(const std::vector<RayQuery>& rays) {
         }
         keys[i] = octant << 30 | morton;
     }
-    std::vector<size_t> order(rays.size());
-    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(), [&keys](size_t a, size_t b) { return keys[a] < keys[b]; });
-    return order;
+    return stable_order(keys);
 }
 
 std::vector<size_t> two_point_order(const std::vector<RayQuery>& rays) {
-    glm::vec3 lower(kInfinity), upper(-kInfinity);
-    for (const RayQuery& r : rays) {
-        glm::vec3 o(r.origin[0], r.origin[1], r.origin[2]);
-        lower = glm::min(lower, o);
-        upper = glm::max(upper, o);
-    }
+    auto [lower, upper] = origin_bounds(rays);
     float length = 0.25f * glm::length(upper - lower);
     if (!(length > 0.0f)) length = 1.0f;  // one origin (a camera's rays): order by the direction alone
     lower -= glm::vec3(length);
@@ -145,10 +152,7 @@ std::vector<size_t> two_point_order(const std::vector<RayQuery>& rays) {
             for (int k = 0; k < 6; ++k) key = key << 1 | ((c[k] >> bit) & 1u);
         keys[i] = key;
     }
-    std::vector<size_t> order(rays.size());
-    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(), [&keys](size_t a, size_t b) { return keys[a] < keys[b]; });
-    return order;
+    return stable_order(keys);
 }
 
 std::vector<RayQuery> diffuse_rays(const Scene& scene, const std::vector<RayQuery>& primary,

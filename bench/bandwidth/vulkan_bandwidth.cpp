@@ -91,6 +91,7 @@ public:
           properties_(candidate.properties),
           driver_(candidate.driver),
           has_transfer_(candidate.transfer_family != UINT32_MAX),
+          families_{candidate.compute_family, candidate.transfer_family},
           import_host_(staging == "host" || staging == "host-4k"),
           huge_pages_(staging == "host") {
         read_properties(staging == "cached");
@@ -462,15 +463,10 @@ private:
         }
         result.coherent = memory_.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
 
-        uint32_t families[2] = {candidate_.compute_family, candidate_.transfer_family};
         VkExternalMemoryBufferCreateInfo external{VK_STRUCTURE_TYPE_EXTERNAL_MEMORY_BUFFER_CREATE_INFO};
         external.handleTypes = VK_EXTERNAL_MEMORY_HANDLE_TYPE_HOST_ALLOCATION_BIT_EXT;
-        VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO, &external};
-        info.size = bytes_;
-        info.usage = usage;
-        info.sharingMode = has_transfer_ ? VK_SHARING_MODE_CONCURRENT : VK_SHARING_MODE_EXCLUSIVE;
-        info.queueFamilyIndexCount = has_transfer_ ? 2 : 0;
-        info.pQueueFamilyIndices = has_transfer_ ? families : nullptr;
+        VkBufferCreateInfo info = buffer_info(usage);
+        info.pNext = &external;
         VkResult status = vkCreateBuffer(device_, &info, nullptr, &result.buffer);
         if (status != VK_SUCCESS) {
             munmap(result.mapped, bytes);
@@ -495,16 +491,21 @@ private:
         return result;
     }
 
-    Buffer create_buffer(VkBufferUsageFlags usage, uint32_t memory_type, const char* what) {
-        Buffer result;
-        uint32_t families[2] = {candidate_.compute_family, candidate_.transfer_family};
+    // A buffer of the measured size that both queues use.
+    VkBufferCreateInfo buffer_info(VkBufferUsageFlags usage) const {
         VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
         info.size = bytes_;
         info.usage = usage;
         // Concurrent sharing spares queue-family ownership transfers; buffers have no compressed layout to lose.
         info.sharingMode = has_transfer_ ? VK_SHARING_MODE_CONCURRENT : VK_SHARING_MODE_EXCLUSIVE;
         info.queueFamilyIndexCount = has_transfer_ ? 2 : 0;
-        info.pQueueFamilyIndices = has_transfer_ ? families : nullptr;
+        info.pQueueFamilyIndices = has_transfer_ ? families_ : nullptr;
+        return info;
+    }
+
+    Buffer create_buffer(VkBufferUsageFlags usage, uint32_t memory_type, const char* what) {
+        Buffer result;
+        VkBufferCreateInfo info = buffer_info(usage);
         VkResult status = vkCreateBuffer(device_, &info, nullptr, &result.buffer);
         if (is_out_of_memory(status)) throw SizeSkipped(std::string("out of memory for ") + what);
         check(status, "vkCreateBuffer");
@@ -634,6 +635,7 @@ private:
     std::string pci_address_;
     uint32_t device_local_ = UINT32_MAX, upload_ = UINT32_MAX, readback_ = UINT32_MAX;
     bool has_transfer_ = false;  // a transfer-only queue family exists, and its queue is created
+    uint32_t families_[2];       // compute, transfer: the queue families that share every buffer
     bool host_query_reset_ = false;
     bool import_host_ = false;  // PRISM_VULKAN_STAGING=host or host-4k
     bool huge_pages_ = false;   // host: transparent huge pages asked for
