@@ -27,44 +27,16 @@ RT_FUNC uint rt_pixel_count(KernelGlobals kg) {
 
 // Primary rays through pixel centres of a pinhole camera (thesis 6.3: "rays share the camera position").
 // `index` counts the pixels of the frame's tile; the ray carries it, so accumulation and the image are per tile.
-// The primary rays' order: squares of RT_PIXEL_BLOCK x RT_PIXEL_BLOCK pixels, left to right in bands of that
-// height, each square row by row (a narrower last square and a lower last band where the tile's size is not a
-// multiple). The warps in flight then cover a compact patch of the image rather than a strip of whole rows, and
-// every later depth inherits that order (a ray's children follow it in the queue). Returns the pixel's index in
-// the tile, row by row, which the ray carries.
-#define RT_PIXEL_BLOCK 32u
-RT_FUNC uint rt_primary_pixel(uint index, uint width, uint height) {
-    uint band = index / (RT_PIXEL_BLOCK * width);
-    uint y0 = band * RT_PIXEL_BLOCK;
-    uint band_height = rt_min_u(RT_PIXEL_BLOCK, height - y0);
-    uint i = index - band * RT_PIXEL_BLOCK * width;
-    uint square = RT_PIXEL_BLOCK * band_height;
-    uint full = width / RT_PIXEL_BLOCK;
-    uint x;
-    uint y;
-    if (i < full * square) {
-        x = (i / square) * RT_PIXEL_BLOCK + (i % square) % RT_PIXEL_BLOCK;
-        y = (i % square) / RT_PIXEL_BLOCK;
-    } else {
-        uint rest = width - full * RT_PIXEL_BLOCK;
-        uint j = i - full * square;
-        x = full * RT_PIXEL_BLOCK + j % rest;
-        y = j / rest;
-    }
-    return (y0 + y) * width + x;
-}
-
 RT_FUNC Ray rt_primary_ray(FrameParams frame, uint index) {
-    uint pixel = rt_primary_pixel(index, frame.tile_width, frame.tile_height);
-    uint x = frame.tile_x + pixel % frame.tile_width;
-    uint y = frame.tile_y + pixel / frame.tile_width;
+    uint x = frame.tile_x + index % frame.tile_width;
+    uint y = frame.tile_y + index / frame.tile_width;
     float tan_half = frame.tan_half_fov;
     float aspect = frame.aspect;
     float px = (2.0f * (rt_float(x) + 0.5f) / rt_float(frame.width) - 1.0f) * tan_half * aspect;
     float py = (1.0f - 2.0f * (rt_float(y) + 0.5f) / rt_float(frame.height)) * tan_half;
     float3 dir =
         normalize(rt_xyz(frame.camera_forward) + rt_xyz(frame.camera_right) * px + rt_xyz(frame.camera_up) * py);
-    return rt_make_ray(rt_xyz(frame.camera_position), dir, rt_splat3(1.0f), pixel, RT_CHANNEL_ALL, 0u);
+    return rt_make_ray(rt_xyz(frame.camera_position), dir, rt_splat3(1.0f), index, RT_CHANNEL_ALL, 0u);
 }
 
 RT_FUNC void rt_stage_generate(KernelGlobals kg, uint index) {
