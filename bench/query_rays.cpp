@@ -88,6 +88,13 @@ uint64_t spread3(uint32_t v) {
     return x;
 }
 
+// A coordinate's cell of 10 bits, `unit` being its place in the box (0..1); NaN (a ray file's NaN or infinite
+// coordinates) goes to cell 0 rather than into an undefined conversion.
+uint32_t cell10(float unit) {
+    if (!(unit >= 0.0f)) return 0u;
+    return static_cast<uint32_t>(std::min(unit, 1.0f) * 1023.0f);
+}
+
 // The box around the rays' origins.
 std::pair<glm::vec3, glm::vec3> origin_bounds(const std::vector<RayQuery>& rays) {
     glm::vec3 lower(kInfinity), upper(-kInfinity);
@@ -119,9 +126,7 @@ std::vector<size_t> coherent_order(const std::vector<RayQuery>& rays) {
             (r.direction[0] < 0.0f ? 1u : 0u) | (r.direction[1] < 0.0f ? 2u : 0u) | (r.direction[2] < 0.0f ? 4u : 0u);
         uint64_t morton = 0;
         for (int axis = 0; axis < 3; ++axis) {
-            float unit = (r.origin[axis] - lower[axis]) / extent[axis];
-            uint32_t cell = static_cast<uint32_t>(std::clamp(unit, 0.0f, 1.0f) * 1023.0f);
-            morton |= spread3(cell) << axis;
+            morton |= spread3(cell10((r.origin[axis] - lower[axis]) / extent[axis])) << axis;
         }
         keys[i] = octant << 30 | morton;
     }
@@ -135,10 +140,7 @@ std::vector<size_t> two_point_order(const std::vector<RayQuery>& rays) {
     lower -= glm::vec3(length);
     upper += glm::vec3(length);
     glm::vec3 extent = glm::max(upper - lower, glm::vec3(1e-30f));
-    auto cell = [&](float x, int axis) {
-        float unit = (x - lower[axis]) / extent[axis];
-        return static_cast<uint64_t>(std::clamp(unit, 0.0f, 1.0f) * 1023.0f);
-    };
+    auto cell = [&](float x, int axis) { return uint64_t(cell10((x - lower[axis]) / extent[axis])); };
     std::vector<uint64_t> keys(rays.size());
     for (size_t i = 0; i < rays.size(); ++i) {
         const RayQuery& r = rays[i];

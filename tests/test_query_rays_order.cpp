@@ -56,4 +56,17 @@ TEST(TwoPointRayOrder, GroupsRaysThatGoTheSameWayAndKeepsTies) {
     EXPECT_EQ(prism::bench::two_point_order(apart), (std::vector<size_t>{0, 2, 1, 3}));
 }
 
+// A ray file may hold NaN or infinite coordinates: both orders still return a permutation (UBSan checks the
+// conversions in the sanitizer build).
+TEST(CoherentRayOrder, NonFiniteRaysStillGetAnOrder) {
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    std::vector<prism::RayQuery> rays = {ray(nan, 0, 0, 1, 0, 0), ray(0, inf, 0, 0, 1, 0), ray(1, 1, 1, nan, 0, 1),
+                                         ray(-inf, 2, 2, 0, 0, -1)};
+    for (const std::vector<size_t>& order : {prism::bench::coherent_order(rays), prism::bench::two_point_order(rays)}) {
+        std::vector<size_t> sorted = order;
+        std::sort(sorted.begin(), sorted.end());
+        EXPECT_EQ(sorted, (std::vector<size_t>{0, 1, 2, 3}));
+    }
+}
+
 }  // namespace
