@@ -436,7 +436,7 @@ private:
     Buffer import_buffer(VkBufferUsageFlags usage, const char* what) {
         Buffer result;
         size_t bytes = (bytes_ + import_alignment_ - 1) / import_alignment_ * import_alignment_;
-        // Twice the alignment reserved, the unused head and tail returned: mmap itself aligns to 4 KiB only.
+        // One alignment more reserved, the unused head and tail returned: mmap itself aligns to 4 KiB only.
         size_t reserved = bytes + import_alignment_;
         void* raw = mmap(nullptr, reserved, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
         if (raw == MAP_FAILED) throw SizeSkipped(std::string("out of host memory for ") + what);
@@ -451,9 +451,12 @@ private:
         std::memset(result.mapped, 0, bytes);  // fault every page in before the driver pins them
 
         VkMemoryHostPointerPropertiesEXT pointer{VK_STRUCTURE_TYPE_MEMORY_HOST_POINTER_PROPERTIES_EXT};
-        check(host_pointer_properties_(device_, VK_EXTERNAL_MEMORY_HANDLE_TYPE_HOST_ALLOCATION_BIT_EXT, result.mapped,
-                                       &pointer),
-              "vkGetMemoryHostPointerPropertiesEXT");
+        VkResult status = host_pointer_properties_(device_, VK_EXTERNAL_MEMORY_HANDLE_TYPE_HOST_ALLOCATION_BIT_EXT,
+                                                   result.mapped, &pointer);
+        if (status != VK_SUCCESS) {
+            munmap(result.mapped, bytes);
+            check(status, "vkGetMemoryHostPointerPropertiesEXT");
+        }
         uint32_t type = vk::find_memory_type(memory_, pointer.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
                                              VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, 0);
         if (type == UINT32_MAX) type = vk::find_memory_type(memory_, pointer.memoryTypeBits, 0, 0, 0);
@@ -467,7 +470,7 @@ private:
         external.handleTypes = VK_EXTERNAL_MEMORY_HANDLE_TYPE_HOST_ALLOCATION_BIT_EXT;
         VkBufferCreateInfo info = buffer_info(usage);
         info.pNext = &external;
-        VkResult status = vkCreateBuffer(device_, &info, nullptr, &result.buffer);
+        status = vkCreateBuffer(device_, &info, nullptr, &result.buffer);
         if (status != VK_SUCCESS) {
             munmap(result.mapped, bytes);
             if (is_out_of_memory(status)) throw SizeSkipped(std::string("out of memory for ") + what);
