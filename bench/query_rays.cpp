@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <random>
 #include <utility>
@@ -78,21 +79,21 @@ std::vector<RayQuery> framing_camera_rays(const Scene& scene, uint32_t width, ui
 
 namespace {
 
-// The bits of a 10-bit value spread to every third bit (the usual Morton helper).
-uint64_t spread3(uint32_t v) {
-    uint64_t x = v & 0x3ffu;
-    x = (x | (x << 16)) & 0x30000ffull;
-    x = (x | (x << 8)) & 0x300f00full;
-    x = (x | (x << 4)) & 0x30c30c3ull;
-    x = (x | (x << 2)) & 0x9249249ull;
-    return x;
-}
-
-// A coordinate's cell of 10 bits, `unit` being its place in the box (0..1); NaN (a ray file's NaN or infinite
+// A coordinate's cell of 10 bits along `axis` of the box [lower, lower + extent]; NaN (a ray file's NaN or infinite
 // coordinates) goes to cell 0 rather than into an undefined conversion.
-uint32_t cell10(float unit) {
+uint32_t cell10(float x, int axis, glm::vec3 lower, glm::vec3 extent) {
+    float unit = (x - lower[axis]) / extent[axis];
     if (!(unit >= 0.0f)) return 0u;
     return static_cast<uint32_t>(std::min(unit, 1.0f) * 1023.0f);
+}
+
+// The Morton code of 10-bit cells: their bits interleaved from the top bit down, the first cell's bit the most
+// significant of each group.
+uint64_t morton(std::initializer_list<uint32_t> cells) {
+    uint64_t key = 0;
+    for (int bit = 9; bit >= 0; --bit)
+        for (uint32_t c : cells) key = key << 1 | ((c >> bit) & 1u);
+    return key;
 }
 
 // The box around the rays' origins.
@@ -124,11 +125,8 @@ std::vector<size_t> coherent_order(const std::vector<RayQuery>& rays) {
         const RayQuery& r = rays[i];
         uint64_t octant =
             (r.direction[0] < 0.0f ? 1u : 0u) | (r.direction[1] < 0.0f ? 2u : 0u) | (r.direction[2] < 0.0f ? 4u : 0u);
-        uint64_t morton = 0;
-        for (int axis = 0; axis < 3; ++axis) {
-            morton |= spread3(cell10((r.origin[axis] - lower[axis]) / extent[axis])) << axis;
-        }
-        keys[i] = octant << 30 | morton;
+        keys[i] = octant << 30 | morton({cell10(r.origin[2], 2, lower, extent), cell10(r.origin[1], 1, lower, extent),
+                                         cell10(r.origin[0], 0, lower, extent)});
     }
     return stable_order(keys);
 }
@@ -140,19 +138,12 @@ std::vector<size_t> two_point_order(const std::vector<RayQuery>& rays) {
     lower -= glm::vec3(length);
     upper += glm::vec3(length);
     glm::vec3 extent = glm::max(upper - lower, glm::vec3(1e-30f));
-    auto cell = [&](float x, int axis) { return uint64_t(cell10((x - lower[axis]) / extent[axis])); };
     std::vector<uint64_t> keys(rays.size());
     for (size_t i = 0; i < rays.size(); ++i) {
         const RayQuery& r = rays[i];
-        uint64_t c[6];
-        for (int axis = 0; axis < 3; ++axis) {
-            c[axis] = cell(r.origin[axis], axis);
-            c[3 + axis] = cell(r.origin[axis] + length * r.direction[axis], axis);
-        }
-        uint64_t key = 0;
-        for (int bit = 9; bit >= 0; --bit)
-            for (int k = 0; k < 6; ++k) key = key << 1 | ((c[k] >> bit) & 1u);
-        keys[i] = key;
+        auto origin = [&](int axis) { return cell10(r.origin[axis], axis, lower, extent); };
+        auto end = [&](int axis) { return cell10(r.origin[axis] + length * r.direction[axis], axis, lower, extent); };
+        keys[i] = morton({origin(0), origin(1), origin(2), end(0), end(1), end(2)});
     }
     return stable_order(keys);
 }
