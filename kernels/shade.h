@@ -97,14 +97,21 @@ RT_FUNC Surface rt_surface(KernelGlobals kg, float3 origin, float3 direction, Hi
     return rt_surface_at(kg, direction, hit, true);
 }
 
-RT_STRUCT_BEGIN(ShadeResult)
-    float4 emitted;       // xyz: what this hit adds to its pixel with no further ray (ambient + emission)
+// What the shadow rays of a hit need (rt_shadow_ray).
+RT_STRUCT_BEGIN(LitPoint)
     float4 light_weight;  // xyz: multiplies each light's irradiance reaching the point (shadow rays)
-    float4 lit_origin;    // xyz: the point moved off the surface on the side the ray came from
+    float4 origin;        // xyz: the point moved off the surface on the side the ray came from
     float4 normal;        // xyz: shading normal facing the ray
     float4 geometric;     // xyz: geometric normal facing the ray
-    Ray children[RT_MAX_CHILDREN];
-    uint child_count;
+RT_STRUCT_END(LitPoint)
+
+// The child rays go to an array the caller holds, not into this struct: returned by value, a struct with the
+// array was copied whole through local memory by NVIDIA's OpenCL (C has no return-value elision; docs/kernels.md,
+// "The shade stage's copy").
+RT_STRUCT_BEGIN(ShadeResult)
+    float4 emitted;  // xyz: what this hit adds to its pixel with no further ray (ambient + emission)
+    LitPoint lit;
+    uint child_count;  // rays written to the caller's children[0, child_count)
 RT_STRUCT_END(ShadeResult)
 
 RT_FUNC Ray rt_make_ray(float3 origin, float3 direction, float3 weight, uint pixel, uint mask, uint depth) {
@@ -149,7 +156,7 @@ RT_FUNC Ray rt_refraction_ray(Surface s, Material m, float3 d, float3 weight, ui
     return rt_make_ray(inside, dir, weight, pixel, mask, depth);
 }
 
-RT_FUNC ShadeResult rt_shade(KernelGlobals kg, Ray ray, Hit hit) {
+RT_FUNC ShadeResult rt_shade(KernelGlobals kg, Ray ray, Hit hit, RT_OUT_ARRAY Ray children[RT_MAX_CHILDREN]) {
     FrameParams frame = RT_FETCH(kg, frame, 0u);
     float3 d = rt_xyz(ray.direction);
     Surface s = rt_surface(kg, rt_xyz(ray.origin), d, hit);
@@ -181,26 +188,26 @@ RT_FUNC ShadeResult rt_shade(KernelGlobals kg, Ray ray, Hit hit) {
     float3 base = color * (rf * (1.0f - reflectivity) + tf * (1.0f - transmittance));
 
     ShadeResult result;
-    result.light_weight = rt_float4(weight * base, 0.0f);
+    result.lit.light_weight = rt_float4(weight * base, 0.0f);
     result.emitted =
         rt_float4(weight * (base * rt_xyz(frame.ambient_light) * terms.emission.w + rt_xyz(terms.emission)), 0.0f);
-    result.lit_origin = rt_float4(rt_offset_ray_origin(rt_xyz(s.position), ng), 0.0f);
-    result.normal = s.normal;
-    result.geometric = s.geometric;
+    result.lit.origin = rt_float4(rt_offset_ray_origin(rt_xyz(s.position), ng), 0.0f);
+    result.lit.normal = s.normal;
+    result.lit.geometric = s.geometric;
     result.child_count = 0u;
     uint count = 0u;
     if (depth + 1u < frame.max_depth) {
         float min_weight = frame.min_weight;
         if (rt_max3(passing) > min_weight) {
             float3 through = rt_offset_ray_origin(rt_xyz(s.position), -ng);
-            result.children[count] = rt_make_ray(through, d, passing, pixel, mask, depth + 1u);
+            children[count] = rt_make_ray(through, d, passing, pixel, mask, depth + 1u);
             count += 1u;
         }
         float3 w_reflect = weight * rt_xyz(terms.specular) * (rf * reflectivity);
         if (rt_max3(w_reflect) > min_weight) {
             float3 dir = rt_reflect(d, n);
             if (dot(dir, ng) <= 0.0f) dir = rt_reflect(d, ng);  // shading normal pointed it into the surface
-            result.children[count] = rt_make_ray(rt_xyz(result.lit_origin), dir, w_reflect, pixel, mask, depth + 1u);
+            children[count] = rt_make_ray(rt_xyz(result.lit.origin), dir, w_reflect, pixel, mask, depth + 1u);
             count += 1u;
         }
         float3 w_refract = weight * rt_xyz(m.ambient) * (tf * transmittance);
@@ -211,14 +218,13 @@ RT_FUNC ShadeResult rt_shade(KernelGlobals kg, Ray ray, Hit hit) {
                     uint channel_mask = 1u << c;
                     float3 w_channel = rt_mask3(w_refract, channel_mask);
                     if (rt_max3(w_channel) > min_weight) {
-                        result.children[count] =
-                            rt_refraction_ray(s, m, d, w_channel, pixel, channel_mask, depth + 1u, c);
+                        children[count] = rt_refraction_ray(s, m, d, w_channel, pixel, channel_mask, depth + 1u, c);
                         count += 1u;
                     }
                 }
             } else {
                 uint channel = mask == 1u ? 0u : (mask == 4u ? 2u : 1u);
-                result.children[count] = rt_refraction_ray(s, m, d, w_refract, pixel, mask, depth + 1u, channel);
+                children[count] = rt_refraction_ray(s, m, d, w_refract, pixel, mask, depth + 1u, channel);
                 count += 1u;
             }
         }
@@ -229,9 +235,9 @@ RT_FUNC ShadeResult rt_shade(KernelGlobals kg, Ray ray, Hit hit) {
 
 // The shadow ray towards light `index` and what it delivers if nothing blocks it; contribution.w = 0 when the
 // light is behind the surface (no ray needed).
-RT_FUNC ShadowRay rt_shadow_ray(KernelGlobals kg, ShadeResult shade, uint index, uint pixel) {
+RT_FUNC ShadowRay rt_shadow_ray(KernelGlobals kg, LitPoint lit, uint index, uint pixel) {
     Light light = RT_FETCH(kg, lights, index);
-    float3 origin = rt_xyz(shade.lit_origin);
+    float3 origin = rt_xyz(lit.origin);
     float3 to_light;
     float distance;
     float falloff;
@@ -248,11 +254,11 @@ RT_FUNC ShadowRay rt_shadow_ray(KernelGlobals kg, ShadeResult shade, uint index,
     }
     // A light below the geometric surface is hidden by the surface itself, whatever the shading normal says;
     // tracing that ray would only find the surface's own neighbours at distances each API rounds differently.
-    float cosine = dot(rt_xyz(shade.geometric), to_light) > 0.0f ? dot(rt_xyz(shade.normal), to_light) : 0.0f;
+    float cosine = dot(rt_xyz(lit.geometric), to_light) > 0.0f ? dot(rt_xyz(lit.normal), to_light) : 0.0f;
     ShadowRay sr;
     sr.origin = rt_float4(origin, 0.0f);
     sr.direction = rt_float4(to_light, distance);
-    float3 contribution = rt_xyz(shade.light_weight) * rt_xyz(light.color) * (rt_max(cosine, 0.0f) * falloff);
+    float3 contribution = rt_xyz(lit.light_weight) * rt_xyz(light.color) * (rt_max(cosine, 0.0f) * falloff);
     sr.contribution = rt_float4(contribution, cosine > 0.0f && rt_max3(contribution) > 0.0f ? 1.0f : 0.0f);
     sr.pixel = pixel;
     sr.unused0 = 0u;

@@ -82,22 +82,23 @@ RT_FUNC void rt_stage_shade(KernelGlobals kg, uint index, uint depth) {
     if (!(hit.tuv.x < RT_INFINITY)) return;
     FrameParams frame = RT_FETCH(kg, frame, 0u);
     Ray ray = RT_FETCH(kg, rays, rt_queue_base(frame, depth) + index);
-    ShadeResult shade = rt_shade(kg, ray, hit);
+    Ray children[RT_MAX_CHILDREN];
+    ShadeResult shade = rt_shade(kg, ray, hit, children);
     rt_accumulate(kg, ray.pixel, rt_xyz(shade.emitted));
     uint shadow_count = 0u;
     for (uint l = 0u; l < frame.light_count; ++l)
-        if (rt_shadow_ray(kg, shade, l, ray.pixel).contribution.w != 0.0f) shadow_count += 1u;
+        if (rt_shadow_ray(kg, shade.lit, l, ray.pixel).contribution.w != 0.0f) shadow_count += 1u;
     uint shadow_slot = rt_queue_reserve(kg, RT_COUNTER_SHADOWS + depth, shadow_count, frame.shadow_capacity);
     uint ray_slot = rt_queue_reserve(kg, RT_COUNTER_RAYS + depth + 1u, shade.child_count, frame.ray_capacity);
     for (uint l = 0u; l < frame.light_count; ++l) {
-        ShadowRay sr = rt_shadow_ray(kg, shade, l, ray.pixel);
+        ShadowRay sr = rt_shadow_ray(kg, shade.lit, l, ray.pixel);
         if (sr.contribution.w == 0.0f) continue;
         if (shadow_slot < frame.shadow_capacity) RT_STORE(kg, shadow_rays, shadow_slot, sr);
         shadow_slot += 1u;
     }
     uint next_base = rt_queue_base(frame, depth + 1u);
     for (uint c = 0u; c < shade.child_count; ++c)
-        if (ray_slot + c < frame.ray_capacity) RT_STORE(kg, rays, next_base + ray_slot + c, shade.children[c]);
+        if (ray_slot + c < frame.ray_capacity) RT_STORE(kg, rays, next_base + ray_slot + c, children[c]);
 }
 
 #define RT_SHADOW_LAYERS 8u  // cut-out or blended surfaces a shadow ray looks through before it counts as blocked

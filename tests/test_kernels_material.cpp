@@ -93,11 +93,18 @@ struct OneTriangle {
         kg = prism::host_globals(device, &frame);
     }
 
-    ShadeResult shade_head_on(float3 weight, uint mask) {
+    // rt_shade's result with the child rays it wrote.
+    struct Shaded : ShadeResult {
+        Ray children[RT_MAX_CHILDREN];
+    };
+
+    Shaded shade_head_on(float3 weight, uint mask) {
         Ray ray = rt_make_ray(float3{0, 0, 2}, float3{0, 0, -1}, weight, 0, mask, 0);
         Hit hit = rt_trace(kg, rt_xyz(ray.origin), rt_xyz(ray.direction), 0.0f, RT_INFINITY, false);
         EXPECT_NEAR(hit.tuv.x, 2.0f, 1e-6f);
-        return rt_shade(kg, ray, hit);
+        Shaded s;
+        static_cast<ShadeResult&>(s) = rt_shade(kg, ray, hit, s.children);
+        return s;
     }
 };
 
@@ -120,9 +127,9 @@ prism::Material glass() {
 // Eq. 6.7 with eqs. 6.31/6.32: head-on, R_f = bias = 0.1, T_f = 0.9.
 TEST(SeedMaterial, ShadeWeightsFollowEquation67) {
     OneTriangle scene(glass());
-    ShadeResult s = scene.shade_head_on(float3{1, 1, 1}, RT_CHANNEL_ALL);
+    auto s = scene.shade_head_on(float3{1, 1, 1}, RT_CHANNEL_ALL);
     float base = 0.5f * (0.1f * (1 - 0.3f) + 0.9f * (1 - 0.6f));  // C (R_f (1-r) + T_f (1-t)) = 0.215
-    expect_near3(rt_xyz(s.light_weight), {base, base, base});
+    expect_near3(rt_xyz(s.lit.light_weight), {base, base, base});
     expect_near3(rt_xyz(s.emitted), {base * 0.1f, base * 0.1f, base * 0.1f});
     ASSERT_EQ(s.child_count, 4u);  // reflection + three dispersed refractions (thesis 6.3.5)
     expect_near3(rt_xyz(s.children[0].weight), {0.1f * 0.3f * 1.0f, 0.1f * 0.3f * 0.5f, 0.1f * 0.3f * 0.25f});
@@ -140,7 +147,7 @@ TEST(SeedMaterial, ShadeWeightsFollowEquation67) {
 
 TEST(SeedMaterial, SingleChannelRaySpawnsOneRefraction) {
     OneTriangle scene(glass());
-    ShadeResult s = scene.shade_head_on(float3{0, 1, 0}, 2u);
+    auto s = scene.shade_head_on(float3{0, 1, 0}, 2u);
     ASSERT_EQ(s.child_count, 2u);
     expect_near3(rt_xyz(s.children[1].weight), {0, 0.9f * 0.6f * 0.4f, 0});
     EXPECT_EQ(s.children[1].channels, 2u);
@@ -151,7 +158,7 @@ TEST(SeedMaterial, ThinShellOffsetsAndKeepsDirection) {
     m.ior = glm::vec3(1.5f);
     m.thickness = 0.5f;
     OneTriangle scene(m);
-    ShadeResult s = scene.shade_head_on(float3{1, 1, 1}, RT_CHANNEL_ALL);
+    auto s = scene.shade_head_on(float3{1, 1, 1}, RT_CHANNEL_ALL);
     ASSERT_EQ(s.child_count, 2u);
     expect_near3(rt_xyz(s.children[1].direction), {0, 0, -1});
     EXPECT_NEAR(s.children[1].origin.z, -0.5f, 1e-4f);  // plus the few-ulp self-intersection offset

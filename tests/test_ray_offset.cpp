@@ -66,8 +66,9 @@ struct Floor {
                 Hit hit = rt_trace(kg, rt_xyz(ray.origin), rt_xyz(ray.direction), 0.0f, RT_INFINITY, false);
                 if (!(hit.tuv.x < RT_INFINITY)) continue;
                 ++hits;
-                ShadeResult shade = rt_shade(kg, ray, hit);
-                ShadowRay shadow = rt_shadow_ray(kg, shade, 0u, 0u);
+                Ray children[RT_MAX_CHILDREN];
+                ShadeResult shade = rt_shade(kg, ray, hit, children);
+                ShadowRay shadow = rt_shadow_ray(kg, shade.lit, 0u, 0u);
                 if (shadow.contribution.w == 0.0f) continue;
                 Hit occluder =
                     rt_trace(kg, rt_xyz(shadow.origin), rt_xyz(shadow.direction), 0.0f, shadow.direction.w, true);

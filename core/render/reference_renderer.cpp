@@ -29,16 +29,17 @@ void trace_recursive(KernelGlobals kg, const Ray& ray, RayCounts& counts) {
         rt_accumulate(kg, ray.pixel, rt_xyz(ray.weight) * rt_environment(kg, rt_xyz(ray.direction)));
         return;
     }
-    ShadeResult shade = rt_shade(kg, ray, hit);
+    Ray children[RT_MAX_CHILDREN];
+    ShadeResult shade = rt_shade(kg, ray, hit, children);
     rt_accumulate(kg, ray.pixel, rt_xyz(shade.emitted));
     for (uint32_t l = 0; l < frame.light_count; ++l) {
-        ShadowRay sr = rt_shadow_ray(kg, shade, l, ray.pixel);
+        ShadowRay sr = rt_shadow_ray(kg, shade.lit, l, ray.pixel);
         if (sr.contribution.w == 0.0f) continue;
         counts.shadows_per_depth[depth]++;
         float3 reaching = rt_light_reaching(kg, sr);
         if (rt_max3(reaching) > 0.0f) rt_accumulate(kg, sr.pixel, reaching);
     }
-    for (uint32_t c = 0; c < shade.child_count; ++c) trace_recursive(kg, shade.children[c], counts);
+    for (uint32_t c = 0; c < shade.child_count; ++c) trace_recursive(kg, children[c], counts);
 }
 
 }  // namespace

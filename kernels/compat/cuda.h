@@ -6,6 +6,7 @@
 
 #define RT_FUNC static __device__ __forceinline__
 #define RT_CONST static __device__ constexpr
+#define RT_OUT_ARRAY  // an array parameter is a pointer to the caller's array (GLSL says `out`)
 
 typedef unsigned int uint;
 

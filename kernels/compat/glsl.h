@@ -5,6 +5,8 @@
 
 #define RT_FUNC
 #define RT_CONST const
+// An array a function fills for its caller (the other APIs pass a pointer to the caller's array).
+#define RT_OUT_ARRAY out
 
 // A macro that closes the brace its partner opened: clang-format would split it.
 // clang-format off

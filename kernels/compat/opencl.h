@@ -5,6 +5,7 @@
 
 #define RT_FUNC static inline
 #define RT_CONST __constant
+#define RT_OUT_ARRAY  // an array parameter is a pointer to the caller's array (GLSL says `out`)
 
 // A macro that closes the brace its partner opened: clang-format would split it. Every device struct is 16-aligned
 // (a struct of four scalars too), so a row of four can move in one 16-byte load.
