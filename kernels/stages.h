@@ -76,7 +76,9 @@ RT_FUNC uint rt_queue_reserve(KernelGlobals kg, uint counter, uint n, uint capac
 
 // The seed's "Renderer" kernel: the local colour goes to the pixel, shadow rays and secondary rays to queues. The
 // shadow rays are counted before they are stored, so that both queues' slots are taken at once: the two atomics
-// are in flight together instead of one after the other for every ray.
+// are in flight together instead of one after the other for every ray. A group's (warp's, subgroup's) shadow rays
+// go to the queue light by light: its rays towards light 0, then those towards light 1, so that the shadow stage's
+// neighbours head for one light, not for each light in turn (docs/kernels.md, "Shadow rays light by light").
 RT_FUNC void rt_stage_shade(KernelGlobals kg, uint index, uint depth) {
     Hit hit = RT_FETCH(kg, hits, index);
     if (!(hit.tuv.x < RT_INFINITY)) return;
@@ -88,14 +90,21 @@ RT_FUNC void rt_stage_shade(KernelGlobals kg, uint index, uint depth) {
     uint shadow_count = 0u;
     for (uint l = 0u; l < frame.light_count; ++l)
         if (rt_shadow_ray(kg, shade.lit, l, ray.pixel).contribution.w != 0.0f) shadow_count += 1u;
-    uint shadow_slot = rt_queue_reserve(kg, RT_COUNTER_SHADOWS + depth, shadow_count, frame.shadow_capacity);
+    uint shadow_slot = RT_QUEUE_RESERVE_GROUP(kg, counters, RT_COUNTER_SHADOWS + depth, shadow_count);
     uint ray_slot = rt_queue_reserve(kg, RT_COUNTER_RAYS + depth + 1u, shade.child_count, frame.ray_capacity);
+    uint dropped = 0u;
     for (uint l = 0u; l < frame.light_count; ++l) {
         ShadowRay sr = rt_shadow_ray(kg, shade.lit, l, ray.pixel);
-        if (sr.contribution.w == 0.0f) continue;
-        if (shadow_slot < frame.shadow_capacity) RT_STORE(kg, shadow_rays, shadow_slot, sr);
-        shadow_slot += 1u;
+        bool lit = sr.contribution.w != 0.0f;
+        uint slot = shadow_slot + RT_GROUP_COUNT_BELOW(lit);
+        shadow_slot += RT_GROUP_COUNT(lit);
+        if (!lit) continue;
+        if (slot < frame.shadow_capacity)
+            RT_STORE(kg, shadow_rays, slot, sr);
+        else
+            dropped += 1u;
     }
+    if (dropped > 0u) RT_ATOMIC_ADD(kg, counters, RT_COUNTER_DROPPED, dropped);
     uint next_base = rt_queue_base(frame, depth + 1u);
     for (uint c = 0u; c < shade.child_count; ++c)
         if (ray_slot + c < frame.ray_capacity) RT_STORE(kg, rays, next_base + ray_slot + c, children[c]);

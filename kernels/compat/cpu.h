@@ -204,6 +204,10 @@ RT_FUNC float rt_int_as_float(int i) { return std::bit_cast<float>(i); }
 #define RT_ATOMIC_ADD(kg, array, i, value) (std::atomic_ref<uint>((kg).array[(i)]).fetch_add((value)))
 // n consecutive slots of a queue counter (kernels/stages.h, rt_queue_reserve): one atomic add per item.
 #define RT_QUEUE_RESERVE(kg, array, i, n) RT_ATOMIC_ADD(kg, array, i, n)
+// Each item is its own group (kernels/stages.h, rt_stage_shade).
+#define RT_QUEUE_RESERVE_GROUP(kg, array, i, n) RT_ATOMIC_ADD(kg, array, i, n)
+#define RT_GROUP_COUNT(p) ((p) ? 1u : 0u)
+#define RT_GROUP_COUNT_BELOW(p) 0u
 // A hint that elements [i, i + n) of a device array are needed soon (the wide traversal's pushed children).
 #define RT_PREFETCH(kg, array, i, n)                                             \
     do {                                                                         \

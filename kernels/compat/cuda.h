@@ -111,10 +111,11 @@ static __device__ __forceinline__ T rt_fetch(T* __restrict__ array, uint i) {
 #define RT_PREFETCH(kg, array, i, n) ((void)0)  // a CPU cache hint; GPUs hide latency with other warps
 // n consecutive slots of a queue counter for each thread (kernels/stages.h, rt_queue_reserve): the threads of a
 // warp that arrive together sum their n a bit at a time with warp votes (n is small), the first takes all of the
-// slots with one atomic add, and each gets its own from there. nvcc aggregates an atomic add of 1 on its own, not
-// one of n; cooperative groups' exclusive_scan over the coalesced threads made the sphere's shade stage slower than
-// one atomic per slot had been (docs/kernels.md, "Queue slots").
-static __device__ __forceinline__ uint rt_reserve_warp(uint* counter, uint n) {
+// slots with one atomic add, and each gets its own from there (lane_first), or the first of the warp's
+// (RT_QUEUE_RESERVE_GROUP). nvcc aggregates an atomic add of 1 on its own, not one of n; cooperative groups'
+// exclusive_scan over the coalesced threads made the sphere's shade stage slower than one atomic per slot had been
+// (docs/kernels.md, "Queue slots").
+static __device__ __forceinline__ uint rt_reserve_warp(uint* counter, uint n, bool lane_first) {
     uint active = __activemask();
     uint lane = threadIdx.x & 31u;  // the stages' blocks are one-dimensional
     uint below = active & ((1u << lane) - 1u);
@@ -128,9 +129,17 @@ static __device__ __forceinline__ uint rt_reserve_warp(uint* counter, uint n) {
     uint leader = uint(__ffs(active)) - 1u;
     uint first = 0u;
     if (lane == leader && total != 0u) first = atomicAdd(counter, total);
-    return __shfl_sync(active, first, leader) + before;
+    return __shfl_sync(active, first, leader) + (lane_first ? before : 0u);
 }
-#define RT_QUEUE_RESERVE(kg, array, i, n) rt_reserve_warp(&(kg).array[(i)], (n))
+#define RT_QUEUE_RESERVE(kg, array, i, n) rt_reserve_warp(&(kg).array[(i)], (n), true)
+#define RT_QUEUE_RESERVE_GROUP(kg, array, i, n) rt_reserve_warp(&(kg).array[(i)], (n), false)
+// How many of the warp's active threads have p true: all of them, or those on the lanes below this one.
+static __device__ __forceinline__ uint rt_warp_count(bool p, bool below_only) {
+    uint set = __ballot_sync(__activemask(), p);
+    return uint(__popc(below_only ? set & ((1u << (threadIdx.x & 31u)) - 1u) : set));
+}
+#define RT_GROUP_COUNT(p) rt_warp_count((p), false)
+#define RT_GROUP_COUNT_BELOW(p) rt_warp_count((p), true)
 
 // Grid-stride loop: the backend launches a fixed grid sized to fill the GPU; the item count lives on the device.
 #define RT_GRID_LOOP(i, n) \

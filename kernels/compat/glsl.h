@@ -88,18 +88,22 @@ uint rt_lane8_u(uvec4 lo, uvec4 hi, uint k) { return k < 4u ? lo[k] : hi[k - 4u]
 #define RT_PREFETCH(kg, array, i, n)  // a CPU cache hint; GPUs hide latency with other invocations
 // n consecutive slots of a queue counter for each invocation (kernels/stages.h, rt_queue_reserve): the active
 // invocations of a subgroup sum their n, one takes all of the slots with one atomic add, and each gets its own
-// from there. kernels/globals.h defines rt_reserve_counters with RT_GLSL_RESERVE_FUNCTION once the array exists;
-// the shaders enable the subgroup extensions (shaders/common.glsl), which every usable device has (the Vulkan
-// backend checks).
-#define RT_QUEUE_RESERVE(kg, array, i, n) rt_reserve_##array((i), (n))
+// from there (lane_first), or the first of the subgroup's (RT_QUEUE_RESERVE_GROUP). kernels/globals.h defines
+// rt_reserve_counters with RT_GLSL_RESERVE_FUNCTION once the array exists; the shaders enable the subgroup
+// extensions (shaders/common.glsl), which every usable device has (the Vulkan backend checks).
+#define RT_QUEUE_RESERVE(kg, array, i, n) rt_reserve_##array((i), (n), true)
+#define RT_QUEUE_RESERVE_GROUP(kg, array, i, n) rt_reserve_##array((i), (n), false)
 #define RT_GLSL_RESERVE_FUNCTION(array)                                                 \
-    uint rt_reserve_##array(uint i, uint n) {                                           \
+    uint rt_reserve_##array(uint i, uint n, bool lane_first) {                          \
         uint before = subgroupExclusiveAdd(n);                                          \
         uint total = subgroupAdd(n);                                                    \
         uint first = 0u;                                                                \
         if (subgroupElect() && total != 0u) first = RT_ATOMIC_ADD(kg, array, i, total); \
-        return subgroupBroadcastFirst(first) + before;                                  \
+        return subgroupBroadcastFirst(first) + (lane_first ? before : 0u);              \
     }
+// How many of the subgroup's active invocations have p true: all of them, or those below this one.
+#define RT_GROUP_COUNT(p) subgroupBallotBitCount(subgroupBallot(p))
+#define RT_GROUP_COUNT_BELOW(p) subgroupBallotExclusiveBitCount(subgroupBallot(p))
 
 // The shader must declare layout(local_size_x = ...) BEFORE including kernels/: glslang compiles gl_WorkGroupSize
 // as (1, 1, 1), without a diagnostic, in functions defined before that declaration.

@@ -88,7 +88,7 @@ RT_FUNC uint rt_ptx_shuffle(uint mask, uint value, uint lane) {
     return out;
 }
 // The sum of n over the active lanes and over the lanes below this one, a bit of n at a time (n is small).
-RT_FUNC uint rt_reserve_warp(__global uint* counter, uint n) {
+RT_FUNC uint rt_reserve_warp(__global uint* counter, uint n, bool lane_first) {
     uint active = rt_ptx_active_mask();
     uint lane = rt_ptx_lane();
     uint below = active & ((1u << lane) - 1u);
@@ -102,11 +102,22 @@ RT_FUNC uint rt_reserve_warp(__global uint* counter, uint n) {
     uint leader = 31u - clz(active & (0u - active));
     uint first = 0u;
     if (lane == leader && total != 0u) first = atomic_add(counter, total);
-    return rt_ptx_shuffle(active, first, leader) + before;
+    return rt_ptx_shuffle(active, first, leader) + (lane_first ? before : 0u);
 }
-#define RT_QUEUE_RESERVE(kg, array, i, n) rt_reserve_warp(&(kg).array[(i)], (n))
+#define RT_QUEUE_RESERVE(kg, array, i, n) rt_reserve_warp(&(kg).array[(i)], (n), true)
+#define RT_QUEUE_RESERVE_GROUP(kg, array, i, n) rt_reserve_warp(&(kg).array[(i)], (n), false)
+RT_FUNC uint rt_warp_count(bool p, bool below_only) {
+    uint set = rt_ptx_ballot(rt_ptx_active_mask(), p ? 1u : 0u);
+    return popcount(below_only ? set & ((1u << rt_ptx_lane()) - 1u) : set);
+}
+#define RT_GROUP_COUNT(p) rt_warp_count((p), false)
+#define RT_GROUP_COUNT_BELOW(p) rt_warp_count((p), true)
 #else
+// Each work-item is its own group.
 #define RT_QUEUE_RESERVE(kg, array, i, n) atomic_add(&(kg).array[(i)], (n))
+#define RT_QUEUE_RESERVE_GROUP(kg, array, i, n) atomic_add(&(kg).array[(i)], (n))
+#define RT_GROUP_COUNT(p) ((p) ? 1u : 0u)
+#define RT_GROUP_COUNT_BELOW(p) 0u
 #endif
 
 #define RT_GRID_LOOP(i, n) for (uint i = (uint)get_global_id(0), rt_n_ = (n); i < rt_n_; i += (uint)get_global_size(0))
