@@ -223,6 +223,8 @@ void run_bench(BenchOptions options) {
                           {"seed_setting", options.seed_setting},
                           {"bvh", options.scene.bvh},
                           {"bvh_layout", options.scene.layout},
+                          {"bvh_leaf_size", options.scene.bvh_leaf_size},
+                          {"bvh_node_cost", options.scene.bvh_node_cost},
                           {"queries_interleaved", true}};
     result["scenes"] = nlohmann::json::array();
     result["failures"] = nlohmann::json::array();
@@ -348,6 +350,7 @@ void add_bench_command(CLI::App& app) {
                      "overrides auto)")
         ->check(CLI::IsMember({"stack", "escape", "wide", "auto"}))
         ->capture_default_str();
+    add_bvh_shape_options(command, options->scene);
     command->add_option("--width", options->settings.width)->capture_default_str();
     command->add_option("--height", options->settings.height)->capture_default_str();
     command->add_option("--depth", options->settings.max_depth)->capture_default_str();

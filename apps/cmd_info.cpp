@@ -63,6 +63,8 @@ void run_info(const InfoOptions& options) {
                          {"lights", loaded.scene.lights.size()},
                          {"bvh_method", options.scene.bvh},
                          {"bvh_layout", loaded.layout},
+                         {"bvh_leaf_size", options.scene.bvh_leaf_size},
+                         {"bvh_node_cost", options.scene.bvh_node_cost},
                          {"bvh_nodes", d.bvh_options.layout == BvhLayout::Wide ? d.wide_nodes.size() : d.nodes.size()},
                          {"top_level_nodes", d.top_level_nodes},
                          {"sah_cost", d.sah_cost},

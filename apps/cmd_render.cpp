@@ -86,6 +86,8 @@ void run_render(const RenderOptions& options) {
         stats["commit"] = build_commit();
         stats["bvh"] = {{"method", options.scene.bvh},
                         {"layout", loaded.layout},
+                        {"leaf_size", options.scene.bvh_leaf_size},
+                        {"node_cost", options.scene.bvh_node_cost},
                         {"build_ms", loaded.device.bvh_build_ms},
                         {"sah_cost", loaded.device.sah_cost}};
         stats_file.emplace(options.stats, stats.dump(2) + "\n");

@@ -121,6 +121,8 @@ void run_rays_bench(const RaysBenchOptions& options) {
                           {"warmup", options.warmup},
                           {"seed", options.seed},
                           {"ray_order", options.ray_order},
+                          {"bvh_leaf_size", options.scene.bvh_leaf_size},
+                          {"bvh_node_cost", options.scene.bvh_node_cost},
                           {"time", "intersect launch, device timers, median of runs"}};
     result["backends"] = nlohmann::json::array();
     for (const std::string& backend : backends) {

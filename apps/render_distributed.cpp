@@ -100,7 +100,10 @@ void report(const DistributedRender& render, const WorkerJob& job, const WorkCoo
     nlohmann::json stats = frame_json(frame, render.settings, info);
     stats["scene"] = render.scene.scene;
     stats["commit"] = build_commit();
-    stats["bvh"] = {{"method", render.scene.bvh}, {"layout", job.scene.layout}};
+    stats["bvh"] = {{"method", render.scene.bvh},
+                    {"layout", job.scene.layout},
+                    {"leaf_size", render.scene.bvh_leaf_size},
+                    {"node_cost", render.scene.bvh_node_cost}};
     stats["ranks"] = ranks;
     stats["workers"] = workers_json(coordinator, job.sequence);
     if (job.sequence) {

@@ -31,8 +31,23 @@ void add_scene_options(CLI::App* command, SceneOptions& options, bool scene_requ
                      "cpu/cpu-ref, stack on GPUs; PRISM_BVH_LAYOUT overrides auto)")
         ->check(CLI::IsMember({"stack", "escape", "wide", "auto"}))
         ->capture_default_str();
+    add_bvh_shape_options(command, options);
     command->add_flag("--allow-any-path", options.allow_any_path,
                       "let the scene read files outside its own folder (absolute or ../ URIs and paths)");
+}
+
+void add_bvh_shape_options(CLI::App* command, SceneOptions& options) {
+    command
+        ->add_option("--bvh-leaf-size", options.bvh_leaf_size,
+                     "most triangles in a BVH leaf (1-" + std::to_string(RT_WIDE_LEAF_MAX) +
+                         "); the SAH splits smaller leaves where that costs less")
+        ->check(CLI::Range(1u, RT_WIDE_LEAF_MAX))
+        ->capture_default_str();
+    command
+        ->add_option("--bvh-node-cost", options.bvh_node_cost,
+                     "the SAH's cost of visiting a node, in triangle tests (0.1-100): higher gives fuller leaves")
+        ->check(CLI::Range(0.1f, 100.0f))
+        ->capture_default_str();
 }
 
 CLI::Option* add_data_dir_option(CLI::App* command, std::string& data_dir) {
@@ -46,6 +61,8 @@ DeviceScene build_device_scene_for(const Scene& scene, const SceneOptions& optio
     BvhBuildOptions bvh;
     bvh.method = options.bvh == "median" ? BvhMethod::Median : BvhMethod::BinnedSah;
     bvh.layout = layout;
+    bvh.max_leaf_size = options.bvh_leaf_size;
+    bvh.traversal_cost = options.bvh_node_cost;
     bvh.flatten_instances = !options.moving_instances;
     return build_device_scene(scene, bvh, progress);
 }

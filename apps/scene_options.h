@@ -17,6 +17,9 @@ struct SceneOptions {
     std::string data_dir;  // empty: default_data_dir() (apps/data_dir.h)
     std::string bvh = "sah";
     std::string layout = "auto";  // stack, escape, wide, or auto: per backend (core/render/render_engine.h)
+    // The SAH build's leaf bound and node cost (BvhBuildOptions): --bvh-leaf-size, --bvh-node-cost.
+    uint32_t bvh_leaf_size = BvhBuildOptions{}.max_leaf_size;
+    float bvh_node_cost = BvhBuildOptions{}.traversal_cost;
     // Instances may move after the build (the viewer's moving object): the wide layout then keeps its top level
     // over instances, which a move refits; otherwise it flattens them into one BVH (BvhBuildOptions).
     bool moving_instances = false;
@@ -24,6 +27,8 @@ struct SceneOptions {
 };
 
 void add_scene_options(CLI::App* command, SceneOptions& options, bool scene_required = false);
+// --bvh-leaf-size and --bvh-node-cost (in add_scene_options; prism bench adds them on their own).
+void add_bvh_shape_options(CLI::App* command, SceneOptions& options);
 // --data-dir alone (for commands that take several scenes).
 CLI::Option* add_data_dir_option(CLI::App* command, std::string& data_dir);
 

@@ -93,6 +93,33 @@ TEST(Cli, InfoReportsTheDragonTriangleCount) {
     EXPECT_NE(r.output.find("\"triangles\": 871414"), std::string::npos) << r.output.substr(0, 2000);
 }
 
+// --bvh-leaf-size and --bvh-node-cost shape the SAH build (fuller leaves, fewer nodes) and are reported; values
+// out of range are refused in one line naming the option.
+TEST(Cli, BvhLeafSizeAndNodeCostShapeTheTree) {
+    std::string info =
+        "info --scene '" + prism::test::scene("stanford/bunny.ply").string() + "' --bvh-layout stack --json";
+    auto scene_info = [&](const std::string& shape) {
+        SplitResult r = run_prism_split(info + shape);
+        EXPECT_EQ(r.exit_code, 0) << shape << ": " << r.err;
+        nlohmann::json j = nlohmann::json::parse(r.out, nullptr, false);
+        return j.is_object() && j.contains("scene") ? j["scene"] : nlohmann::json::object();
+    };
+    nlohmann::json standard = scene_info("");
+    nlohmann::json fuller = scene_info(" --bvh-leaf-size 8 --bvh-node-cost 4");
+    ASSERT_TRUE(standard.contains("bvh_nodes") && fuller.contains("bvh_nodes"));
+    EXPECT_EQ(standard["bvh_leaf_size"], 4);
+    EXPECT_EQ(standard["bvh_node_cost"], 1.0);
+    EXPECT_EQ(fuller["bvh_leaf_size"], 8);
+    EXPECT_EQ(fuller["bvh_node_cost"], 4.0);
+    EXPECT_LT(fuller["bvh_nodes"].get<size_t>() * 3, standard["bvh_nodes"].get<size_t>() * 2);
+    for (std::string bad : {"--bvh-leaf-size 0", "--bvh-leaf-size 9", "--bvh-node-cost 0", "--bvh-node-cost nan"}) {
+        SplitResult r = run_prism_split(info + " " + bad);
+        EXPECT_NE(r.exit_code, 0) << bad;
+        EXPECT_EQ(line_count(r.err), 1u) << bad << ": " << r.err;
+        EXPECT_NE(r.err.find(bad.substr(0, bad.find(' '))), std::string::npos) << bad << ": " << r.err;
+    }
+}
+
 namespace {
 
 // Models a user may point prism at, each refused in one line naming the file: a real model truncated, random
