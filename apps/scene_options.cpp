@@ -1,6 +1,7 @@
 #include "apps/scene_options.h"
 
 #include <chrono>
+#include <cstdlib>
 #include <new>
 
 #include "apps/data_dir.h"
@@ -46,7 +47,15 @@ void add_bvh_shape_options(CLI::App* command, SceneOptions& options) {
     command
         ->add_option("--bvh-node-cost", options.bvh_node_cost,
                      "the SAH's cost of visiting a node, in triangle tests (0.1-100): higher gives fuller leaves")
-        ->check(CLI::Range(0.1f, 100.0f))
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                char* end = nullptr;
+                float cost = std::strtof(text.c_str(), &end);
+                bool whole = end && *end == '\0' && end != text.c_str();
+                return whole && cost >= 0.1f && cost <= 100.0f ? ""
+                                                               : "Value " + text + " is not a number from 0.1 to 100";
+            },
+            "0.1-100"))
         ->capture_default_str();
 }
 
