@@ -91,7 +91,7 @@ RT_FUNC void rt_stage_shade(KernelGlobals kg, uint index, uint depth) {
     for (uint l = 0u; l < frame.light_count; ++l)
         if (rt_shadow_ray(kg, shade.lit, l, ray.pixel).contribution.w != 0.0f) shadow_count += 1u;
     uint shadow_slot = RT_QUEUE_RESERVE_GROUP(kg, counters, RT_COUNTER_SHADOWS + depth, shadow_count);
-    uint ray_slot = RT_QUEUE_RESERVE_GROUP(kg, counters, RT_COUNTER_RAYS + depth + 1u, shade.child_count);
+    uint ray_slot = rt_queue_reserve(kg, RT_COUNTER_RAYS + depth + 1u, shade.child_count, frame.ray_capacity);
     uint dropped = 0u;
     for (uint l = 0u; l < frame.light_count; ++l) {
         ShadowRay sr = rt_shadow_ray(kg, shade.lit, l, ray.pixel);
@@ -104,18 +104,10 @@ RT_FUNC void rt_stage_shade(KernelGlobals kg, uint index, uint depth) {
         else
             dropped += 1u;
     }
-    uint next_base = rt_queue_base(frame, depth + 1u);
-    for (uint c = 0u; c < RT_MAX_CHILDREN; ++c) {
-        bool has = c < shade.child_count;
-        uint slot = ray_slot + RT_GROUP_COUNT_BELOW(has);
-        ray_slot += RT_GROUP_COUNT(has);
-        if (!has) continue;
-        if (slot < frame.ray_capacity)
-            RT_STORE(kg, rays, next_base + slot, children[c]);
-        else
-            dropped += 1u;
-    }
     if (dropped > 0u) RT_ATOMIC_ADD(kg, counters, RT_COUNTER_DROPPED, dropped);
+    uint next_base = rt_queue_base(frame, depth + 1u);
+    for (uint c = 0u; c < shade.child_count; ++c)
+        if (ray_slot + c < frame.ray_capacity) RT_STORE(kg, rays, next_base + ray_slot + c, children[c]);
 }
 
 #define RT_SHADOW_LAYERS 8u  // cut-out or blended surfaces a shadow ray looks through before it counts as blocked
