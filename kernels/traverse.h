@@ -135,12 +135,13 @@ RT_FUNC Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, fl
 //   whose rays were at both ran both paths every step (docs/kernels.md, "The stack traversal", has the gain).
 // - A scene whose top level holds one instance starts inside it (one_instance: RT_FLAG_ONE_INSTANCE), and an
 //   instance with the identity transform keeps the world ray, so a one-mesh scene pays no top-level walk.
-// - Any-hit queries walk speculatively (Aila & Laine 2009): a ray that meets a mesh leaf while rays of its group
-//   (warp, subgroup) still look for one puts the leaf aside and walks on from its stack; the group tests its
-//   leaves when every ray has one. Whether a ray is blocked does not depend on the order its leaves are tested
-//   in; the closest hit's tie rule could (docs/kernels.md, "Ties"), so closest-hit queries do not speculate.
+// - Shadow rays walk speculatively (`speculate`, any-hit only; Aila & Laine 2009): a ray that meets a mesh leaf
+//   while rays of its group (warp, subgroup) still look for one puts the leaf aside and walks on from its stack;
+//   the group tests its leaves when every ray has one. Whether a ray is blocked does not depend on the order its
+//   leaves are tested in; the closest hit's tie rule could (docs/kernels.md, "Ties"). The intersect stage, which
+//   takes closest-hit and any-hit queries in one kernel, does not speculate: the code would cost it registers.
 RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit,
-                           bool one_instance) {
+                           bool speculate, bool one_instance) {
     Hit best = rt_no_hit();
     best.tuv.x = tmax;
     TraversalRay world = rt_traversal_ray(origin, direction, tmin);
@@ -184,7 +185,7 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
             } else {
                 count = RT_STACK_POP;
             }
-            if (any_hit) {
+            if (any_hit && speculate) {
                 if (count != RT_STACK_POP && count != 0u && instance != RT_NONE && leaf_count == 0u) {
                     leaf_first = first;
                     leaf_count = count;
@@ -466,7 +467,8 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
 
 #endif  // RT_WIDE_TRAVERSAL
 
-RT_FUNC Hit rt_trace(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit) {
+RT_FUNC Hit rt_trace_query(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit,
+                           bool speculate) {
     // The frame is loaded whole: Mesa 22.3's lavapipe, in the Vulkan backend's buffer-address mode, read
     // the frame's bvh_layout (a single field fetched from the frame array) as its instance count after the stage had
     // loaded the frame.
@@ -479,7 +481,19 @@ RT_FUNC Hit rt_trace(KernelGlobals kg, float3 origin, float3 direction, float tm
 #endif
     // (A GPU backend never receives a wide scene: RenderEngine refuses it.)
     if (bvh_layout == RT_BVH_LAYOUT_ESCAPE) return rt_trace_escape(kg, origin, direction, tmin, tmax, any_hit);
-    return rt_trace_stack(kg, origin, direction, tmin, tmax, any_hit, (frame.flags & RT_FLAG_ONE_INSTANCE) != 0u);
+    return rt_trace_stack(kg, origin, direction, tmin, tmax, any_hit, speculate,
+                          (frame.flags & RT_FLAG_ONE_INSTANCE) != 0u);
+}
+
+// The closest hit (or, any_hit, any hit) in [tmin, tmax].
+RT_FUNC Hit rt_trace(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit) {
+    return rt_trace_query(kg, origin, direction, tmin, tmax, any_hit, false);
+}
+
+// Whether anything lies in [tmin, tmax] (a hit if so): the shadow stage's query, a speculative walk on the stack
+// layout.
+RT_FUNC Hit rt_trace_occlusion(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax) {
+    return rt_trace_query(kg, origin, direction, tmin, tmax, true, true);
 }
 
 #endif
