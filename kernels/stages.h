@@ -78,7 +78,8 @@ RT_FUNC uint rt_queue_reserve(KernelGlobals kg, uint counter, uint n, uint capac
 // shadow rays are counted before they are stored, so that both queues' slots are taken at once: the two atomics
 // are in flight together instead of one after the other for every ray. A group's (warp's, subgroup's) shadow rays
 // go to the queue light by light: its rays towards light 0, then those towards light 1, so that the shadow stage's
-// neighbours head for one light, not for each light in turn (docs/kernels.md, "Shadow rays light by light").
+// neighbours head for one light, not for each light in turn (docs/kernels.md, "Shadow and child rays in the
+// queue").
 RT_FUNC void rt_stage_shade(KernelGlobals kg, uint index, uint depth) {
     Hit hit = RT_FETCH(kg, hits, index);
     if (!(hit.tuv.x < RT_INFINITY)) return;
