@@ -126,7 +126,7 @@ RT_FUNC bool rt_alpha_shadows(KernelGlobals kg) {
 
 // All of a shadow ray's contribution reaches its point unless something lies between (one any-hit query).
 RT_FUNC float3 rt_light_unblocked(KernelGlobals kg, ShadowRay sr) {
-    Hit hit = rt_trace_occlusion(kg, rt_xyz(sr.origin), rt_xyz(sr.direction), 0.0f, sr.direction.w);
+    Hit hit = rt_trace(kg, rt_xyz(sr.origin), rt_xyz(sr.direction), 0.0f, sr.direction.w, true);
     return hit.tuv.x < RT_INFINITY ? make_float3(0.0f, 0.0f, 0.0f) : rt_xyz(sr.contribution);
 }
 

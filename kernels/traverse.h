@@ -135,13 +135,8 @@ RT_FUNC Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, fl
 //   whose rays were at both ran both paths every step (docs/kernels.md, "The stack traversal", has the gain).
 // - A scene whose top level holds one instance starts inside it (one_instance: RT_FLAG_ONE_INSTANCE), and an
 //   instance with the identity transform keeps the world ray, so a one-mesh scene pays no top-level walk.
-// - Shadow rays walk speculatively (`speculate`, any-hit only; Aila & Laine 2009): a ray that meets a mesh leaf
-//   while rays of its group (warp, subgroup) still look for one puts the leaf aside and walks on from its stack;
-//   the group tests its leaves when every ray has one. Whether a ray is blocked does not depend on the order its
-//   leaves are tested in; the closest hit's tie rule could (docs/kernels.md, "Ties"). The intersect stage, which
-//   takes closest-hit and any-hit queries in one kernel, does not speculate: the code would cost it registers.
 RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit,
-                           bool speculate, bool one_instance) {
+                           bool one_instance) {
     Hit best = rt_no_hit();
     best.tuv.x = tmax;
     TraversalRay world = rt_traversal_ray(origin, direction, tmin);
@@ -150,8 +145,6 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
     uint stack_node[RT_BVH_STACK_SIZE];
     float stack_t[RT_BVH_STACK_SIZE];
     uint sp = 0u;
-    uint leaf_first = 0u;  // the leaf put aside by a speculative walk (leaf_count 0: none)
-    uint leaf_count = 0u;
 
     uint root = 0u;
     if (one_instance) {
@@ -185,29 +178,7 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
             } else {
                 count = RT_STACK_POP;
             }
-            if (any_hit && speculate) {
-                if (count != RT_STACK_POP && count != 0u && instance != RT_NONE && leaf_count == 0u) {
-                    leaf_first = first;
-                    leaf_count = count;
-                    count = RT_STACK_POP;
-                }
-                // Walk on inside this instance (an any-hit walk culls no stack entry: it has no hit yet).
-                if (count == RT_STACK_POP && leaf_count != 0u && sp > 0u &&
-                    stack_node[sp - 1u] != RT_STACK_LEAVE_INSTANCE) {
-                    sp -= 1u;
-                    BvhNode next = RT_FETCH(kg, nodes, stack_node[sp]);
-                    first = rt_as_uint(next.lower.w);
-                    count = rt_as_uint(next.upper.w);
-                }
-                if (RT_GROUP_COUNT(leaf_count == 0u) == 0u) break;  // every walking ray has a leaf
-            }
         }
-        if (leaf_count != 0u) {
-            best = rt_intersect_leaf(kg, best, ray, tmax, instance, leaf_first, leaf_count);
-            leaf_count = 0u;
-            if (best.instance != RT_NONE) return best;  // only any-hit walks put leaves aside
-        }
-        if (count == 0u) continue;  // the group stopped to test its leaves: walk on from this node
         if (count != RT_STACK_POP) {
             if (instance == RT_NONE) {
                 // A top-level leaf holds one instance: enter its mesh BVH in object space.
@@ -467,8 +438,7 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
 
 #endif  // RT_WIDE_TRAVERSAL
 
-RT_FUNC Hit rt_trace_query(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit,
-                           bool speculate) {
+RT_FUNC Hit rt_trace(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit) {
     // The frame is loaded whole: Mesa 22.3's lavapipe, in the Vulkan backend's buffer-address mode, read
     // the frame's bvh_layout (a single field fetched from the frame array) as its instance count after the stage had
     // loaded the frame.
@@ -481,19 +451,7 @@ RT_FUNC Hit rt_trace_query(KernelGlobals kg, float3 origin, float3 direction, fl
 #endif
     // (A GPU backend never receives a wide scene: RenderEngine refuses it.)
     if (bvh_layout == RT_BVH_LAYOUT_ESCAPE) return rt_trace_escape(kg, origin, direction, tmin, tmax, any_hit);
-    return rt_trace_stack(kg, origin, direction, tmin, tmax, any_hit, speculate,
-                          (frame.flags & RT_FLAG_ONE_INSTANCE) != 0u);
-}
-
-// The closest hit (or, any_hit, any hit) in [tmin, tmax].
-RT_FUNC Hit rt_trace(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit) {
-    return rt_trace_query(kg, origin, direction, tmin, tmax, any_hit, false);
-}
-
-// Whether anything lies in [tmin, tmax] (a hit if so): the shadow stage's query, a speculative walk on the stack
-// layout.
-RT_FUNC Hit rt_trace_occlusion(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax) {
-    return rt_trace_query(kg, origin, direction, tmin, tmax, true, true);
+    return rt_trace_stack(kg, origin, direction, tmin, tmax, any_hit, (frame.flags & RT_FLAG_ONE_INSTANCE) != 0u);
 }
 
 #endif
