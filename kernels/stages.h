@@ -163,10 +163,8 @@ RT_FUNC float3 rt_light_reaching(KernelGlobals kg, ShadowRay sr) {
 // A light reaches the point unless something lies between.
 RT_FUNC void rt_stage_shadow(KernelGlobals kg, uint index, uint depth) {
     ShadowRay sr = RT_FETCH(kg, shadow_rays, index);
-    Hit hit = rt_trace(kg, rt_xyz(sr.origin), rt_xyz(sr.direction), 0.0f, sr.direction.w, true);
-    if (hit.tuv.x < RT_INFINITY) return;
-    ShadowRay again = RT_FETCH(kg, shadow_rays, index);
-    if (rt_max3(rt_xyz(again.contribution)) > 0.0f) rt_accumulate(kg, again.pixel, rt_xyz(again.contribution));
+    float3 reaching = rt_light_unblocked(kg, sr);
+    if (rt_max3(reaching) > 0.0f) rt_accumulate(kg, sr.pixel, reaching);
 }
 
 // What a light leaves through the cut-out and blended surfaces between it and the point.

@@ -62,8 +62,7 @@ RT_FUNC Hit rt_no_hit() {
 // of that band (rt_hit_reach), never past the ray's tmax.
 #define RT_TIE_EPSILON 1e-5f
 
-RT_FUNC float rt_reach(float best_t, float tmax) { return rt_min(best_t + best_t * RT_TIE_EPSILON, tmax); }
-RT_FUNC float rt_hit_reach(Hit best, float tmax) { return rt_reach(best.tuv.x, tmax); }
+RT_FUNC float rt_hit_reach(Hit best, float tmax) { return rt_min(best.tuv.x + best.tuv.x * RT_TIE_EPSILON, tmax); }
 
 // Whether a hit at t on (instance, primitive) replaces `best`. A best at +inf or at the ray's tmax has no
 // instance (RT_NONE), so any hit in reach replaces it.
@@ -74,63 +73,22 @@ RT_FUNC bool rt_hit_wins(float t, uint instance, uint primitive, Hit best) {
     return instance < best.instance || (instance == best.instance && primitive < best.primitive);
 }
 
-// The closest hit as the GPUs' walks (stack, escape) keep it: its distance, instance and triangle slot only. Each
-// register the walk holds costs resident warps, and the walk waits on node loads that more warps would hide; the
-// barycentrics are computed again for the one winning triangle when the walk ends (rt_walk_hit), and the
-// primitive, needed only to break a tie, is read from the triangle then.
-RT_STRUCT_BEGIN(WalkHit)
-    float t;
-    uint instance;
-    uint slot;
-    uint unused;
-RT_STRUCT_END(WalkHit)
-
-RT_FUNC WalkHit rt_walk_start(float tmax) {
-    WalkHit w;
-    w.t = tmax;
-    w.instance = RT_NONE;
-    w.slot = RT_NONE;
-    w.unused = 0u;
-    return w;
-}
-
-// rt_hit_wins for the walk's hit: the same order.
-RT_FUNC bool rt_walk_wins(KernelGlobals kg, float t, uint instance, uint primitive, WalkHit best) {
-    float band = best.t * RT_TIE_EPSILON;
-    if (t < best.t - band) return true;
-    if (t > best.t + band) return false;
-    if (instance != best.instance) return instance < best.instance;
-    return primitive < rt_as_uint(RT_FETCH(kg, triangles, best.slot).v0.w);
-}
-
 // Tests the triangles [first, first + count) and returns the winning hit (or `best` unchanged).
-RT_FUNC WalkHit rt_walk_leaf(KernelGlobals kg, WalkHit best, TraversalRay ray, float tmax, uint instance, uint first,
-                             uint count) {
+// The hit keeps the triangle's slot in `triangles` so shading can rebuild its geometric normal.
+RT_FUNC Hit rt_intersect_leaf(KernelGlobals kg, Hit best, TraversalRay ray, float tmax, uint instance, uint first,
+                              uint count) {
     for (uint k = 0u; k < count; ++k) {
         TriangleGeometry tri = RT_FETCH(kg, triangles, first + k);
-        float4 h =
-            rt_intersect_triangle(tri, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w, rt_reach(best.t, tmax));
-        if (h.x < RT_INFINITY && rt_walk_wins(kg, h.x, instance, rt_as_uint(tri.v0.w), best)) {
-            best.t = h.x;
+        float4 h = rt_intersect_triangle(tri, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w,
+                                         rt_hit_reach(best, tmax));
+        if (h.x < RT_INFINITY && rt_hit_wins(h.x, instance, rt_as_uint(tri.v0.w), best)) {
+            best.tuv = make_float4(h.x, h.y, h.z, 0.0f);
             best.instance = instance;
+            best.primitive = rt_as_uint(tri.v0.w);
             best.slot = first + k;
         }
     }
     return best;
-}
-
-// The Hit of a walk's winner: its triangle tested again with the ray it was found with (`ray`: the world ray moved
-// into the instance's space the way the walk moved it), the same arithmetic, so t, u and v are the walk's bits.
-RT_FUNC Hit rt_walk_hit(KernelGlobals kg, WalkHit best, TraversalRay ray) {
-    Hit h = rt_no_hit();
-    if (best.instance == RT_NONE) return h;
-    TriangleGeometry tri = RT_FETCH(kg, triangles, best.slot);
-    float4 tuv = rt_intersect_triangle(tri, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w, RT_INFINITY);
-    h.tuv = make_float4(best.t, tuv.y, tuv.z, 0.0f);
-    h.instance = best.instance;
-    h.primitive = rt_as_uint(tri.v0.w);
-    h.slot = best.slot;
-    return h;
 }
 
 #if defined(RT_WIDE_TRAVERSAL)
@@ -138,7 +96,7 @@ RT_FUNC Hit rt_walk_hit(KernelGlobals kg, WalkHit best, TraversalRay ray) {
 // its own.
 #define RT_INSTANCE_PER_LANE 0xfffffffdu
 
-// The wide layout's leaves: rt_walk_leaf's test on a block of four triangles at a time, with the same per-triangle
+// The wide layout's leaves: rt_intersect_leaf a block of four triangles at a time, with the same per-triangle
 // results and the same winner (rt_hit_wins).
 RT_FUNC Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, float tmax, uint instance, uint first,
                                 uint count) {
@@ -179,21 +137,19 @@ RT_FUNC Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, fl
 //   instance with the identity transform keeps the world ray, so a one-mesh scene pays no top-level walk.
 RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit,
                            bool one_instance) {
-    WalkHit best = rt_walk_start(tmax);
-    // The world ray is kept as origin and direction; leaving an instance computes its inverse direction again
-    // (the same bits), three registers fewer for the whole walk.
-    TraversalRay ray = rt_traversal_ray(origin, direction, tmin);
+    Hit best = rt_no_hit();
+    best.tuv.x = tmax;
+    TraversalRay world = rt_traversal_ray(origin, direction, tmin);
+    TraversalRay ray = world;
     uint instance = RT_NONE;
     uint stack_node[RT_BVH_STACK_SIZE];
     float stack_t[RT_BVH_STACK_SIZE];
     uint sp = 0u;
 
     uint root = 0u;
-    bool identity = false;
     if (one_instance) {
         Instance inst = RT_FETCH(kg, instances, 0u);
-        identity = (inst.flags & RT_INSTANCE_IDENTITY) != 0u;
-        if (!identity) ray = rt_ray_to_object(inst, ray);
+        if ((inst.flags & RT_INSTANCE_IDENTITY) == 0u) ray = rt_ray_to_object(inst, world);
         instance = 0u;
         root = inst.root;
     }
@@ -204,7 +160,7 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
     while (going) {
         // Walk interior nodes until a leaf (or nothing) is next.
         while (count == 0u) {
-            float reach = rt_reach(best.t, tmax);
+            float reach = rt_hit_reach(best, tmax);
             BvhNode a = RT_FETCH(kg, nodes, first);
             BvhNode b = RT_FETCH(kg, nodes, first + 1u);
             float t_a = rt_intersect_node(a, rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin, reach);
@@ -227,11 +183,11 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
             if (instance == RT_NONE) {
                 // A top-level leaf holds one instance: enter its mesh BVH in object space.
                 Instance inst = RT_FETCH(kg, instances, first);
-                TraversalRay object_ray = rt_ray_to_object(inst, ray);
+                TraversalRay object_ray = rt_ray_to_object(inst, world);
                 BvhNode mesh_root = RT_FETCH(kg, nodes, inst.root);
                 if (sp < rt_uint(RT_BVH_STACK_SIZE) &&
                     rt_intersect_node(mesh_root, rt_xyz(object_ray.origin), rt_xyz(object_ray.inv_direction), tmin,
-                                      rt_reach(best.t, tmax)) < RT_INFINITY) {
+                                      rt_hit_reach(best, tmax)) < RT_INFINITY) {
                     stack_node[sp] = RT_STACK_LEAVE_INSTANCE;
                     stack_t[sp] = 0.0f;
                     sp += 1u;
@@ -242,8 +198,8 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
                     continue;
                 }
             } else {
-                best = rt_walk_leaf(kg, best, ray, tmax, instance, first, count);
-                if (any_hit && best.instance != RT_NONE) break;
+                best = rt_intersect_leaf(kg, best, ray, tmax, instance, first, count);
+                if (any_hit && best.instance != RT_NONE) return best;
             }
         }
         // Pop the next node that can still hold a closer hit.
@@ -252,9 +208,9 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
             sp -= 1u;
             uint popped = stack_node[sp];
             if (popped == RT_STACK_LEAVE_INSTANCE) {
-                ray = rt_traversal_ray(origin, direction, tmin);
+                ray = world;
                 instance = RT_NONE;
-            } else if (stack_t[sp] <= rt_reach(best.t, tmax)) {
+            } else if (stack_t[sp] <= rt_hit_reach(best, tmax)) {
                 BvhNode next = RT_FETCH(kg, nodes, popped);
                 first = rt_as_uint(next.lower.w);
                 count = rt_as_uint(next.upper.w);
@@ -262,19 +218,16 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
             }
         }
     }
-    if (best.instance == RT_NONE) return rt_no_hit();
-    // The winner's ray as the walk had it: a one-instance scene's instance moved it only without the identity
-    // transform, a top-level leaf always.
-    TraversalRay hit_ray = rt_traversal_ray(origin, direction, tmin);
-    if (!identity) hit_ray = rt_ray_to_object(RT_FETCH(kg, instances, best.instance), hit_ray);
-    return rt_walk_hit(kg, best, hit_ray);
+    if (best.instance == RT_NONE) best.tuv.x = RT_INFINITY;
+    return best;
 }
 
 // Escape layout (the seed's stackless order): nodes in depth-first order, the left child right after its parent;
 // a missed box or a finished leaf jumps to the node's escape index. Entering an instance remembers where the top
 // level resumes; reaching the end of the mesh BVH goes back there.
 RT_FUNC Hit rt_trace_escape(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit) {
-    WalkHit best = rt_walk_start(tmax);
+    Hit best = rt_no_hit();
+    best.tuv.x = tmax;
     TraversalRay world = rt_traversal_ray(origin, direction, tmin);
     TraversalRay ray = world;
     uint instance = RT_NONE;
@@ -294,7 +247,8 @@ RT_FUNC Hit rt_trace_escape(KernelGlobals kg, float3 origin, float3 direction, f
         BvhNode node = RT_FETCH(kg, nodes, index);
         uint escape = rt_as_uint(node.lower.w);
         uint info = rt_as_uint(node.upper.w);
-        float t = rt_intersect_node(node, rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin, rt_reach(best.t, tmax));
+        float t =
+            rt_intersect_node(node, rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin, rt_hit_reach(best, tmax));
         if (!(t < RT_INFINITY)) {
             index = escape;
         } else if (info == RT_ESCAPE_INTERIOR) {
@@ -308,15 +262,14 @@ RT_FUNC Hit rt_trace_escape(KernelGlobals kg, float3 origin, float3 direction, f
             index = inst.root;
             end = rt_as_uint(RT_FETCH(kg, nodes, index).lower.w);
         } else {
-            best =
-                rt_walk_leaf(kg, best, ray, tmax, instance, info & RT_ESCAPE_FIRST_MASK, info >> RT_ESCAPE_COUNT_SHIFT);
-            if (any_hit && best.instance != RT_NONE) break;
+            best = rt_intersect_leaf(kg, best, ray, tmax, instance, info & RT_ESCAPE_FIRST_MASK,
+                                     info >> RT_ESCAPE_COUNT_SHIFT);
+            if (any_hit && best.instance != RT_NONE) return best;
             index = escape;
         }
     }
-    if (best.instance == RT_NONE) return rt_no_hit();
-    // Every instance of this layout is entered through a top-level leaf, which moves the ray (rt_walk_hit).
-    return rt_walk_hit(kg, best, rt_ray_to_object(RT_FETCH(kg, instances, best.instance), world));
+    if (best.instance == RT_NONE) best.tuv.x = RT_INFINITY;
+    return best;
 }
 
 #if defined(RT_WIDE_TRAVERSAL)

@@ -12,7 +12,7 @@
 // instead of 8 fit on an SM; asking for 8 keeps intersect and shadow at 64 (docs/kernels.md, "Edges"). The other
 // stages (0) take what ptxas chooses.
 constexpr unsigned min_resident_blocks(std::string_view stage) {
-    return stage == "intersect" || stage == "shadow" ? 9u : 0u;
+    return stage == "intersect" || stage == "shadow" ? 8u : 0u;
 }
 
 // prism_cuda_<name>: one __global__ entry per line of kernels/stage_list.h.
