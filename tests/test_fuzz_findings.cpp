@@ -147,6 +147,17 @@ TEST(FuzzFindings, ImagesTooShortForTheirDeclaredSizeAreTruncated) {
     }
 }
 
+// fuzz_image (a timeout): a 281-byte BMP stored top down declares 16x-16777204 pixels; stbi_info reports the
+// negative height as it is and the guard let it through, while stb's decoder takes the magnitude and decoded 268M
+// pixels (1 GB). The guard now checks the magnitude against its limits.
+TEST(FuzzFindings, TopDownBmpIsHeldToTheSizeLimits) {
+    const fs::path file = finding("bmp-top-down-declares-16x16777204.bmp");
+    const std::string error = texture_error(file);
+    EXPECT_EQ(error.rfind(file.string() + ": image is 16x16777204 pixels; Prism takes textures up to ", 0), 0u)
+        << error;
+    prism::test::expect_clean_failure(scene_with_texture(file).string(), "16x16777204");
+}
+
 // Found by reading stb_image 2.27 against its upstream fixes while fixing the above (CVE-2021-42715), not by the
 // fuzzer yet: an HDR whose run-length data ends inside a scanline makes stb read zero-length runs for ever, so a
 // 49-byte environment map hung `prism render`. The guard walks the runs as stb does and stops at the end.

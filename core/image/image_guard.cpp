@@ -41,6 +41,9 @@ void check_encoded_image(std::span<const uint8_t> bytes, const std::string& name
     int width = 0, height = 0, channels = 0;
     // stbi_info reads headers only; images it cannot size fail in the decoder with stb's own reason.
     if (!stbi_info_from_memory(bytes.data(), int(bytes.size()), &width, &height, &channels)) return;
+    // A BMP stored top down declares a negative height; stbi_info passes it on, while the decoder takes its
+    // magnitude, so the limits below must see the magnitude too.
+    if (bmp && height < 0 && height != INT_MIN) height = -height;
     if (width > kMaxTextureSide || height > kMaxTextureSide || int64_t(width) * height > kMaxTexturePixels)
         throw file_error(name, "image is " + std::to_string(width) + "x" + std::to_string(height) +
                                    " pixels; Prism takes textures up to " + std::to_string(kMaxTextureSide) +
