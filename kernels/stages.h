@@ -189,66 +189,7 @@ RT_FUNC void rt_stage_resolve(KernelGlobals kg, uint index) {
 RT_FUNC void rt_kernel_generate(KernelGlobals kg, uint depth) {
     RT_GRID_LOOP(i, rt_pixel_count(kg)) { rt_stage_generate(kg, i); }
 }
-
-// The stack layout's queues on a GPU, walked with finished rays replaced (Aila & Laine 2009, "replacing
-// terminated rays"): each lane walks its ray a step at a time (rt_stack_walk_step) and starts its next ray of the
-// grid loop's as soon as its walk is over, instead of idling until the slowest ray of its warp is done. The rays a
-// lane takes are the grid loop's (RT_GRID_FIRST, then every RT_GRID_STRIDE-th), so the hits do not depend on
-// when a lane takes them. (Handing rays out with an atomic counter instead left some rays untraced on lavapipe,
-// not found why.) The cpu backends keep the grid loop: a CPU thread walks one ray at a time and has no lanes to
-// keep busy.
-#if !defined(RT_CPU)
-RT_FUNC StackWalk rt_queued_walk(KernelGlobals kg, uint index, uint depth, bool shadow, bool one_instance) {
-    if (shadow) {
-        ShadowRay sr = RT_FETCH(kg, shadow_rays, index);
-        return rt_stack_walk_begin(kg, rt_xyz(sr.origin), rt_xyz(sr.direction), 0.0f, sr.direction.w, one_instance);
-    }
-    Ray ray = RT_FETCH(kg, rays, rt_queue_base(RT_FETCH(kg, frame, 0u), depth) + index);
-    return rt_stack_walk_begin(kg, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w, ray.direction.w,
-                               one_instance);
-}
-
-RT_FUNC void rt_walk_queue(KernelGlobals kg, uint depth, bool shadow) {
-    FrameParams frame = RT_FETCH(kg, frame, 0u);  // whole: see rt_trace
-    bool one_instance = (frame.flags & RT_FLAG_ONE_INSTANCE) != 0u;
-    bool any_hit = shadow || (frame.flags & RT_FLAG_ANY_HIT) != 0u;
-    uint n = shadow ? rt_shadow_count(kg, depth) : rt_ray_count(kg, depth);
-    uint stride = RT_GRID_STRIDE;
-    uint index = RT_GRID_FIRST;
-    if (index >= n) return;
-    uint stack_node[RT_BVH_STACK_SIZE];
-    float stack_t[RT_BVH_STACK_SIZE];
-    StackWalk w = rt_queued_walk(kg, index, depth, shadow, one_instance);
-    while (index < n) {
-        if (w.count != RT_STACK_DONE) w = rt_stack_walk_step(kg, w, stack_node, stack_t, any_hit);
-        if (w.count == RT_STACK_DONE) {
-            Hit hit = rt_stack_walk_hit(w);
-            if (!shadow) {
-                RT_STORE(kg, hits, index, hit);
-            } else if (!(hit.tuv.x < RT_INFINITY)) {
-                ShadowRay sr = RT_FETCH(kg, shadow_rays, index);
-                if (rt_max3(rt_xyz(sr.contribution)) > 0.0f) rt_accumulate(kg, sr.pixel, rt_xyz(sr.contribution));
-            }
-            index += stride;
-            if (index < n) w = rt_queued_walk(kg, index, depth, shadow, one_instance);
-        }
-    }
-}
-
-// Whether the queues' walks replace finished rays (rt_walk_queue): with the stack layout.
-RT_FUNC bool rt_replaces_rays(KernelGlobals kg) {
-    FrameParams frame = RT_FETCH(kg, frame, 0u);  // whole: see rt_trace
-    return frame.bvh_layout == RT_BVH_LAYOUT_STACK;
-}
-#endif  // !RT_CPU
-
 RT_FUNC void rt_kernel_intersect(KernelGlobals kg, uint depth) {
-#if !defined(RT_CPU)
-    if (rt_replaces_rays(kg)) {
-        rt_walk_queue(kg, depth, false);
-        return;
-    }
-#endif
     RT_GRID_LOOP(i, rt_ray_count(kg, depth)) { rt_stage_intersect(kg, i, depth); }
 }
 RT_FUNC void rt_kernel_miss(KernelGlobals kg, uint depth) {
@@ -259,12 +200,6 @@ RT_FUNC void rt_kernel_shade(KernelGlobals kg, uint depth) {
 }
 RT_FUNC void rt_kernel_shadow(KernelGlobals kg, uint depth) {
     if (rt_alpha_shadows(kg)) return;
-#if !defined(RT_CPU)
-    if (rt_replaces_rays(kg)) {
-        rt_walk_queue(kg, depth, true);
-        return;
-    }
-#endif
     RT_GRID_LOOP(i, rt_shadow_count(kg, depth)) { rt_stage_shadow(kg, i, depth); }
 }
 RT_FUNC void rt_kernel_shadow_layers(KernelGlobals kg, uint depth) {

@@ -125,8 +125,6 @@ RT_FUNC Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, fl
 
 // The node count the stack walk sets when it has no child to go to: pop the next node.
 #define RT_STACK_POP 0xffffffffu
-// ... and when nothing is left on the stack, or an any-hit query has its hit: the walk is over.
-#define RT_STACK_DONE 0xfffffffdu
 
 // Stack layout: interior nodes hold their first child (the second is next to it); both child boxes are tested
 // and the nearer is visited first, the farther pushed with its entry distance so it can be skipped later.
@@ -137,127 +135,91 @@ RT_FUNC Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, fl
 //   whose rays were at both ran both paths every step (docs/kernels.md, "The stack traversal", has the gain).
 // - A scene whose top level holds one instance starts inside it (one_instance: RT_FLAG_ONE_INSTANCE), and an
 //   instance with the identity transform keeps the world ray, so a one-mesh scene pays no top-level walk.
-// - The walk is a state (StackWalk) advanced one step at a time (rt_stack_walk_step: the interior nodes down to a
-//   leaf, the leaf, the pop), so that a queue's walk can give a lane whose ray is done the next ray while the rest
-//   of its warp walks on (rt_walk_queue, kernels/stages.h); rt_trace_stack steps one ray to its end.
-RT_STRUCT_BEGIN(StackWalk)
-    TraversalRay world;
-    TraversalRay ray;  // the ray in the current space (the instance's object space inside one)
-    Hit best;
-    float tmax;
-    uint instance;  // the instance being walked, RT_NONE at the top level
-    uint first;     // the node to go to next, as its parent's pair holds it (first, count) ...
-    uint count;     // ... or RT_STACK_POP (pop the next node) or RT_STACK_DONE (the walk is over)
-    uint sp;
-RT_STRUCT_END(StackWalk)
+RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit,
+                           bool one_instance) {
+    Hit best = rt_no_hit();
+    best.tuv.x = tmax;
+    TraversalRay world = rt_traversal_ray(origin, direction, tmin);
+    TraversalRay ray = world;
+    uint instance = RT_NONE;
+    uint stack_node[RT_BVH_STACK_SIZE];
+    float stack_t[RT_BVH_STACK_SIZE];
+    uint sp = 0u;
 
-RT_FUNC StackWalk rt_stack_walk_begin(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax,
-                                      bool one_instance) {
-    StackWalk w;
-    w.best = rt_no_hit();
-    w.best.tuv.x = tmax;
-    w.tmax = tmax;
-    w.world = rt_traversal_ray(origin, direction, tmin);
-    w.ray = w.world;
-    w.instance = RT_NONE;
-    w.sp = 0u;
     uint root = 0u;
     if (one_instance) {
         Instance inst = RT_FETCH(kg, instances, 0u);
-        if ((inst.flags & RT_INSTANCE_IDENTITY) == 0u) w.ray = rt_ray_to_object(inst, w.world);
-        w.instance = 0u;
+        if ((inst.flags & RT_INSTANCE_IDENTITY) == 0u) ray = rt_ray_to_object(inst, world);
+        instance = 0u;
         root = inst.root;
     }
     BvhNode node = RT_FETCH(kg, nodes, root);
-    w.first = rt_as_uint(node.lower.w);
-    w.count = rt_as_uint(node.upper.w);
-    if (!(rt_intersect_node(node, rt_xyz(w.ray.origin), rt_xyz(w.ray.inv_direction), tmin, tmax) < RT_INFINITY))
-        w.count = RT_STACK_DONE;
-    return w;
-}
-
-// One step of a walk that is not over: interior nodes until a leaf (or nothing) is next, that leaf (or the
-// instance it holds), then the pop of the next node that can still hold a closer hit.
-RT_FUNC StackWalk rt_stack_walk_step(KernelGlobals kg, StackWalk w, RT_INOUT_ARRAY uint stack_node[RT_BVH_STACK_SIZE],
-                                     RT_INOUT_ARRAY float stack_t[RT_BVH_STACK_SIZE], bool any_hit) {
-    float tmin = w.ray.origin.w;
-    while (w.count == 0u) {
-        float reach = rt_hit_reach(w.best, w.tmax);
-        BvhNode a = RT_FETCH(kg, nodes, w.first);
-        BvhNode b = RT_FETCH(kg, nodes, w.first + 1u);
-        float t_a = rt_intersect_node(a, rt_xyz(w.ray.origin), rt_xyz(w.ray.inv_direction), tmin, reach);
-        float t_b = rt_intersect_node(b, rt_xyz(w.ray.origin), rt_xyz(w.ray.inv_direction), tmin, reach);
-        bool a_first = t_a <= t_b;
-        float t_far = rt_max(t_a, t_b);
-        if (t_far < RT_INFINITY && w.sp < rt_uint(RT_BVH_STACK_SIZE)) {
-            stack_node[w.sp] = a_first ? w.first + 1u : w.first;
-            stack_t[w.sp] = t_far;
-            w.sp += 1u;
-        }
-        if (rt_min(t_a, t_b) < RT_INFINITY) {
-            w.count = rt_as_uint(a_first ? a.upper.w : b.upper.w);
-            w.first = rt_as_uint(a_first ? a.lower.w : b.lower.w);
-        } else {
-            w.count = RT_STACK_POP;
-        }
-    }
-    if (w.count != RT_STACK_POP) {
-        if (w.instance == RT_NONE) {
-            // A top-level leaf holds one instance: enter its mesh BVH in object space.
-            Instance inst = RT_FETCH(kg, instances, w.first);
-            TraversalRay object_ray = rt_ray_to_object(inst, w.world);
-            BvhNode mesh_root = RT_FETCH(kg, nodes, inst.root);
-            if (w.sp < rt_uint(RT_BVH_STACK_SIZE) &&
-                rt_intersect_node(mesh_root, rt_xyz(object_ray.origin), rt_xyz(object_ray.inv_direction), tmin,
-                                  rt_hit_reach(w.best, w.tmax)) < RT_INFINITY) {
-                stack_node[w.sp] = RT_STACK_LEAVE_INSTANCE;
-                stack_t[w.sp] = 0.0f;
-                w.sp += 1u;
-                w.ray = object_ray;
-                w.instance = w.first;
-                w.first = rt_as_uint(mesh_root.lower.w);
-                w.count = rt_as_uint(mesh_root.upper.w);
-                return w;
+    uint first = rt_as_uint(node.lower.w);
+    uint count = rt_as_uint(node.upper.w);
+    bool going = rt_intersect_node(node, rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin, tmax) < RT_INFINITY;
+    while (going) {
+        // Walk interior nodes until a leaf (or nothing) is next.
+        while (count == 0u) {
+            float reach = rt_hit_reach(best, tmax);
+            BvhNode a = RT_FETCH(kg, nodes, first);
+            BvhNode b = RT_FETCH(kg, nodes, first + 1u);
+            float t_a = rt_intersect_node(a, rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin, reach);
+            float t_b = rt_intersect_node(b, rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin, reach);
+            bool a_first = t_a <= t_b;
+            float t_far = rt_max(t_a, t_b);
+            if (t_far < RT_INFINITY && sp < rt_uint(RT_BVH_STACK_SIZE)) {
+                stack_node[sp] = a_first ? first + 1u : first;
+                stack_t[sp] = t_far;
+                sp += 1u;
             }
-        } else {
-            w.best = rt_intersect_leaf(kg, w.best, w.ray, w.tmax, w.instance, w.first, w.count);
-            if (any_hit && w.best.instance != RT_NONE) {
-                w.count = RT_STACK_DONE;
-                return w;
+            if (rt_min(t_a, t_b) < RT_INFINITY) {
+                first = rt_as_uint(a_first ? a.lower.w : b.lower.w);
+                count = rt_as_uint(a_first ? a.upper.w : b.upper.w);
+            } else {
+                count = RT_STACK_POP;
             }
         }
-    }
-    // Pop the next node that can still hold a closer hit.
-    w.count = RT_STACK_DONE;
-    while (w.sp > 0u && w.count == RT_STACK_DONE) {
-        w.sp -= 1u;
-        uint popped = stack_node[w.sp];
-        if (popped == RT_STACK_LEAVE_INSTANCE) {
-            w.ray = w.world;
-            w.instance = RT_NONE;
-        } else if (stack_t[w.sp] <= rt_hit_reach(w.best, w.tmax)) {
-            BvhNode next = RT_FETCH(kg, nodes, popped);
-            w.first = rt_as_uint(next.lower.w);
-            w.count = rt_as_uint(next.upper.w);
+        if (count != RT_STACK_POP) {
+            if (instance == RT_NONE) {
+                // A top-level leaf holds one instance: enter its mesh BVH in object space.
+                Instance inst = RT_FETCH(kg, instances, first);
+                TraversalRay object_ray = rt_ray_to_object(inst, world);
+                BvhNode mesh_root = RT_FETCH(kg, nodes, inst.root);
+                if (sp < rt_uint(RT_BVH_STACK_SIZE) &&
+                    rt_intersect_node(mesh_root, rt_xyz(object_ray.origin), rt_xyz(object_ray.inv_direction), tmin,
+                                      rt_hit_reach(best, tmax)) < RT_INFINITY) {
+                    stack_node[sp] = RT_STACK_LEAVE_INSTANCE;
+                    stack_t[sp] = 0.0f;
+                    sp += 1u;
+                    ray = object_ray;
+                    instance = first;
+                    first = rt_as_uint(mesh_root.lower.w);
+                    count = rt_as_uint(mesh_root.upper.w);
+                    continue;
+                }
+            } else {
+                best = rt_intersect_leaf(kg, best, ray, tmax, instance, first, count);
+                if (any_hit && best.instance != RT_NONE) return best;
+            }
+        }
+        // Pop the next node that can still hold a closer hit.
+        going = false;
+        while (sp > 0u && !going) {
+            sp -= 1u;
+            uint popped = stack_node[sp];
+            if (popped == RT_STACK_LEAVE_INSTANCE) {
+                ray = world;
+                instance = RT_NONE;
+            } else if (stack_t[sp] <= rt_hit_reach(best, tmax)) {
+                BvhNode next = RT_FETCH(kg, nodes, popped);
+                first = rt_as_uint(next.lower.w);
+                count = rt_as_uint(next.upper.w);
+                going = true;
+            }
         }
     }
-    return w;
-}
-
-// The closest (or any) hit of a walk that is over.
-RT_FUNC Hit rt_stack_walk_hit(StackWalk w) {
-    Hit best = w.best;
     if (best.instance == RT_NONE) best.tuv.x = RT_INFINITY;
     return best;
-}
-
-RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit,
-                           bool one_instance) {
-    uint stack_node[RT_BVH_STACK_SIZE];
-    float stack_t[RT_BVH_STACK_SIZE];
-    StackWalk w = rt_stack_walk_begin(kg, origin, direction, tmin, tmax, one_instance);
-    while (w.count != RT_STACK_DONE) w = rt_stack_walk_step(kg, w, stack_node, stack_t, any_hit);
-    return rt_stack_walk_hit(w);
 }
 
 // Escape layout (the seed's stackless order): nodes in depth-first order, the left child right after its parent;

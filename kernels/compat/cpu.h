@@ -15,8 +15,7 @@
 
 #define RT_FUNC static inline
 #define RT_CONST static constexpr
-#define RT_OUT_ARRAY    // an array parameter is a pointer to the caller's array (GLSL says `out`)
-#define RT_INOUT_ARRAY  // ... which the function reads as well (GLSL says `inout`)
+#define RT_OUT_ARRAY  // an array parameter is a pointer to the caller's array (GLSL says `out`)
 
 typedef uint32_t uint;
 

@@ -6,8 +6,7 @@
 
 #define RT_FUNC static __device__ __forceinline__
 #define RT_CONST static __device__ constexpr
-#define RT_OUT_ARRAY    // an array parameter is a pointer to the caller's array (GLSL says `out`)
-#define RT_INOUT_ARRAY  // ... which the function reads as well (GLSL says `inout`)
+#define RT_OUT_ARRAY  // an array parameter is a pointer to the caller's array (GLSL says `out`)
 
 typedef unsigned int uint;
 
@@ -143,9 +142,7 @@ static __device__ __forceinline__ uint rt_warp_count(bool p, bool below_only) {
 #define RT_GROUP_COUNT_BELOW(p) rt_warp_count((p), true)
 
 // Grid-stride loop: the backend launches a fixed grid sized to fill the GPU; the item count lives on the device.
-// RT_GRID_FIRST and RT_GRID_STRIDE: this thread's first item and the step to its next (a queue's walk, stages.h).
-#define RT_GRID_FIRST (blockIdx.x * blockDim.x + threadIdx.x)
-#define RT_GRID_STRIDE (gridDim.x * blockDim.x)
-#define RT_GRID_LOOP(i, n) for (uint i = RT_GRID_FIRST, rt_n_ = (n); i < rt_n_; i += RT_GRID_STRIDE)
+#define RT_GRID_LOOP(i, n) \
+    for (uint i = blockIdx.x * blockDim.x + threadIdx.x, rt_n_ = (n); i < rt_n_; i += gridDim.x * blockDim.x)
 
 #endif

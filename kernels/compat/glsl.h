@@ -7,7 +7,6 @@
 #define RT_CONST const
 // An array a function fills for its caller (the other APIs pass a pointer to the caller's array).
 #define RT_OUT_ARRAY out
-#define RT_INOUT_ARRAY inout
 
 // A macro that closes the brace its partner opened: clang-format would split it.
 // clang-format off
@@ -108,9 +107,7 @@ uint rt_lane8_u(uvec4 lo, uvec4 hi, uint k) { return k < 4u ? lo[k] : hi[k - 4u]
 
 // The shader must declare layout(local_size_x = ...) BEFORE including kernels/: glslang compiles gl_WorkGroupSize
 // as (1, 1, 1), without a diagnostic, in functions defined before that declaration.
-// RT_GRID_FIRST and RT_GRID_STRIDE: this invocation's first item and the step to its next (a queue's walk, stages.h).
-#define RT_GRID_FIRST gl_GlobalInvocationID.x
-#define RT_GRID_STRIDE (gl_NumWorkGroups.x * gl_WorkGroupSize.x)
-#define RT_GRID_LOOP(i, n) for (uint i = RT_GRID_FIRST, rt_n_ = (n); i < rt_n_; i += RT_GRID_STRIDE)
+#define RT_GRID_LOOP(i, n) \
+    for (uint i = gl_GlobalInvocationID.x, rt_n_ = (n); i < rt_n_; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x)
 
 #endif

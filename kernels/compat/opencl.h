@@ -5,8 +5,7 @@
 
 #define RT_FUNC static inline
 #define RT_CONST __constant
-#define RT_OUT_ARRAY    // an array parameter is a pointer to the caller's array (GLSL says `out`)
-#define RT_INOUT_ARRAY  // ... which the function reads as well (GLSL says `inout`)
+#define RT_OUT_ARRAY  // an array parameter is a pointer to the caller's array (GLSL says `out`)
 
 // A macro that closes the brace its partner opened: clang-format would split it. Every device struct is 16-aligned
 // (a struct of four scalars too), so a row of four can move in one 16-byte load.
@@ -121,9 +120,6 @@ RT_FUNC uint rt_warp_count(bool p, bool below_only) {
 #define RT_GROUP_COUNT_BELOW(p) 0u
 #endif
 
-// RT_GRID_FIRST and RT_GRID_STRIDE: this work-item's first item and the step to its next (a queue's walk, stages.h).
-#define RT_GRID_FIRST ((uint)get_global_id(0))
-#define RT_GRID_STRIDE ((uint)get_global_size(0))
-#define RT_GRID_LOOP(i, n) for (uint i = RT_GRID_FIRST, rt_n_ = (n); i < rt_n_; i += RT_GRID_STRIDE)
+#define RT_GRID_LOOP(i, n) for (uint i = (uint)get_global_id(0), rt_n_ = (n); i < rt_n_; i += (uint)get_global_size(0))
 
 #endif
