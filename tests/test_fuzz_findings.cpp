@@ -68,6 +68,15 @@ TEST(FuzzFindings, SceneFileNumberOutOfRangeNamesTheFile) {
     prism::test::expect_clean_failure(file.string(), "scene-number-overflow.json: invalid JSON");
 }
 
+// fuzz_obj: a skin-weight line (vw) whose joint is 1e39000: tinyobjloader converts the joint to int, undefined for
+// a value past int's range (UBSan: float-cast-overflow in tinyobj::LoadObj). The OBJ check refuses the value first.
+TEST(FuzzFindings, ObjSkinWeightOutOfIntRangeIsRefused) {
+    const fs::path file = finding("obj-skin-weight-joint-1e39000.obj");
+    EXPECT_EQ(load_error(file),
+              file.string() + ":5: skin weight (vw) value '1e39000' is not a number within +-2147483647");
+    prism::test::expect_clean_failure(file.string(), "skin weight (vw) value '1e39000'");
+}
+
 // fuzz_image: a JPEG Huffman table whose 16 code counts add up to more than 256 made Debian's stb_image (2.27)
 // write past its code-length array (UBSan: stbi__build_huffman, index 257 of 257); also when the table is cut off
 // by the end of the file (stb_image reads the missing counts as 0 and still overflows).

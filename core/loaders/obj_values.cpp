@@ -58,6 +58,20 @@ void check_number(const std::string& file, size_t line, std::string_view keyword
     throw file_error(file, line, std::string(keyword) + " value '" + shorten(word, 40) + "' is not a finite number");
 }
 
+// Skin weights ("vw vertex joint weight ...", a tinyobjloader extension Prism does not use): tinyobjloader reads the
+// vertex with atoi and converts each joint to int, both undefined past int's range (UBSan, fuzz_obj: a joint of
+// 1e39000). Every value of the line must be finite and within that range.
+void check_skin_weight(const std::string& file, size_t line, std::string_view word) {
+    std::string_view digits = word;
+    if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
+    double value = 0.0;
+    const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+    if (error == std::errc() && end == digits.data() + digits.size() && std::fabs(value) <= double(INT32_MAX)) return;
+    throw file_error(
+        file, line,
+        "skin weight (vw) value '" + shorten(word, 40) + "' is not a number within +-" + std::to_string(INT32_MAX));
+}
+
 // One index as written ("-5", "12"): an integer naming an existing element.
 void check_index(const std::string& file, size_t line, std::string_view statement, std::string_view written, Kind kind,
                  int64_t defined_above, int64_t defined_in_file) {
@@ -100,6 +114,10 @@ void check_obj_values(const std::string& file, std::string_view text) {
         if (keyword == "v" || keyword == "vt" || keyword == "vn") {
             for (size_t i = 1; i < words.size(); ++i) check_number(file, line, keyword, words[i]);
             if (!continued) ++above[keyword == "v" ? kPosition : keyword == "vt" ? kUv : kNormal];
+            return;
+        }
+        if (keyword == "vw") {
+            for (size_t i = 1; i < words.size(); ++i) check_skin_weight(file, line, words[i]);
             return;
         }
         if (keyword != "f" && keyword != "l" && keyword != "p") return;
