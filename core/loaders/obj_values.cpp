@@ -49,12 +49,16 @@ void for_each_line(std::string_view text, Visit visit) {
     }
 }
 
-void check_number(const std::string& file, size_t line, std::string_view keyword, std::string_view word) {
-    std::string_view digits = word;
-    if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
+// The whole word as a number (a leading '+' allowed), or NaN when it is not one.
+double number_or_nan(std::string_view word) {
+    if (!word.empty() && word.front() == '+') word.remove_prefix(1);
     double value = 0.0;
-    const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
-    if (error == std::errc() && end == digits.data() + digits.size() && std::isfinite(value)) return;
+    const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), value);
+    return error == std::errc() && end == word.data() + word.size() ? value : std::nan("");
+}
+
+void check_number(const std::string& file, size_t line, std::string_view keyword, std::string_view word) {
+    if (std::isfinite(number_or_nan(word))) return;
     throw file_error(file, line, std::string(keyword) + " value '" + shorten(word, 40) + "' is not a finite number");
 }
 
@@ -62,11 +66,7 @@ void check_number(const std::string& file, size_t line, std::string_view keyword
 // vertex with atoi and converts each joint to int, both undefined past int's range (UBSan, fuzz_obj: a joint of
 // 1e39000). Every value of the line must be finite and within that range.
 void check_skin_weight(const std::string& file, size_t line, std::string_view word) {
-    std::string_view digits = word;
-    if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
-    double value = 0.0;
-    const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
-    if (error == std::errc() && end == digits.data() + digits.size() && std::fabs(value) <= double(INT32_MAX)) return;
+    if (std::fabs(number_or_nan(word)) <= double(INT32_MAX)) return;
     throw file_error(
         file, line,
         "skin weight (vw) value '" + shorten(word, 40) + "' is not a number within +-" + std::to_string(INT32_MAX));
