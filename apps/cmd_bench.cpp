@@ -225,7 +225,6 @@ void run_bench(BenchOptions options) {
                           {"bvh_layout", options.scene.layout},
                           {"bvh_leaf_size", options.scene.bvh_leaf_size},
                           {"bvh_node_cost", options.scene.bvh_node_cost},
-                          {"bvh_split_budget", options.scene.bvh_split_budget},
                           {"queries_interleaved", true}};
     result["scenes"] = nlohmann::json::array();
     result["failures"] = nlohmann::json::array();

@@ -65,7 +65,6 @@ void run_info(const InfoOptions& options) {
                          {"bvh_layout", loaded.layout},
                          {"bvh_leaf_size", options.scene.bvh_leaf_size},
                          {"bvh_node_cost", options.scene.bvh_node_cost},
-                         {"bvh_split_budget", options.scene.bvh_split_budget},
                          {"bvh_nodes", d.bvh_options.layout == BvhLayout::Wide ? d.wide_nodes.size() : d.nodes.size()},
                          {"top_level_nodes", d.top_level_nodes},
                          {"sah_cost", d.sah_cost},

@@ -88,7 +88,6 @@ void run_render(const RenderOptions& options) {
                         {"layout", loaded.layout},
                         {"leaf_size", options.scene.bvh_leaf_size},
                         {"node_cost", options.scene.bvh_node_cost},
-                        {"split_budget", options.scene.bvh_split_budget},
                         {"build_ms", loaded.device.bvh_build_ms},
                         {"sah_cost", loaded.device.sah_cost}};
         stats_file.emplace(options.stats, stats.dump(2) + "\n");

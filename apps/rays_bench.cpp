@@ -123,7 +123,6 @@ void run_rays_bench(const RaysBenchOptions& options) {
                           {"ray_order", options.ray_order},
                           {"bvh_leaf_size", options.scene.bvh_leaf_size},
                           {"bvh_node_cost", options.scene.bvh_node_cost},
-                          {"bvh_split_budget", options.scene.bvh_split_budget},
                           {"time", "intersect launch, device timers, median of runs"}};
     result["backends"] = nlohmann::json::array();
     for (const std::string& backend : backends) {

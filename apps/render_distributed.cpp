@@ -103,8 +103,7 @@ void report(const DistributedRender& render, const WorkerJob& job, const WorkCoo
     stats["bvh"] = {{"method", render.scene.bvh},
                     {"layout", job.scene.layout},
                     {"leaf_size", render.scene.bvh_leaf_size},
-                    {"node_cost", render.scene.bvh_node_cost},
-                    {"split_budget", render.scene.bvh_split_budget}};
+                    {"node_cost", render.scene.bvh_node_cost}};
     stats["ranks"] = ranks;
     stats["workers"] = workers_json(coordinator, job.sequence);
     if (job.sequence) {

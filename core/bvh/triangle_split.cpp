@@ -113,7 +113,8 @@ void split_recursively(const TriangleCorners& t, const Aabb& box, uint32_t split
 
 }  // namespace
 
-SplitReferences split_triangles(std::span<const TriangleCorners> corners, std::span<const Aabb> bounds, float budget) {
+SplitReferences split_triangles(std::span<const TriangleCorners> corners, std::span<const Aabb> bounds,
+                                float budget) {
     SplitReferences out;
     Aabb scene;
     size_t usable_triangles = 0;
@@ -181,8 +182,7 @@ void map_split_references(Bvh& bvh, const SplitReferences& references) {
         for (uint32_t n = 0; n < bvh.wide_nodes.size(); ++n)
             for (uint32_t k = 0; k < RT_BVH_WIDTH; ++k)
                 if (wide_lane_leaf(bvh.wide_nodes[n], k))
-                    leaves.push_back(
-                        {wide_lane_first(bvh.wide_nodes[n], k), wide_lane_count(bvh.wide_nodes[n], k), n, k});
+                    leaves.push_back({wide_lane_first(bvh.wide_nodes[n], k), wide_lane_count(bvh.wide_nodes[n], k), n, k});
     } else {
         for (uint32_t n = 0; n < bvh.nodes.size(); ++n) {
             BvhNodeView view = decode_bvh_node(bvh, n);
@@ -208,10 +208,10 @@ void map_split_references(Bvh& bvh, const SplitReferences& references) {
             continue;
         }
         BvhNode& node = bvh.nodes[leaf.node];
-        node.lower.w =
-            std::bit_cast<float>(bvh.layout == BvhLayout::Stack ? first : std::bit_cast<uint32_t>(node.lower.w));
-        node.upper.w =
-            std::bit_cast<float>(bvh.layout == BvhLayout::Stack ? count : first | count << RT_ESCAPE_COUNT_SHIFT);
+        node.lower.w = std::bit_cast<float>(bvh.layout == BvhLayout::Stack ? first
+                                                                           : std::bit_cast<uint32_t>(node.lower.w));
+        node.upper.w = std::bit_cast<float>(bvh.layout == BvhLayout::Stack ? count
+                                                                           : first | count << RT_ESCAPE_COUNT_SHIFT);
     }
     // The binary tree's cost as the walk pays it, a triangle once per leaf (the wide layout keeps the build's).
     if (bvh.layout != BvhLayout::Wide) bvh.sah_cost = sah_cost(bvh, bvh.options);

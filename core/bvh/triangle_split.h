@@ -21,14 +21,15 @@ struct TriangleCorners {
 };
 
 struct SplitReferences {
-    std::vector<Aabb> bounds;        // what build_bvh gets: one box per reference
-    std::vector<uint32_t> triangle;  // the input triangle each reference belongs to
+    std::vector<Aabb> bounds;         // what build_bvh gets: one box per reference
+    std::vector<uint32_t> triangle;   // the input triangle each reference belongs to
 };
 
 // Adds about `budget` x (triangles with non-empty bounds) references, given to the triangles whose boxes waste the
 // most area at the coarsest grid planes. `bounds[t]` empty leaves triangle t out (as build_bvh does). budget 0
 // returns one reference per triangle, in order. Deterministic.
-SplitReferences split_triangles(std::span<const TriangleCorners> corners, std::span<const Aabb> bounds, float budget);
+SplitReferences split_triangles(std::span<const TriangleCorners> corners, std::span<const Aabb> bounds,
+                                float budget);
 
 // A BVH built over split references indexes references in primitive_order: this maps them to triangles and drops a
 // triangle's second reference within one leaf range (the stack layout's leaves; the wide layout's are handled
