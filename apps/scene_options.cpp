@@ -37,24 +37,6 @@ void add_scene_options(CLI::App* command, SceneOptions& options, bool scene_requ
                       "let the scene read files outside its own folder (absolute or ../ URIs and paths)");
 }
 
-namespace {
-
-// A float option within [lo, hi]; NaN and trailing text are refused (CLI::Range lets NaN through).
-CLI::Validator float_between(float lo, float hi, const std::string& lo_text, const std::string& hi_text) {
-    return CLI::Validator(
-        [=](std::string& text) -> std::string {
-            char* end = nullptr;
-            float value = std::strtof(text.c_str(), &end);
-            bool whole = end && *end == '\0' && end != text.c_str();
-            return whole && value >= lo && value <= hi
-                       ? ""
-                       : "Value " + text + " is not a number from " + lo_text + " to " + hi_text;
-        },
-        lo_text + "-" + hi_text);
-}
-
-}  // namespace
-
 void add_bvh_shape_options(CLI::App* command, SceneOptions& options) {
     command
         ->add_option("--bvh-leaf-size", options.bvh_leaf_size,
@@ -65,12 +47,15 @@ void add_bvh_shape_options(CLI::App* command, SceneOptions& options) {
     command
         ->add_option("--bvh-node-cost", options.bvh_node_cost,
                      "the SAH's cost of visiting a node, in triangle tests (0.1-100): higher gives fuller leaves")
-        ->check(float_between(0.1f, 100.0f, "0.1", "100"))
-        ->capture_default_str();
-    command
-        ->add_option("--bvh-split-budget", options.bvh_split_budget,
-                     "extra BVH references per triangle from cutting long triangles before the build (0-2; 0: none)")
-        ->check(float_between(0.0f, 2.0f, "0", "2"))
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                char* end = nullptr;
+                float cost = std::strtof(text.c_str(), &end);
+                bool whole = end && *end == '\0' && end != text.c_str();
+                return whole && cost >= 0.1f && cost <= 100.0f ? ""
+                                                               : "Value " + text + " is not a number from 0.1 to 100";
+            },
+            "0.1-100"))
         ->capture_default_str();
 }
 
@@ -87,7 +72,6 @@ DeviceScene build_device_scene_for(const Scene& scene, const SceneOptions& optio
     bvh.layout = layout;
     bvh.max_leaf_size = options.bvh_leaf_size;
     bvh.traversal_cost = options.bvh_node_cost;
-    bvh.split_budget = options.bvh_split_budget;
     bvh.flatten_instances = !options.moving_instances;
     return build_device_scene(scene, bvh, progress);
 }

@@ -20,7 +20,6 @@ struct SceneOptions {
     // The SAH build's leaf bound and node cost (BvhBuildOptions): --bvh-leaf-size, --bvh-node-cost.
     uint32_t bvh_leaf_size = BvhBuildOptions{}.max_leaf_size;
     float bvh_node_cost = BvhBuildOptions{}.traversal_cost;
-    float bvh_split_budget = BvhBuildOptions{}.split_budget;  // --bvh-split-budget
     // Instances may move after the build (the viewer's moving object): the wide layout then keeps its top level
     // over instances, which a move refits; otherwise it flattens them into one BVH (BvhBuildOptions).
     bool moving_instances = false;

@@ -6,9 +6,7 @@
 //  - prints the best and the median round of each and their ratios, and the hit agreement with Embree.
 // `prism bench --embree` (2 threads, wall time) is the reference measurement; this is the tuning loop.
 // The wide layout flattens the scene's instances, as `prism bench` builds it; --two-level keeps the top level.
-//   query_ratio_bench [--rounds N] [--threads N] [--bvh-layout wide|stack|escape] [--bvh-leaf N] [--split-budget F]
-//   [--two-level]
-//                     scene...
+//   query_ratio_bench [--rounds N] [--threads N] [--bvh-layout wide|stack|escape] [--bvh-leaf N] [--two-level] scene...
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -49,7 +47,6 @@ int main(int argc, char** argv) {
     unsigned threads = 1;
     std::string layout = "wide";
     uint32_t leaf = 0, wide_leaf = 0;
-    float split_budget = 0.0f;
     bool two_level = false;
     app.add_option("scenes", scenes, "models (.ply, .ply.gz, ...)")->required();
     app.add_option("--rounds", rounds, "timed rounds after one warm-up")->capture_default_str();
@@ -58,7 +55,6 @@ int main(int argc, char** argv) {
     app.add_option("--bvh-layout", layout, "stack, escape or wide")->capture_default_str();
     app.add_option("--bvh-leaf", leaf, "max_leaf_size of the BVH build (0: the default)");
     app.add_option("--wide-leaf", wide_leaf, "wide_leaf_size of the BVH build (0: the default)");
-    app.add_option("--split-budget", split_budget, "split_budget of the BVH build (triangle pre-splitting)");
     app.add_flag("--two-level", two_level, "wide layout: keep the top level over instances (as `prism view`)");
     CLI11_PARSE(app, argc, argv);
     try {
@@ -71,7 +67,6 @@ int main(int argc, char** argv) {
             if (leaf) options.max_leaf_size = leaf;
             if (wide_leaf) options.wide_leaf_size = wide_leaf;
             options.flatten_instances = !two_level;
-            options.split_budget = split_budget;
             DeviceScene device = build_device_scene(scene, options);
             oracle::EmbreeScene embree(scene, threads);
             oracle::OracleRays rays = oracle::make_oracle_rays(scene, embree, 500000, 1000000, 7);

@@ -59,9 +59,6 @@ struct BvhBuildOptions {
     // two-level layout; the built DeviceScene's bvh_options.flatten_instances says which one it got, false for
     // every layout but the wide one).
     float flatten_growth_limit = 2.0f;
-    // Triangle pre-splitting (core/bvh/triangle_split.h): about this many extra references per triangle, given to
-    // the triangles whose boxes waste the most space; 0: none. Mesh BVHs only (the top level's boxes are refit).
-    float split_budget = 0.0f;
 };
 
 // Where a build's time went (build_bvh's steps, wall clock): the benchmark reports them per thread count.

@@ -7,7 +7,6 @@
 #include <map>
 
 #include "core/bvh/bvh_tree.h"
-#include "core/bvh/triangle_split.h"
 #include "core/render/device_scene_flat.h"
 #include "core/util/error.h"
 #include "kernels/intersect.h"
@@ -315,18 +314,7 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
                 mesh_progress = [&progress, triangles_placed, share, triangles_to_place](double fraction) {
                     progress((triangles_placed + fraction * share) / triangles_to_place);
                 };
-            if (options.split_budget > 0.0f) {
-                std::vector<TriangleCorners> corners(bounds.size());
-                for (size_t t = 0; t < bounds.size(); ++t) {
-                    glm::uvec3 tri = mesh.triangles[t];
-                    corners[t] = {mesh.positions[tri.x], mesh.positions[tri.y], mesh.positions[tri.z]};
-                }
-                SplitReferences references = split_triangles(corners, bounds, options.split_budget);
-                placement.bvh = build_bvh(references.bounds, options, mesh_progress);
-                map_split_references(placement.bvh, references);
-            } else {
-                placement.bvh = build_bvh(bounds, options, mesh_progress);
-            }
+            placement.bvh = build_bvh(bounds, options, mesh_progress);
             triangles_placed += share;
         }
         for (uint32_t t : placement.bvh.primitive_order) {

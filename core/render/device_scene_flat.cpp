@@ -12,7 +12,6 @@
 
 #include <bit>
 
-#include "core/bvh/triangle_split.h"
 #include "core/util/error.h"
 
 namespace prism {
@@ -57,16 +56,7 @@ void build_flat_instances(DeviceScene& device, const Scene& scene, const std::ve
     // scene's model fell into one or two bins at the top of the tree and its diffuse rays tested a third more
     // triangles. 32 bins (as Embree bins) gave the two-level layout's leaf tests back.
     options.bins = std::max(options.bins, 32u);
-    Bvh bvh;
-    if (options.split_budget > 0.0f) {
-        std::vector<TriangleCorners> corners(triangles.size());
-        for (size_t t = 0; t < triangles.size(); ++t) corners[t] = {triangles[t].a, triangles[t].b, triangles[t].c};
-        SplitReferences references = split_triangles(corners, bounds, options.split_budget);
-        bvh = build_bvh(references.bounds, options, progress);
-        map_split_references(bvh, references);
-    } else {
-        bvh = build_bvh(bounds, options, progress);
-    }
+    Bvh bvh = build_bvh(bounds, options, progress);
 
     // Leaves become blocks of four world-space triangles; each lane remembers its instance, primitive and slot.
     device.triangle_blocks.clear();
