@@ -143,6 +143,7 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
     TraversalRay ray = world;
     uint instance = RT_NONE;
     uint stack_node[RT_BVH_STACK_SIZE];
+    float stack_t[RT_BVH_STACK_SIZE];
     uint sp = 0u;
 
     uint root = 0u;
@@ -168,6 +169,7 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
             float t_far = rt_max(t_a, t_b);
             if (t_far < RT_INFINITY && sp < rt_uint(RT_BVH_STACK_SIZE)) {
                 stack_node[sp] = a_first ? first + 1u : first;
+                stack_t[sp] = t_far;
                 sp += 1u;
             }
             if (rt_min(t_a, t_b) < RT_INFINITY) {
@@ -187,6 +189,7 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
                     rt_intersect_node(mesh_root, rt_xyz(object_ray.origin), rt_xyz(object_ray.inv_direction), tmin,
                                       rt_hit_reach(best, tmax)) < RT_INFINITY) {
                     stack_node[sp] = RT_STACK_LEAVE_INSTANCE;
+                    stack_t[sp] = 0.0f;
                     sp += 1u;
                     ray = object_ray;
                     instance = first;
@@ -207,17 +210,11 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
             if (popped == RT_STACK_LEAVE_INSTANCE) {
                 ray = world;
                 instance = RT_NONE;
-            } else {
-                // The popped node's box is tested again rather than its entry distance kept on the stack: the same
-                // arithmetic on the same ray gives the same distance, so the same nodes are skipped, and the stack
-                // holds 4 bytes an entry instead of 8.
+            } else if (stack_t[sp] <= rt_hit_reach(best, tmax)) {
                 BvhNode next = RT_FETCH(kg, nodes, popped);
-                if (rt_intersect_node(next, rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin,
-                                      rt_hit_reach(best, tmax)) < RT_INFINITY) {
-                    first = rt_as_uint(next.lower.w);
-                    count = rt_as_uint(next.upper.w);
-                    going = true;
-                }
+                first = rt_as_uint(next.lower.w);
+                count = rt_as_uint(next.upper.w);
+                going = true;
             }
         }
     }
