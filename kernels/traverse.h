@@ -145,50 +145,6 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
     uint stack_node[RT_BVH_STACK_SIZE];
     float stack_t[RT_BVH_STACK_SIZE];
     uint sp = 0u;
-#if defined(RT_CUDA)
-    // Probe: the stack's top RT_RING entries in shared memory (a ring), older ones spilled to the local arrays.
-#define RT_RING 8u
-    __shared__ uint2 rt_ring[RT_RING][128];
-    uint ring_lo = 0u;
-    const uint tid = threadIdx.x;
-#define RT_PUSH(n, t)                                                            \
-    {                                                                            \
-        if (sp >= ring_lo + RT_RING) {                                           \
-            uint2 e_ = rt_ring[ring_lo & (RT_RING - 1u)][tid];                   \
-            stack_node[ring_lo] = e_.x;                                          \
-            stack_t[ring_lo] = __uint_as_float(e_.y);                            \
-            ring_lo += 1u;                                                       \
-        }                                                                        \
-        rt_ring[sp & (RT_RING - 1u)][tid] = make_uint2((n), __float_as_uint(t)); \
-        sp += 1u;                                                                \
-    }
-#define RT_POP(n, t)                                      \
-    {                                                     \
-        sp -= 1u;                                         \
-        if (sp >= ring_lo) {                              \
-            uint2 e_ = rt_ring[sp & (RT_RING - 1u)][tid]; \
-            n = e_.x;                                     \
-            t = __uint_as_float(e_.y);                    \
-        } else {                                          \
-            n = stack_node[sp];                           \
-            t = stack_t[sp];                              \
-            ring_lo = sp;                                 \
-        }                                                 \
-    }
-#else
-#define RT_PUSH(n, t)         \
-    {                         \
-        stack_node[sp] = (n); \
-        stack_t[sp] = (t);    \
-        sp += 1u;             \
-    }
-#define RT_POP(n, t)        \
-    {                       \
-        sp -= 1u;           \
-        n = stack_node[sp]; \
-        t = stack_t[sp];    \
-    }
-#endif
 
     uint root = 0u;
     if (one_instance) {
@@ -212,7 +168,9 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
             bool a_first = t_a <= t_b;
             float t_far = rt_max(t_a, t_b);
             if (t_far < RT_INFINITY && sp < rt_uint(RT_BVH_STACK_SIZE)) {
-                RT_PUSH(a_first ? first + 1u : first, t_far);
+                stack_node[sp] = a_first ? first + 1u : first;
+                stack_t[sp] = t_far;
+                sp += 1u;
             }
             if (rt_min(t_a, t_b) < RT_INFINITY) {
                 first = rt_as_uint(a_first ? a.lower.w : b.lower.w);
@@ -230,7 +188,9 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
                 if (sp < rt_uint(RT_BVH_STACK_SIZE) &&
                     rt_intersect_node(mesh_root, rt_xyz(object_ray.origin), rt_xyz(object_ray.inv_direction), tmin,
                                       rt_hit_reach(best, tmax)) < RT_INFINITY) {
-                    RT_PUSH(RT_STACK_LEAVE_INSTANCE, 0.0f);
+                    stack_node[sp] = RT_STACK_LEAVE_INSTANCE;
+                    stack_t[sp] = 0.0f;
+                    sp += 1u;
                     ray = object_ray;
                     instance = first;
                     first = rt_as_uint(mesh_root.lower.w);
@@ -245,13 +205,12 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
         // Pop the next node that can still hold a closer hit.
         going = false;
         while (sp > 0u && !going) {
-            uint popped;
-            float popped_t;
-            RT_POP(popped, popped_t);
+            sp -= 1u;
+            uint popped = stack_node[sp];
             if (popped == RT_STACK_LEAVE_INSTANCE) {
                 ray = world;
                 instance = RT_NONE;
-            } else if (popped_t <= rt_hit_reach(best, tmax)) {
+            } else if (stack_t[sp] <= rt_hit_reach(best, tmax)) {
                 BvhNode next = RT_FETCH(kg, nodes, popped);
                 first = rt_as_uint(next.lower.w);
                 count = rt_as_uint(next.upper.w);
@@ -261,8 +220,6 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
     }
     if (best.instance == RT_NONE) best.tuv.x = RT_INFINITY;
     return best;
-#undef RT_PUSH
-#undef RT_POP
 }
 
 // Escape layout (the seed's stackless order): nodes in depth-first order, the left child right after its parent;
