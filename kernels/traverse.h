@@ -142,8 +142,8 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
     TraversalRay world = rt_traversal_ray(origin, direction, tmin);
     TraversalRay ray = world;
     uint instance = RT_NONE;
-    uint stack_node[RT_BVH_STACK_SIZE];
-    float stack_t[RT_BVH_STACK_SIZE];
+    // An entry is (node, entry distance's bits): a push or a pop moves one 8-byte pair.
+    uint2 stack[RT_BVH_STACK_SIZE];
     uint sp = 0u;
 
     uint root = 0u;
@@ -168,8 +168,8 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
             bool a_first = t_a <= t_b;
             float t_far = rt_max(t_a, t_b);
             if (t_far < RT_INFINITY && sp < rt_uint(RT_BVH_STACK_SIZE)) {
-                stack_node[sp] = a_first ? first + 1u : first;
-                stack_t[sp] = t_far;
+                stack[sp].x = a_first ? first + 1u : first;
+                stack[sp].y = rt_as_uint(t_far);
                 sp += 1u;
             }
             if (rt_min(t_a, t_b) < RT_INFINITY) {
@@ -188,8 +188,8 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
                 if (sp < rt_uint(RT_BVH_STACK_SIZE) &&
                     rt_intersect_node(mesh_root, rt_xyz(object_ray.origin), rt_xyz(object_ray.inv_direction), tmin,
                                       rt_hit_reach(best, tmax)) < RT_INFINITY) {
-                    stack_node[sp] = RT_STACK_LEAVE_INSTANCE;
-                    stack_t[sp] = 0.0f;
+                    stack[sp].x = RT_STACK_LEAVE_INSTANCE;
+                    stack[sp].y = 0u;
                     sp += 1u;
                     ray = object_ray;
                     instance = first;
@@ -206,12 +206,12 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
         going = false;
         while (sp > 0u && !going) {
             sp -= 1u;
-            uint popped = stack_node[sp];
-            if (popped == RT_STACK_LEAVE_INSTANCE) {
+            uint2 popped = stack[sp];
+            if (popped.x == RT_STACK_LEAVE_INSTANCE) {
                 ray = world;
                 instance = RT_NONE;
-            } else if (stack_t[sp] <= rt_hit_reach(best, tmax)) {
-                BvhNode next = RT_FETCH(kg, nodes, popped);
+            } else if (rt_as_float(popped.y) <= rt_hit_reach(best, tmax)) {
+                BvhNode next = RT_FETCH(kg, nodes, popped.x);
                 first = rt_as_uint(next.lower.w);
                 count = rt_as_uint(next.upper.w);
                 going = true;
