@@ -190,7 +190,7 @@ RT_FUNC void rt_kernel_generate(KernelGlobals kg, uint depth) {
     RT_GRID_LOOP(i, rt_pixel_count(kg)) { rt_stage_generate(kg, i); }
 }
 RT_FUNC void rt_kernel_intersect(KernelGlobals kg, uint depth) {
-    RT_GRID_LOOP(i, rt_ray_count(kg, depth)) { rt_stage_intersect(kg, i, depth); }
+    RT_WORK_LOOP(kg, i, rt_ray_count(kg, depth), RT_COUNTER_TAKEN_RAYS + depth) { rt_stage_intersect(kg, i, depth); }
 }
 RT_FUNC void rt_kernel_miss(KernelGlobals kg, uint depth) {
     RT_GRID_LOOP(i, rt_ray_count(kg, depth)) { rt_stage_miss(kg, i, depth); }
@@ -200,11 +200,15 @@ RT_FUNC void rt_kernel_shade(KernelGlobals kg, uint depth) {
 }
 RT_FUNC void rt_kernel_shadow(KernelGlobals kg, uint depth) {
     if (rt_alpha_shadows(kg)) return;
-    RT_GRID_LOOP(i, rt_shadow_count(kg, depth)) { rt_stage_shadow(kg, i, depth); }
+    RT_WORK_LOOP(kg, i, rt_shadow_count(kg, depth), RT_COUNTER_TAKEN_SHADOWS + depth) {
+        rt_stage_shadow(kg, i, depth);
+    }
 }
 RT_FUNC void rt_kernel_shadow_layers(KernelGlobals kg, uint depth) {
     if (!rt_alpha_shadows(kg)) return;
-    RT_GRID_LOOP(i, rt_shadow_count(kg, depth)) { rt_stage_shadow_layers(kg, i, depth); }
+    RT_WORK_LOOP(kg, i, rt_shadow_count(kg, depth), RT_COUNTER_TAKEN_SHADOWS + depth) {
+        rt_stage_shadow_layers(kg, i, depth);
+    }
 }
 RT_FUNC void rt_kernel_resolve(KernelGlobals kg, uint depth) {
     RT_GRID_LOOP(i, rt_pixel_count(kg)) { rt_stage_resolve(kg, i); }

@@ -228,7 +228,10 @@ RT_STRUCT_END(Light)
 #define RT_COUNTER_RAYS 0u                                           // + depth: rays queued for that depth
 #define RT_COUNTER_SHADOWS (RT_COUNTER_RAYS + RT_MAX_DEPTH + 1u)     // + depth: shadow rays made at that depth
 #define RT_COUNTER_DROPPED (RT_COUNTER_SHADOWS + RT_MAX_DEPTH + 1u)  // rays lost to a full queue (must stay 0)
-#define RT_COUNTER_SLOTS (RT_COUNTER_DROPPED + 1u)
+// + depth: the next ray (shadow ray) of that depth for a traversal stage to take (RT_WORK_LOOP, kernels/stages.h)
+#define RT_COUNTER_TAKEN_RAYS (RT_COUNTER_DROPPED + 1u)
+#define RT_COUNTER_TAKEN_SHADOWS (RT_COUNTER_TAKEN_RAYS + RT_MAX_DEPTH + 1u)
+#define RT_COUNTER_SLOTS (RT_COUNTER_TAKEN_SHADOWS + RT_MAX_DEPTH + 1u)
 
 #define RT_FLAG_ANY_HIT 1u       // intersect reports any hit (ray queries with --any-hit)
 #define RT_FLAG_NO_SHADING 2u    // ray queries: no frame, intersect only

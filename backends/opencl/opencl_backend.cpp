@@ -29,7 +29,7 @@ using namespace prism::opencl;  // opencl_device.h, opencl_program.h
 // ---- Launch configuration (docs/fairness.md: the same rule on every GPU API) -----------------------------------
 constexpr size_t kBlocksPerComputeUnit = prism::kWorkGroupsPerComputeUnit;  // core/render/launch_config.h
 constexpr size_t kThreadsPerBlock = 128;
-constexpr size_t kPlaceholderBytes = 256;
+constexpr size_t kPlaceholderBytes = 512;
 static_assert(kPlaceholderBytes >= sizeof(FrameParams) && kPlaceholderBytes >= RT_COUNTER_SLOTS * 4);
 
 // ---- The backend ---------------------------------------------------------------------------------------------

@@ -121,5 +121,14 @@ RT_FUNC uint rt_warp_count(bool p, bool below_only) {
 #endif
 
 #define RT_GRID_LOOP(i, n) for (uint i = (uint)get_global_id(0), rt_n_ = (n); i < rt_n_; i += (uint)get_global_size(0))
+// The traversal stages' loop (cuda.h has the reason): on NVIDIA a warp takes its next 32 items with one atomic add;
+// elsewhere, with one atomic add per item and no warp to keep busy, the grid loop.
+#if defined(RT_OPENCL_NVIDIA_PTX)
+#define RT_WORK_LOOP(kg, i, n, slot)                                                              \
+    for (uint rt_n_ = (n), i = rt_reserve_warp(&(kg).counters[(slot)], 1u, true); i < rt_n_; \
+         i = rt_reserve_warp(&(kg).counters[(slot)], 1u, true))
+#else
+#define RT_WORK_LOOP(kg, i, n, slot) RT_GRID_LOOP(i, n)
+#endif
 
 #endif
