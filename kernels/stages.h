@@ -200,9 +200,7 @@ RT_FUNC void rt_kernel_shade(KernelGlobals kg, uint depth) {
 }
 RT_FUNC void rt_kernel_shadow(KernelGlobals kg, uint depth) {
     if (rt_alpha_shadows(kg)) return;
-    RT_WORK_LOOP(kg, i, rt_shadow_count(kg, depth), RT_COUNTER_TAKEN_SHADOWS + depth) {
-        rt_stage_shadow(kg, i, depth);
-    }
+    RT_WORK_LOOP(kg, i, rt_shadow_count(kg, depth), RT_COUNTER_TAKEN_SHADOWS + depth) { rt_stage_shadow(kg, i, depth); }
 }
 RT_FUNC void rt_kernel_shadow_layers(KernelGlobals kg, uint depth) {
     if (!rt_alpha_shadows(kg)) return;

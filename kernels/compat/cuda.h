@@ -146,7 +146,7 @@ static __device__ __forceinline__ uint rt_warp_count(bool p, bool below_only) {
     for (uint i = blockIdx.x * blockDim.x + threadIdx.x, rt_n_ = (n); i < rt_n_; i += gridDim.x * blockDim.x)
 // The traversal stages' loop: a warp takes its next 32 items from counter `slot` with one atomic add whenever it is
 // done with the last ones, so no warp idles while another still has a fixed share to trace (kernels/stages.h).
-#define RT_WORK_LOOP(kg, i, n, slot)                                                              \
+#define RT_WORK_LOOP(kg, i, n, slot)                                                         \
     for (uint rt_n_ = (n), i = rt_reserve_warp(&(kg).counters[(slot)], 1u, true); i < rt_n_; \
          i = rt_reserve_warp(&(kg).counters[(slot)], 1u, true))
 

@@ -124,7 +124,7 @@ RT_FUNC uint rt_warp_count(bool p, bool below_only) {
 // The traversal stages' loop (cuda.h has the reason): on NVIDIA a warp takes its next 32 items with one atomic add;
 // elsewhere, with one atomic add per item and no warp to keep busy, the grid loop.
 #if defined(RT_OPENCL_NVIDIA_PTX)
-#define RT_WORK_LOOP(kg, i, n, slot)                                                              \
+#define RT_WORK_LOOP(kg, i, n, slot)                                                         \
     for (uint rt_n_ = (n), i = rt_reserve_warp(&(kg).counters[(slot)], 1u, true); i < rt_n_; \
          i = rt_reserve_warp(&(kg).counters[(slot)], 1u, true))
 #else
