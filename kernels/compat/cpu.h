@@ -246,7 +246,5 @@ static inline uint rt_cpu_take(uint n, uint* end) {
     for (uint rt_n_ = (n), rt_end_ = 0u, rt_begin_ = rt_cpu_take(rt_n_, &rt_end_); rt_begin_ < rt_n_; \
          rt_begin_ = rt_cpu_take(rt_n_, &rt_end_))                                                    \
         for (uint i = rt_begin_; i < rt_end_; ++i)
-// The traversal stages' loop: the grid loop's ranges already go to whichever worker is free.
-#define RT_WORK_LOOP(kg, i, n, slot) RT_GRID_LOOP(i, n)
 
 #endif

@@ -109,9 +109,7 @@ uint rt_lane8_u(uvec4 lo, uvec4 hi, uint k) { return k < 4u ? lo[k] : hi[k - 4u]
 // as (1, 1, 1), without a diagnostic, in functions defined before that declaration.
 #define RT_GRID_LOOP(i, n) \
     for (uint i = gl_GlobalInvocationID.x, rt_n_ = (n); i < rt_n_; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x)
-// The traversal stages' loop (cuda.h has the reason): a subgroup takes its next items with one atomic add.
-#define RT_WORK_LOOP(kg, i, n, slot)                                             \
-    for (uint rt_n_ = (n), i = rt_reserve_counters((slot), 1u, true); i < rt_n_; \
-         i = rt_reserve_counters((slot), 1u, true))
+// RT_WORK_LOOP's next item (kernels/stages.h): the subgroup's active invocations take one each with one atomic add.
+#define RT_TAKE(kg, slot) rt_reserve_counters((slot), 1u, true)
 
 #endif

@@ -106,6 +106,17 @@ RT_FUNC uint rt_reserve_warp(__global uint* counter, uint n, bool lane_first) {
 }
 #define RT_QUEUE_RESERVE(kg, array, i, n) rt_reserve_warp(&(kg).array[(i)], (n), true)
 #define RT_QUEUE_RESERVE_GROUP(kg, array, i, n) rt_reserve_warp(&(kg).array[(i)], (n), false)
+// RT_WORK_LOOP's next item (kernels/stages.h), as cuda.h's rt_take_warp. Elsewhere, with an atomic add per item and
+// no warp to keep busy, the traversal stages keep the grid loop (no RT_TAKE).
+RT_FUNC uint rt_take_warp(__global uint* counter) {
+    uint active = rt_ptx_active_mask();
+    uint lane = rt_ptx_lane();
+    uint leader = 31u - clz(active & (0u - active));
+    uint first = 0u;
+    if (lane == leader) first = atomic_add(counter, popcount(active));
+    return rt_ptx_shuffle(active, first, leader) + popcount(active & ((1u << lane) - 1u));
+}
+#define RT_TAKE(kg, slot) rt_take_warp(&(kg).counters[(slot)])
 RT_FUNC uint rt_warp_count(bool p, bool below_only) {
     uint set = rt_ptx_ballot(rt_ptx_active_mask(), p ? 1u : 0u);
     return popcount(below_only ? set & ((1u << rt_ptx_lane()) - 1u) : set);
@@ -121,14 +132,5 @@ RT_FUNC uint rt_warp_count(bool p, bool below_only) {
 #endif
 
 #define RT_GRID_LOOP(i, n) for (uint i = (uint)get_global_id(0), rt_n_ = (n); i < rt_n_; i += (uint)get_global_size(0))
-// The traversal stages' loop (cuda.h has the reason): on NVIDIA a warp takes its next 32 items with one atomic add;
-// elsewhere, with one atomic add per item and no warp to keep busy, the grid loop.
-#if defined(RT_OPENCL_NVIDIA_PTX)
-#define RT_WORK_LOOP(kg, i, n, slot)                                                         \
-    for (uint rt_n_ = (n), i = rt_reserve_warp(&(kg).counters[(slot)], 1u, true); i < rt_n_; \
-         i = rt_reserve_warp(&(kg).counters[(slot)], 1u, true))
-#else
-#define RT_WORK_LOOP(kg, i, n, slot) RT_GRID_LOOP(i, n)
-#endif
 
 #endif
