@@ -10,13 +10,15 @@
 #include "shade.h"
 #include "traverse.h"
 
-// The traversal stages' loop over n items. Where the compat layer has RT_TAKE (a GPU's warps or subgroups), each
-// warp takes its next items from counter `slot` (zeroed with the frame's counters) whenever it is done with its
-// last, so no warp idles while others still trace a fixed share; with the grid loop, a block's warps that had
-// drawn quick rays waited for its slowest, and the intersect launch of the bunny's primary rays kept 33% of an
-// SM's warp slots busy where 50% fit (docs/kernels.md, "Taking rays"). Without RT_TAKE: the grid loop.
-#if defined(RT_TAKE)
-#define RT_WORK_LOOP(kg, i, n, slot) for (uint rt_n_ = (n), i = RT_TAKE(kg, slot); i < rt_n_; i = RT_TAKE(kg, slot))
+// The traversal stages' loop over n items. Where the compat layer has RT_FIRST_ITEM (the GPUs' warps and
+// subgroups), each warp takes its next items from counter `slot` (zeroed with the frame's counters) with one atomic
+// add whenever it is done with its last, so no warp idles while others still trace a fixed share: with the grid
+// loop, a block's warps that had drawn quick rays waited for its slowest, and the intersect launch of the bunny's
+// primary rays kept 33% of an SM's warp slots busy where 50% fit (docs/kernels.md, "Taking rays"). Elsewhere (the
+// cpu backends, OpenCL on a CPU): the grid loop.
+#if defined(RT_FIRST_ITEM)
+#define RT_WORK_LOOP(kg, i, n, slot) \
+    for (uint rt_n_ = (n), i = RT_FIRST_ITEM(kg, slot); i < rt_n_; i = RT_NEXT_ITEM(kg, slot, i))
 #else
 #define RT_WORK_LOOP(kg, i, n, slot) RT_GRID_LOOP(i, n)
 #endif

@@ -514,6 +514,11 @@ private:
         pipeline_info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
         pipeline_info.stage.module = module;
         pipeline_info.stage.pName = "main";
+        // Specialization constant 0, rt_vk_take_work (shaders/common.glsl): the grid loop on a CPU device.
+        const VkBool32 take_work = physical_.properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU;
+        const VkSpecializationMapEntry take_work_entry{0, 0, sizeof take_work};
+        const VkSpecializationInfo specialization{1, &take_work_entry, sizeof take_work, &take_work};
+        pipeline_info.stage.pSpecializationInfo = &specialization;
         pipeline_info.layout = pipeline_layout_;
         VkPipeline pipeline = VK_NULL_HANDLE;
         VkResult result = vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &pipeline_info, nullptr, &pipeline);

@@ -154,6 +154,7 @@ static __device__ __forceinline__ uint rt_take_warp(uint* counter) {
     if (lane == leader) first = atomicAdd(counter, uint(__popc(active)));
     return __shfl_sync(active, first, leader) + uint(__popc(active & ((1u << lane) - 1u)));
 }
-#define RT_TAKE(kg, slot) rt_take_warp(&(kg).counters[(slot)])
+#define RT_FIRST_ITEM(kg, slot) rt_take_warp(&(kg).counters[(slot)])
+#define RT_NEXT_ITEM(kg, slot, i) rt_take_warp(&(kg).counters[(slot)])
 
 #endif
