@@ -48,6 +48,7 @@
 #include "data_arrays.h"
 #undef RT_DATA_ARRAY
 RT_GLSL_RESERVE_FUNCTION(counters)
+RT_GLSL_TAKE_FUNCTION(counters)
 #define KernelGlobals int
 #else
 RT_STRUCT_BEGIN(KernelGlobals)

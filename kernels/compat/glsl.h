@@ -109,11 +109,18 @@ uint rt_lane8_u(uvec4 lo, uvec4 hi, uint k) { return k < 4u ? lo[k] : hi[k - 4u]
 // as (1, 1, 1), without a diagnostic, in functions defined before that declaration.
 #define RT_GRID_LOOP(i, n) \
     for (uint i = gl_GlobalInvocationID.x, rt_n_ = (n); i < rt_n_; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x)
-// RT_WORK_LOOP's items (kernels/stages.h): the subgroup's active invocations take one each with one atomic add, or,
-// where the backend sets the specialization constant rt_vk_take_work false (shaders/common.glsl: a CPU device),
-// the grid loop's.
-#define RT_FIRST_ITEM(kg, slot) (rt_vk_take_work ? rt_reserve_counters((slot), 1u, true) : gl_GlobalInvocationID.x)
+// RT_WORK_LOOP's items (kernels/stages.h): the subgroup's active invocations take one each with one atomic add
+// (rt_take_counters: a ballot counts them, where rt_reserve_counters' sums of n are scans), or, where the backend
+// sets the specialization constant rt_vk_take_work false (shaders/common.glsl: a CPU device), the grid loop's.
+#define RT_GLSL_TAKE_FUNCTION(array)                                                              \
+    uint rt_take_##array(uint i) {                                                                \
+        uvec4 taking = subgroupBallot(true);                                                      \
+        uint first = 0u;                                                                          \
+        if (subgroupElect()) first = RT_ATOMIC_ADD(kg, array, i, subgroupBallotBitCount(taking)); \
+        return subgroupBroadcastFirst(first) + subgroupBallotExclusiveBitCount(taking);           \
+    }
+#define RT_FIRST_ITEM(kg, slot) (rt_vk_take_work ? rt_take_counters(slot) : gl_GlobalInvocationID.x)
 #define RT_NEXT_ITEM(kg, slot, i) \
-    (rt_vk_take_work ? rt_reserve_counters((slot), 1u, true) : (i) + gl_NumWorkGroups.x * gl_WorkGroupSize.x)
+    (rt_vk_take_work ? rt_take_counters(slot) : (i) + gl_NumWorkGroups.x * gl_WorkGroupSize.x)
 
 #endif
