@@ -15,7 +15,7 @@
 // add whenever it is done with its last, so no warp idles while others still trace a fixed share: with the grid
 // loop, a block's warps that had drawn quick rays waited for its slowest, and the intersect launch of the bunny's
 // primary rays kept 33% of an SM's warp slots busy where 50% fit (docs/kernels.md, "Taking rays"). Elsewhere (the
-// cpu backends, OpenCL on a CPU): the grid loop.
+// cpu backends, OpenCL without NVIDIA's warp votes, Vulkan on a CPU device): the grid loop.
 #if defined(RT_FIRST_ITEM)
 #define RT_WORK_LOOP(kg, i, n, slot) \
     for (uint rt_n_ = (n), i = RT_FIRST_ITEM(kg, slot); i < rt_n_; i = RT_NEXT_ITEM(kg, slot, i))

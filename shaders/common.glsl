@@ -21,8 +21,8 @@ layout(local_size_x = 128) in;
 layout(push_constant) uniform StagePush { uint depth; uint groups; } pc;
 // Whether the traversal stages take their rays a subgroup at a time from a counter (kernels/stages.h,
 // RT_WORK_LOOP) or keep the grid loop. The backend sets it false on a CPU device: Mesa 22.3's lavapipe returned
-// wrong or no hits for about one ray in a thousand with the taking loop, even with one atomic add per invocation and one
-// thread, and a CPU driver's subgroups have no idle warp slots to fill.
+// wrong or no hits for about one ray in a thousand with the taking loop, even with one atomic add per invocation
+// and one thread (docs/kernels.md, "Taking rays"), and a CPU driver has no idle warp slots to fill.
 layout(constant_id = 0) const bool rt_vk_take_work = true;
 
 #define RT_GLSL
