@@ -144,17 +144,8 @@ static __device__ __forceinline__ uint rt_warp_count(bool p, bool below_only) {
 // Grid-stride loop: the backend launches a fixed grid sized to fill the GPU; the item count lives on the device.
 #define RT_GRID_LOOP(i, n) \
     for (uint i = blockIdx.x * blockDim.x + threadIdx.x, rt_n_ = (n); i < rt_n_; i += gridDim.x * blockDim.x)
-// RT_WORK_LOOP's next item (kernels/stages.h) for each active thread: the warp's first takes one per thread with
-// one atomic add on counter `slot`, and each gets its own from there.
-static __device__ __forceinline__ uint rt_take_warp(uint* counter) {
-    uint active = __activemask();
-    uint lane = threadIdx.x & 31u;
-    uint leader = uint(__ffs(active)) - 1u;
-    uint first = 0u;
-    if (lane == leader) first = atomicAdd(counter, uint(__popc(active)));
-    return __shfl_sync(active, first, leader) + uint(__popc(active & ((1u << lane) - 1u)));
-}
-#define RT_FIRST_ITEM(kg, slot) rt_take_warp(&(kg).counters[(slot)])
-#define RT_NEXT_ITEM(kg, slot, i) rt_take_warp(&(kg).counters[(slot)])
+// RT_WORK_LOOP's next item (kernels/stages.h) for each active thread: one queue slot of counter `slot`.
+#define RT_FIRST_ITEM(kg, slot) RT_QUEUE_RESERVE(kg, counters, (slot), 1u)
+#define RT_NEXT_ITEM(kg, slot, i) RT_QUEUE_RESERVE(kg, counters, (slot), 1u)
 
 #endif

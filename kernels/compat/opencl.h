@@ -106,18 +106,10 @@ RT_FUNC uint rt_reserve_warp(__global uint* counter, uint n, bool lane_first) {
 }
 #define RT_QUEUE_RESERVE(kg, array, i, n) rt_reserve_warp(&(kg).array[(i)], (n), true)
 #define RT_QUEUE_RESERVE_GROUP(kg, array, i, n) rt_reserve_warp(&(kg).array[(i)], (n), false)
-// RT_WORK_LOOP's next item (kernels/stages.h), as cuda.h's rt_take_warp. Elsewhere, with an atomic add per item and
-// no warp to keep busy, the traversal stages keep the grid loop (no RT_FIRST_ITEM).
-RT_FUNC uint rt_take_warp(__global uint* counter) {
-    uint active = rt_ptx_active_mask();
-    uint lane = rt_ptx_lane();
-    uint leader = 31u - clz(active & (0u - active));
-    uint first = 0u;
-    if (lane == leader) first = atomic_add(counter, popcount(active));
-    return rt_ptx_shuffle(active, first, leader) + popcount(active & ((1u << lane) - 1u));
-}
-#define RT_FIRST_ITEM(kg, slot) rt_take_warp(&(kg).counters[(slot)])
-#define RT_NEXT_ITEM(kg, slot, i) rt_take_warp(&(kg).counters[(slot)])
+// RT_WORK_LOOP's next item (kernels/stages.h), as in cuda.h. Elsewhere, with an atomic add per item and no warp to
+// keep busy, the traversal stages keep the grid loop (no RT_FIRST_ITEM).
+#define RT_FIRST_ITEM(kg, slot) RT_QUEUE_RESERVE(kg, counters, (slot), 1u)
+#define RT_NEXT_ITEM(kg, slot, i) RT_QUEUE_RESERVE(kg, counters, (slot), 1u)
 RT_FUNC uint rt_warp_count(bool p, bool below_only) {
     uint set = rt_ptx_ballot(rt_ptx_active_mask(), p ? 1u : 0u);
     return popcount(below_only ? set & ((1u << rt_ptx_lane()) - 1u) : set);
