@@ -96,11 +96,18 @@ RT_FUNC float4 rt_intersect_triangle(TriangleGeometry tri, float3 origin, float3
 }
 
 RT_STRUCT_BEGIN(TriangleHits4)
-    float4 t;
+    float4 t;        // lane k: the distance if bit k of `exact` is set...
+    float4 t_slack;  // ...else this one, RT_SLACK_FARTHER times longer (rt_lane_distance picks)
     float4 u;
     float4 v;
-    uint mask;  // bit k: triangle k is hit with tmin < t < tmax
+    uint mask;   // bit k: triangle k is hit with tmin < t < tmax
+    uint exact;  // bit k: triangle k is hit inside its edges, not in the slack
 RT_STRUCT_END(TriangleHits4)
+
+// Lane k's distance as rt_intersect_triangle reports it.
+RT_FUNC float rt_lane_distance(TriangleHits4 hits, uint k) {
+    return (hits.exact & (1u << k)) != 0u ? rt_lane(hits.t, k) : rt_lane(hits.t_slack, k);
+}
 
 // The four triangles of a block at once: rt_intersect_triangle lane by lane, the same operations in the same
 // order, so each lane's t, u, v and verdict are the scalar test's (no FMA contraction on the cpu backend).
@@ -138,11 +145,12 @@ RT_FUNC TriangleHits4 rt_intersect_triangles4(TriangleBlock tri, float3 origin, 
     uint inside = rt_mask_le4(low, hits.u) & rt_mask_le4(hits.u, high) & rt_mask_le4(low, hits.v) &
                   rt_mask_le4(hits.u + hits.v, high);
     uint exact = rt_mask_le4(zero, hits.u) & rt_mask_le4(zero, hits.v) & rt_mask_le4(hits.u + hits.v, one);
-    float4 farther =
-        make_float4((exact & 1u) != 0u ? 1.0f : RT_SLACK_FARTHER, (exact & 2u) != 0u ? 1.0f : RT_SLACK_FARTHER,
-                    (exact & 4u) != 0u ? 1.0f : RT_SLACK_FARTHER, (exact & 8u) != 0u ? 1.0f : RT_SLACK_FARTHER);
-    hits.t = (tri.e2x * qx + tri.e2y * qy + tri.e2z * qz) * inv_det * farther;
-    hits.mask = nonzero & inside & rt_mask_lt4(rt_splat4(tmin), hits.t) & rt_mask_lt4(hits.t, rt_splat4(tmax));
+    hits.t = (tri.e2x * qx + tri.e2y * qy + tri.e2z * qz) * inv_det;
+    hits.t_slack = hits.t * rt_splat4(RT_SLACK_FARTHER);
+    hits.exact = exact;
+    uint in_range = rt_mask_lt4(rt_splat4(tmin), hits.t) & rt_mask_lt4(hits.t, rt_splat4(tmax));
+    uint in_range_slack = rt_mask_lt4(rt_splat4(tmin), hits.t_slack) & rt_mask_lt4(hits.t_slack, rt_splat4(tmax));
+    hits.mask = nonzero & inside & ((exact & in_range) | (~exact & in_range_slack));
     return hits;
 }
 

@@ -108,7 +108,7 @@ RT_FUNC Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, fl
         while (mask != 0u) {
             uint k = rt_lowest_bit(mask);
             mask &= mask - 1u;
-            float t = rt_lane(hits.t, k);
+            float t = rt_lane_distance(hits, k);
             uint hit_instance = instance == RT_INSTANCE_PER_LANE ? rt_lane_u(block.instance, k) : instance;
             if (rt_hit_wins(t, hit_instance, rt_lane_u(block.primitive, k), best)) {
                 best.tuv = make_float4(t, rt_lane(hits.u, k), rt_lane(hits.v, k), 0.0f);

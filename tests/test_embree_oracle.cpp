@@ -33,8 +33,10 @@ void check_against_embree(const std::string& model, const std::string& backend, 
 
     std::vector<prism::RayHit> prism_hits(total);
     if (backend == "cpu") {
+        // One pair of files per test: ctest runs these tests side by side in separate processes.
+        std::string tag = std::filesystem::path(model).stem().string() + "-" + layout;
         std::filesystem::path dir = prism::test::temp_dir("embree-oracle");
-        std::filesystem::path in = dir / (backend + "-rays.bin"), out = dir / (backend + "-hits.bin");
+        std::filesystem::path in = dir / (tag + "-rays.bin"), out = dir / (tag + "-hits.bin");
         std::ofstream(in, std::ios::binary)
             .write(reinterpret_cast<const char*>(rays.rays.data()),
                    std::streamsize(rays.rays.size() * sizeof(prism::RayQuery)));
