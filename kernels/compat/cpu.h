@@ -168,6 +168,18 @@ RT_FUNC rt_float8 rt_min8(rt_float8 a, rt_float8 b) { return rt_float8{rt_min4(a
 RT_FUNC rt_float8 rt_max8(rt_float8 a, rt_float8 b) { return rt_float8{rt_max4(a.lo, b.lo), rt_max4(a.hi, b.hi)}; }
 RT_FUNC uint rt_mask_le8(rt_float8 a, rt_float8 b) { return rt_mask_le4(a.lo, b.lo) | (rt_mask_le4(a.hi, b.hi) << 4); }
 #endif
+#if defined(__AVX2__)
+// A lane moved to the bottom by a permute, not through a stack slot.
+RT_FUNC float rt_lane8(rt_float8 v, uint k) {
+    return _mm256_cvtss_f32(_mm256_permutevar8x32_ps(rt_avx(v), _mm256_castsi128_si256(_mm_cvtsi32_si128(int(k)))));
+}
+// Lane k of the 8-lane uint vector (lo, hi).
+RT_FUNC uint rt_lane8_u(uint4 lo, uint4 hi, uint k) {
+    __m256i v = _mm256_set_m128i(rt_copy_bits<__m128i>(hi), rt_copy_bits<__m128i>(lo));
+    return uint(_mm_cvtsi128_si32(
+        _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(v, _mm256_castsi128_si256(_mm_cvtsi32_si128(int(k)))))));
+}
+#else
 RT_FUNC float rt_lane8(rt_float8 v, uint k) {
     float lanes[8];
     std::memcpy(lanes, &v, sizeof lanes);
@@ -180,6 +192,7 @@ RT_FUNC uint rt_lane8_u(uint4 lo, uint4 hi, uint k) {
     std::memcpy(lanes + 4, &hi, sizeof hi);
     return lanes[k];
 }
+#endif
 // The index of the lowest set bit of a nonzero x.
 RT_FUNC uint rt_lowest_bit(uint x) { return uint(std::countr_zero(x)); }
 
