@@ -261,9 +261,8 @@ void run_bench(BenchOptions options) {
                 RenderEngine& engine = *engine_owner;
                 BackendInfo info = engine.info();
                 std::string layout = bvh_layout_name(device.bvh_options.layout);
-                const bool flattened = device.bvh_options.flatten_instances;
-                std::printf("%s on %s [%s], %s BVH%s...\n", scene_name.c_str(), backend.c_str(), info.device.c_str(),
-                            layout.c_str(), flattened ? " (instances flattened)" : "");
+                std::printf("%s on %s [%s], %s BVH...\n", scene_name.c_str(), backend.c_str(), info.device.c_str(),
+                            layout.c_str());
                 std::fflush(stdout);
                 nlohmann::json entry = {{"backend", backend},
                                         {"api", info.name},
@@ -271,7 +270,6 @@ void run_bench(BenchOptions options) {
                                         {"driver", info.driver},
                                         {"api_version", info.api_version},
                                         {"bvh_layout", layout},
-                                        {"bvh_flattened_instances", flattened},
                                         {"bvh_build_ms", device.bvh_build_ms}};
                 Progress progress("bench " + scene_name + " on " + backend);
                 entry["frames"] = bench_frames(engine, loaded.scene, options, first, progress);

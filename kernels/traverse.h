@@ -73,25 +73,17 @@ RT_FUNC bool rt_hit_wins(float t, uint instance, uint primitive, Hit best) {
     return instance < best.instance || (instance == best.instance && primitive < best.primitive);
 }
 
-// The traversal's instance while it walks a flattened world BVH (RT_FLAG_FLAT_INSTANCES): each triangle (stack
-// layout) or block lane (wide layout) names its own.
-#define RT_INSTANCE_PER_LANE 0xfffffffdu
-
 // Tests the triangles [first, first + count) and returns the winning hit (or `best` unchanged).
-// The hit keeps the triangle's slot in `triangles` so shading can rebuild its geometric normal. In a flattened
-// world BVH (instance RT_INSTANCE_PER_LANE) a triangle names its instance, and what the hit keeps as its primitive
-// is the object-space triangle's slot (types.h): within a mesh, whose triangles a flattened scene keeps in file
-// order, slots rank as primitives do, so ties resolve as in the two-level walk. rt_trace puts both right.
+// The hit keeps the triangle's slot in `triangles` so shading can rebuild its geometric normal.
 RT_FUNC Hit rt_intersect_leaf(KernelGlobals kg, Hit best, TraversalRay ray, float tmax, uint instance, uint first,
                               uint count) {
     for (uint k = 0u; k < count; ++k) {
         TriangleGeometry tri = RT_FETCH(kg, triangles, first + k);
         float4 h = rt_intersect_triangle(tri, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w,
                                          rt_hit_reach(best, tmax));
-        uint hit_instance = instance == RT_INSTANCE_PER_LANE ? rt_as_uint(tri.e2.w) : instance;
-        if (h.x < RT_INFINITY && rt_hit_wins(h.x, hit_instance, rt_as_uint(tri.v0.w), best)) {
+        if (h.x < RT_INFINITY && rt_hit_wins(h.x, instance, rt_as_uint(tri.v0.w), best)) {
             best.tuv = make_float4(h.x, h.y, h.z, 0.0f);
-            best.instance = hit_instance;
+            best.instance = instance;
             best.primitive = rt_as_uint(tri.v0.w);
             best.slot = first + k;
         }
@@ -100,6 +92,9 @@ RT_FUNC Hit rt_intersect_leaf(KernelGlobals kg, Hit best, TraversalRay ray, floa
 }
 
 #if defined(RT_WIDE_TRAVERSAL)
+// The traversal's instance while it walks a flattened world BVH (RT_FLAG_FLAT_INSTANCES): each block lane names
+// its own.
+#define RT_INSTANCE_PER_LANE 0xfffffffdu
 
 // The wide layout's leaves: rt_intersect_leaf a block of four triangles at a time, with the same per-triangle
 // results and the same winner (rt_hit_wins).
@@ -140,10 +135,8 @@ RT_FUNC Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, fl
 //   whose rays were at both ran both paths every step (docs/kernels.md, "The stack traversal", has the gain).
 // - A scene whose top level holds one instance starts inside it (one_instance: RT_FLAG_ONE_INSTANCE), and an
 //   instance with the identity transform keeps the world ray, so a one-mesh scene pays no top-level walk.
-// - A scene with flattened instances (flattened: RT_FLAG_FLAT_INSTANCES) is one world-space BVH whose triangles name
-//   their instances: the walk starts at node 0 with the world ray and never meets a top-level leaf.
 RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit,
-                           bool one_instance, bool flattened) {
+                           bool one_instance) {
     Hit best = rt_no_hit();
     best.tuv.x = tmax;
     TraversalRay world = rt_traversal_ray(origin, direction, tmin);
@@ -154,9 +147,7 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
     uint sp = 0u;
 
     uint root = 0u;
-    if (flattened) {
-        instance = RT_INSTANCE_PER_LANE;  // node 0 is the world BVH's root: no top level, no instance to enter
-    } else if (one_instance) {
+    if (one_instance) {
         Instance inst = RT_FETCH(kg, instances, 0u);
         if ((inst.flags & RT_INSTANCE_IDENTITY) == 0u) ray = rt_ray_to_object(inst, world);
         instance = 0u;
@@ -460,16 +451,7 @@ RT_FUNC Hit rt_trace(KernelGlobals kg, float3 origin, float3 direction, float tm
 #endif
     // (A GPU backend never receives a wide scene: RenderEngine refuses it.)
     if (bvh_layout == RT_BVH_LAYOUT_ESCAPE) return rt_trace_escape(kg, origin, direction, tmin, tmax, any_hit);
-    bool flattened = (frame.flags & RT_FLAG_FLAT_INSTANCES) != 0u;
-    Hit hit = rt_trace_stack(kg, origin, direction, tmin, tmax, any_hit, (frame.flags & RT_FLAG_ONE_INSTANCE) != 0u,
-                             flattened);
-    if (flattened && hit.instance != RT_NONE) {
-        // rt_intersect_leaf kept the object-space triangle's slot as the primitive: the slot, and its primitive.
-        hit.slot = hit.primitive;
-        TriangleGeometry object_triangle = RT_FETCH(kg, triangles, hit.slot);
-        hit.primitive = rt_as_uint(object_triangle.v0.w);
-    }
-    return hit;
+    return rt_trace_stack(kg, origin, direction, tmin, tmax, any_hit, (frame.flags & RT_FLAG_ONE_INSTANCE) != 0u);
 }
 
 #endif

@@ -62,8 +62,7 @@ RT_STRUCT_END(BvhWideNode)
 
 // Triangle geometry in BVH leaf order, ready for intersection (v0 and two edges).
 //  v0.w = as_float(primitive index within its mesh, in file order); e1.w = rt_edge_scale(e1, e2) (intersect.h);
-//  e2.w unused. The stack layout's world-space copies with flattened instances (RT_FLAG_FLAT_INSTANCES, after every
-//  mesh's own triangles): v0.w = as_float(the object-space triangle's slot), e2.w = as_float(its instance).
+//  e2.w unused
 RT_STRUCT_BEGIN(TriangleGeometry)
     float4 v0;
     float4 e1;
@@ -237,8 +236,8 @@ RT_STRUCT_END(Light)
 #define RT_FLAG_ANY_HIT 1u       // intersect reports any hit (ray queries with --any-hit)
 #define RT_FLAG_NO_SHADING 2u    // ray queries: no frame, intersect only
 #define RT_FLAG_ONE_INSTANCE 4u  // the top level holds exactly instance 0 (the wide traversal starts inside it)
-// Instances flattened (static scenes, core/render/device_scene_flat.cpp): one world-space BVH over every instance's
-// triangles, in wide_nodes (each block lane names its instance) or in nodes (each world-space triangle does).
+// The wide layout with its instances flattened (static scenes, core/render/device_scene_flat.cpp): wide_nodes hold one
+// world-space BVH over every instance's triangles, and each block lane names its instance.
 #define RT_FLAG_FLAT_INSTANCES 8u
 // Some material is cut out or blended (glTF alphaMode MASK/BLEND): the shadow_layers stage traces the shadow rays,
 // looking at what they hit (rt_light_through_layers), instead of the shadow stage's one any-hit query.

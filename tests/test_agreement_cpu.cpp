@@ -19,7 +19,7 @@ struct Case {
     std::string scene;
     uint32_t width, height, depth;
     prism::BvhLayout layout = prism::BvhLayout::Stack;
-    bool flatten = false;  // BvhBuildOptions::flatten_instances (the wide and stack layouts)
+    bool flatten = false;  // the wide layout: BvhBuildOptions::flatten_instances
 };
 
 void PrintTo(const Case& c, std::ostream* os) { *os << c.scene; }
@@ -95,9 +95,6 @@ INSTANTIATE_TEST_SUITE_P(WideScenes, CpuAgreement, ::testing::ValuesIn(with_layo
 // The wide layout with flattened instances (what `prism render`, `rays` and `bench` build for the cpu backends).
 INSTANTIATE_TEST_SUITE_P(FlatWideScenes, CpuAgreement, ::testing::ValuesIn(with_layout(prism::BvhLayout::Wide, true)),
                          case_name);
-// The stack layout with flattened instances (what they build for the GPUs).
-INSTANTIATE_TEST_SUITE_P(FlatStackScenes, CpuAgreement, ::testing::ValuesIn(with_layout(prism::BvhLayout::Stack, true)),
-                         case_name);
 
 // Every node layout and both builders trace the same closest hits, so they render the same image.
 TEST(CpuAgreement, LayoutsAndBuildersRenderTheSameImage) {
@@ -108,52 +105,14 @@ TEST(CpuAgreement, LayoutsAndBuildersRenderTheSameImage) {
     prism::DeviceScene wide_median = load("builtin:sphere", prism::BvhLayout::Wide, prism::BvhMethod::Median);
     prism::DeviceScene flat =
         load("builtin:sphere", prism::BvhLayout::Wide, prism::BvhMethod::BinnedSah, nullptr, true);
-    prism::DeviceScene flat_stack =
-        load("builtin:sphere", prism::BvhLayout::Stack, prism::BvhMethod::BinnedSah, nullptr, true);
-    ASSERT_TRUE(flat.bvh_options.flatten_instances && flat_stack.bvh_options.flatten_instances);
     prism::RenderSettings settings = prism::test::small_settings(96, 72);
     prism::FrameResult a = prism::RenderEngine("cpu", stack).render(scene.camera, settings);
-    for (const prism::DeviceScene* other : {&escape, &wide, &wide_median, &flat, &flat_stack}) {
+    for (const prism::DeviceScene* other : {&escape, &wide, &wide_median, &flat}) {
         prism::FrameResult b = prism::RenderEngine("cpu", *other).render(scene.camera, settings);
         EXPECT_GE(prism::test::psnr_rgba8(a.image, b.image), 50.0)
-            << prism::bvh_layout_name(other->bvh_options.layout)
-            << (other->bvh_options.flatten_instances ? " (flat)" : "");
+            << prism::bvh_layout_name(other->bvh_options.layout) << (other == &flat ? " (flat)" : "");
         EXPECT_EQ(a.stats.rays_per_depth, b.stats.rays_per_depth);
     }
-}
-
-// Flattened, the stack and wide layouts run the same world-space triangle test on the same triangles (the wide
-// one four lanes at a time), so their frames are the same bits: a GPU's frame of a static scene can be checked
-// against the cpu backend's default one.
-TEST(CpuAgreement, FlattenedStackAndWideLayoutsRenderTheSameBits) {
-    prism::Scene scene;
-    prism::DeviceScene wide = load("builtin:bunny", prism::BvhLayout::Wide, prism::BvhMethod::BinnedSah, &scene, true);
-    prism::DeviceScene stack =
-        load("builtin:bunny", prism::BvhLayout::Stack, prism::BvhMethod::BinnedSah, nullptr, true);
-    ASSERT_TRUE(wide.bvh_options.flatten_instances && stack.bvh_options.flatten_instances);
-    prism::RenderSettings settings = prism::test::small_settings(96, 72, 6);
-    prism::FrameResult a = prism::RenderEngine("cpu", wide).render(scene.camera, settings);
-    prism::FrameResult b = prism::RenderEngine("cpu", stack).render(scene.camera, settings);
-    EXPECT_EQ(a.image, b.image);
-    EXPECT_EQ(a.stats.rays_per_depth, b.stats.rays_per_depth);
-}
-
-// A one-instance scene has no top level to save: the stack layout keeps its two-level form (whose walk starts
-// inside the instance), the wide layout flattens it as before.
-TEST(CpuAgreement, OneInstanceStackSceneIsNotFlattened) {
-    prism::Scene scene;
-    prism::DeviceScene flat =
-        load("builtin:sphere", prism::BvhLayout::Stack, prism::BvhMethod::BinnedSah, &scene, true);
-    EXPECT_TRUE(flat.bvh_options.flatten_instances);  // floor and sphere
-    scene.instances.resize(1);
-    prism::BvhBuildOptions bvh;
-    bvh.layout = prism::BvhLayout::Stack;
-    bvh.flatten_instances = true;
-    EXPECT_FALSE(prism::build_device_scene(scene, bvh).bvh_options.flatten_instances);
-    bvh.layout = prism::BvhLayout::Wide;
-    EXPECT_TRUE(prism::build_device_scene(scene, bvh).bvh_options.flatten_instances);
-    bvh.layout = prism::BvhLayout::Escape;  // never flattened
-    EXPECT_FALSE(prism::build_device_scene(scene, bvh).bvh_options.flatten_instances);
 }
 
 // The cpu backend's two builds of the stages (baseline SSE2 and AVX2, PRISM_CPU_ISA) give the same bits.
@@ -243,41 +202,37 @@ TEST(CpuAgreement, InstancingHeavyScenesAreNotFlattened) {
     EXPECT_GE(prism::test::psnr_rgba8(a.image, b.image), 50.0);
 }
 
-// Flattened and two-level scenes report the same hits (instance, primitive) in the wide and the stack layout for
-// rays that cross several instances, with t, u, v as close as world- and object-space arithmetic allow.
+// Flattened and two-level wide layouts report the same hits (instance, primitive, triangle slot) for rays that
+// cross several instances, with t, u, v as close as world- and object-space arithmetic allow.
 TEST(CpuAgreement, FlattenedInstancesReportTheTwoLevelHits) {
-    for (prism::BvhLayout layout : {prism::BvhLayout::Wide, prism::BvhLayout::Stack}) {
-        SCOPED_TRACE(prism::bvh_layout_name(layout));
-        prism::Scene scene;
-        prism::DeviceScene two_level = load("builtin:bunny", layout, prism::BvhMethod::BinnedSah, &scene);
-        prism::DeviceScene flat = load("builtin:bunny", layout, prism::BvhMethod::BinnedSah, nullptr, true);
-        ASSERT_GT(scene.instances.size(), 2u);
-        ASSERT_TRUE(flat.bvh_options.flatten_instances);
-        // A fan of rays from above the floor towards the model, the floor and the sky.
-        std::vector<prism::RayQuery> rays;
-        const glm::vec3 eye = scene.camera.position;
-        for (int y = 0; y < 64; ++y)
-            for (int x = 0; x < 64; ++x) {
-                glm::vec3 d = glm::normalize(scene.camera.target - eye +
-                                             glm::vec3(0.05f * float(x - 32), 0.05f * float(y - 40), 0.0f));
-                rays.push_back(prism::RayQuery{{eye.x, eye.y, eye.z}, 0.0f, {d.x, d.y, d.z}, INFINITY});
-            }
-        std::vector<prism::RayHit> a = prism::RenderEngine("cpu", two_level).trace(rays, false);
-        std::vector<prism::RayHit> b = prism::RenderEngine("cpu", flat).trace(rays, false);
-        std::set<uint32_t> instances_hit;
-        size_t same = 0;
-        for (size_t i = 0; i < rays.size(); ++i) {
-            bool a_hit = a[i].t < INFINITY, b_hit = b[i].t < INFINITY;
-            if (a_hit) instances_hit.insert(a[i].instance);
-            if (a_hit != b_hit) continue;
-            if (!a_hit || (a[i].instance == b[i].instance && a[i].primitive == b[i].primitive)) ++same;
-            if (a_hit && a[i].instance == b[i].instance && a[i].primitive == b[i].primitive) {
-                EXPECT_NEAR(a[i].t, b[i].t, 1e-4f * a[i].t) << "ray " << i;
-            }
+    prism::Scene scene;
+    prism::DeviceScene two_level = load("builtin:bunny", prism::BvhLayout::Wide, prism::BvhMethod::BinnedSah, &scene);
+    prism::DeviceScene flat = load("builtin:bunny", prism::BvhLayout::Wide, prism::BvhMethod::BinnedSah, nullptr, true);
+    ASSERT_GT(scene.instances.size(), 2u);
+    // A fan of rays from above the floor towards the model, the floor and the sky.
+    std::vector<prism::RayQuery> rays;
+    const glm::vec3 eye = scene.camera.position;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+            glm::vec3 d = glm::normalize(scene.camera.target - eye +
+                                         glm::vec3(0.05f * float(x - 32), 0.05f * float(y - 40), 0.0f));
+            rays.push_back(prism::RayQuery{{eye.x, eye.y, eye.z}, 0.0f, {d.x, d.y, d.z}, INFINITY});
         }
-        EXPECT_GE(instances_hit.size(), 2u) << "the rays should see more than one instance";
-        EXPECT_GE(double(same), 0.999 * double(rays.size()));
+    std::vector<prism::RayHit> a = prism::RenderEngine("cpu", two_level).trace(rays, false);
+    std::vector<prism::RayHit> b = prism::RenderEngine("cpu", flat).trace(rays, false);
+    std::set<uint32_t> instances_hit;
+    size_t same = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+        bool a_hit = a[i].t < INFINITY, b_hit = b[i].t < INFINITY;
+        if (a_hit) instances_hit.insert(a[i].instance);
+        if (a_hit != b_hit) continue;
+        if (!a_hit || (a[i].instance == b[i].instance && a[i].primitive == b[i].primitive)) ++same;
+        if (a_hit && a[i].instance == b[i].instance && a[i].primitive == b[i].primitive) {
+            EXPECT_NEAR(a[i].t, b[i].t, 1e-4f * a[i].t) << "ray " << i;
+        }
     }
+    EXPECT_GE(instances_hit.size(), 2u) << "the rays should see more than one instance";
+    EXPECT_GE(double(same), 0.999 * double(rays.size()));
 }
 
 // The viewer's in-frame copy into GL's buffer needs a backend with GL interop: asking the cpu backend (created

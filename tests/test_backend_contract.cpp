@@ -9,8 +9,6 @@
 
 #include <cmath>
 #include <map>
-#include <tuple>
-#include <utility>
 #include <memory>
 #include <random>
 
@@ -92,19 +90,18 @@ const std::vector<std::string>& backend_specs() {
 
 std::string api_of(const std::string& spec) { return prism::parse_backend_spec(spec).api; }
 
-// Scenes are loaded once per process, layout and form (two-level, or instances flattened as `prism render`
-// builds static scenes): several suites and backends render the same ones.
+// Scenes are loaded once per process and layout: several suites and backends render the same ones.
 struct LoadedScene {
     prism::Scene scene;
     prism::DeviceScene device;
 };
-const LoadedScene& loaded(const std::string& spec, const std::string& backend, bool flatten = false) {
-    static std::map<std::tuple<std::string, prism::BvhLayout, bool>, std::unique_ptr<LoadedScene>> cache;
+const LoadedScene& loaded(const std::string& spec, const std::string& backend) {
+    static std::map<std::pair<std::string, prism::BvhLayout>, std::unique_ptr<LoadedScene>> cache;
     prism::BvhLayout layout = prism::resolve_bvh_layout("auto", backend);
-    std::unique_ptr<LoadedScene>& entry = cache[{spec, layout, flatten}];
+    std::unique_ptr<LoadedScene>& entry = cache[{spec, layout}];
     if (!entry) {  // kept only once loaded: a load that throws (a missing file) leaves no empty scene behind
         auto scene = std::make_unique<LoadedScene>();
-        scene->device = prism::test::load_device_scene(spec, &scene->scene, layout, flatten);
+        scene->device = prism::test::load_device_scene(spec, &scene->scene, layout);
         entry = std::move(scene);
     }
     return *entry;
@@ -127,9 +124,7 @@ protected:
         EXPECT_TRUE(messages.empty()) << messages.size() << " validation/driver message(s), the first: "
                                       << (messages.empty() ? "" : messages.front());
     }
-    const LoadedScene& scene(const std::string& spec, bool flatten = false) const {
-        return loaded(spec, backend(), flatten);
-    }
+    const LoadedScene& scene(const std::string& spec) const { return loaded(spec, backend()); }
 };
 
 class BackendContract : public OnBackend<std::string> {
@@ -262,15 +257,11 @@ TEST_P(BackendContract, OverflowingQueuesAreGrownNotDropped) {
 }
 
 // Random rays through and around the scene: the same instance and primitive as cpu-ref's (or both miss), t within
-// 1e-4 relative, on 99.99% of them; any-hit queries blocked or not alike. Two-level, and with the instances
-// flattened into one world-space BVH.
+// 1e-4 relative, on 99.99% of them; any-hit queries blocked or not alike.
 TEST_P(BackendContract, RayQueriesMatchTheReferenceHits) {
-    for (auto [spec, flatten] : {std::pair{"builtin:bunny", false}, std::pair{"builtin:bunny", true},
-                                 std::pair{"gltf/GlassVaseFlowers/GlassVaseFlowers.glb", false},
-                                 std::pair{"gltf/GlassVaseFlowers/GlassVaseFlowers.glb", true}}) {
-        SCOPED_TRACE(std::string(spec) + (flatten ? " (flattened)" : ""));
-        const prism::DeviceScene& device = scene(spec, flatten).device;
-        ASSERT_EQ(device.bvh_options.flatten_instances, flatten);
+    for (const char* spec : {"builtin:bunny", "gltf/GlassVaseFlowers/GlassVaseFlowers.glb"}) {
+        SCOPED_TRACE(spec);
+        const prism::DeviceScene& device = scene(spec).device;
         prism::Aabb bounds = prism::node_bounds(device.top_level.nodes[0]);  // the world box, whatever the layout
         glm::vec3 lower = bounds.lower, upper = bounds.upper;
         glm::vec3 center = 0.5f * (lower + upper);
@@ -340,7 +331,6 @@ INSTANTIATE_TEST_SUITE_P(Backends, GpuBackend,
 struct AgreementCase {
     std::string scene;
     uint32_t width, height, depth;
-    bool flatten = false;  // the instances flattened into one world-space BVH, as `prism render` builds them
 };
 void PrintTo(const AgreementCase& c, std::ostream* os) { *os << c.scene; }
 
@@ -351,8 +341,7 @@ protected:
 
 TEST_P(Agreement, ImageMatchesReference) {
     const AgreementCase& c = std::get<1>(GetParam());
-    const LoadedScene& s = scene(c.scene, c.flatten);
-    ASSERT_EQ(s.device.bvh_options.flatten_instances, c.flatten);
+    const LoadedScene& s = scene(c.scene);
     prism::RenderSettings settings = prism::test::small_settings(c.width, c.height, c.depth);
     prism::FrameResult expected = prism::RenderEngine("cpu-ref", s.device).render(s.scene.camera, settings);
     prism::FrameResult actual = prism::RenderEngine(backend(), s.device).render(s.scene.camera, settings);
@@ -368,9 +357,8 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Combine(
         ::testing::ValuesIn(backend_specs()),
         ::testing::Values(AgreementCase{"builtin:sphere", 96, 72, 6}, AgreementCase{"builtin:bunny", 96, 72, 5},
-                          AgreementCase{"builtin:dragon", 96, 72, 4}, AgreementCase{"builtin:dragon", 96, 72, 4, true},
+                          AgreementCase{"builtin:dragon", 96, 72, 4},
                           AgreementCase{"gltf/GlassVaseFlowers/GlassVaseFlowers.glb", 96, 96, 6},
-                          AgreementCase{"gltf/GlassVaseFlowers/GlassVaseFlowers.glb", 96, 96, 6, true},
                           AgreementCase{"gltf/TransmissionTest/TransmissionTest.glb", 96, 72, 6},
                           AgreementCase{"gltf/BoxTextured/BoxTextured.glb", 64, 64, 4},
                           // Coplanar overlapping trim: the tie rule of kernels/traverse.h.
@@ -379,9 +367,8 @@ INSTANTIATE_TEST_SUITE_P(
                           AgreementCase{"gltf/MetalRoughSpheresNoTextures/MetalRoughSpheresNoTextures.glb", 160, 120,
                                         6})),
     [](const auto& info) {
-        const AgreementCase& c = std::get<1>(info.param);
-        return prism::test::test_name_of(std::get<0>(info.param) + "_" +
-                                         c.scene.substr(c.scene.find_last_of(":/") + 1) + (c.flatten ? "_flat" : ""));
+        const std::string& scene = std::get<1>(info.param).scene;
+        return prism::test::test_name_of(std::get<0>(info.param) + "_" + scene.substr(scene.find_last_of(":/") + 1));
     });
 
 }  // namespace

@@ -92,15 +92,13 @@ bool device_present(const std::string& api, const std::string& filter, std::stri
     return false;
 }
 
-prism::DeviceScene load_device_scene(const std::string& spec, prism::Scene* out, prism::BvhLayout layout,
-                                     bool flatten) {
+prism::DeviceScene load_device_scene(const std::string& spec, prism::Scene* out, prism::BvhLayout layout) {
     prism::LoadOptions options;
     options.data_dir = scenes_dir();
     prism::Scene loaded =
         prism::load_scene(spec.rfind("builtin:", 0) == 0 ? spec : prism::test::scene(spec).string(), options);
     prism::BvhBuildOptions bvh;
     bvh.layout = layout;
-    bvh.flatten_instances = flatten;
     prism::DeviceScene device = prism::build_device_scene(loaded, bvh);
     if (out) *out = std::move(loaded);
     return device;

@@ -39,9 +39,7 @@ bool device_present(const std::string& api, const std::string& filter, std::stri
 
 // A scene ("builtin:x" or a path under scenes_dir()) loaded and built with `layout` (resolve_bvh_layout("auto",
 // backend) for the layout a backend renders with); the camera and the rest of the scene in `*scene` when given.
-// `flatten`: BvhBuildOptions::flatten_instances, as `prism render`, `rays` and `bench` build static scenes.
-prism::DeviceScene load_device_scene(const std::string& spec, prism::Scene* scene, prism::BvhLayout layout,
-                                     bool flatten = false);
+prism::DeviceScene load_device_scene(const std::string& spec, prism::Scene* scene, prism::BvhLayout layout);
 
 // A gtest name from a backend spec or a scene's file name: every character but letters and digits made '_'.
 std::string test_name_of(const std::string& text);

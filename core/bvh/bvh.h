@@ -51,13 +51,13 @@ struct BvhBuildOptions {
     float traversal_cost = 1.0f;  // SAH constants: cost of a node visit relative to one primitive test
     float intersection_cost = 1.0f;
     uint32_t wide_leaf_size = RT_WIDE_LEAF_MAX;  // the wide layout: subtrees of at most this many become one leaf
-    // The wide and stack layouts: one world-space BVH over every instance's triangles instead of a top level over
-    // instances (build_device_scene; core/render/device_scene_flat.cpp). For scenes whose instances do not move: it
-    // cannot be refit.
+    // The wide layout: one world-space BVH over every instance's triangles instead of a top level over instances
+    // (build_device_scene; core/render/device_scene_flat.cpp). For scenes whose instances do not move: it cannot be
+    // refit.
     bool flatten_instances = false;
     // ... unless that stores more than this many times the meshes' own triangles (instancing-heavy scenes keep the
     // two-level layout; the built DeviceScene's bvh_options.flatten_instances says which one it got, false for
-    // the escape layout and for a stack-layout scene of one instance).
+    // every layout but the wide one).
     float flatten_growth_limit = 2.0f;
 };
 

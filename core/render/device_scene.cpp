@@ -251,10 +251,8 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
     size_t bvh_triangles = 0;
     // Flattened instances trace one world BVH (core/render/device_scene_flat.cpp): no mesh needs a BVH of its own, its
     // triangles keep their file order (degenerate ones left out).
-    // A scene of one instance has no top level to save (the walks start inside it), so the stack layout keeps it.
-    bool flatten =
-        options.flatten_instances && flattening_fits(scene, options.flatten_growth_limit) &&
-        (options.layout == BvhLayout::Wide || (options.layout == BvhLayout::Stack && scene.instances.size() > 1));
+    bool flatten = options.layout == BvhLayout::Wide && options.flatten_instances &&
+                   flattening_fits(scene, options.flatten_growth_limit);
     device.bvh_options.flatten_instances = flatten;  // what was built: the renderer's frame flag reads it
     device.mesh_bounds.resize(scene.meshes.size());
     // The meshes' builds report their share of every triangle the scene's BVHs will hold.
@@ -360,6 +358,9 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
             placement.first_vertex = 0;  // reused below as the mesh's root: no mesh has its own
         }
         build_flat_instances(device, scene, first_triangle, triangle_count, progress);
+        BvhNode unused{};
+        set_node_box(unused, Aabb{});
+        device.nodes.assign(1, unused);
     } else if (options.layout == BvhLayout::Wide) {
         device.top_level_nodes = wide_top_level_capacity(scene.instances.size());
         device.wide_nodes = top_level_wide_device_nodes(device.top_level, device.top_level_nodes);

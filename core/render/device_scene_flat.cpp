@@ -1,11 +1,9 @@
-// Instances flattened: one world-space BVH over every instance's triangles, in place of a top level over instances
-// whose leaves enter each mesh's BVH in object space. A static scene (a model on a floor, as Embree's oracle builds
-// it) then pays no top-level node, no instance entry and no ray transform per ray: the cpu backend's bunny scene
-// traced diffuse rays 12% faster, primary rays 15% (docs/kernels.md). The cost: a mesh instanced n times is stored
-// n times, and moving an instance means rebuilding everything, so a viewer whose objects may move keeps the
-// two-level layout (BvhBuildOptions::flatten_instances off). Two layouts: the wide one (leaf blocks of four
-// triangles, each lane naming its instance, primitive and slot) and the stack one (world-space copies of the
-// triangles after the meshes' own, each naming its instance and its object-space triangle: kernels/types.h).
+// The wide layout with its instances flattened: one world-space BVH over every instance's triangles, in place of a
+// top level over instances whose leaves enter each mesh's BVH in object space. A static scene (a model on a floor,
+// as Embree's oracle builds it) then pays no top-level node, no instance entry and no ray transform per ray: the
+// cpu backend's bunny scene traced diffuse rays 12% faster, primary rays 15% (docs/kernels.md). The cost: a mesh
+// instanced n times is stored n times, and moving an instance means rebuilding everything, so a viewer whose
+// objects may move keeps the two-level layout (BvhBuildOptions::flatten_instances off).
 //
 // Hits report what the two-level layout reports: the instance, the primitive within its mesh and its slot in
 // `triangles` (object space, where shading rebuilds the geometric normal). Only the intersection arithmetic runs in
@@ -14,9 +12,7 @@
 
 #include <bit>
 
-#include "core/bvh/bvh_tree.h"
 #include "core/util/error.h"
-#include "kernels/intersect.h"
 
 namespace prism {
 namespace {
@@ -61,28 +57,6 @@ void build_flat_instances(DeviceScene& device, const Scene& scene, const std::ve
     // triangles. 32 bins (as Embree bins) gave the two-level layout's leaf tests back.
     options.bins = std::max(options.bins, 32u);
     Bvh bvh = build_bvh(bounds, options, progress);
-    device.top_level_nodes = 0;  // no top level: moving an instance cannot refit anything
-    device.sah_cost = bvh.sah_cost;
-    if (options.layout == BvhLayout::Stack) {
-        // Leaves index world-space copies placed after every mesh's own triangles, in the tree's leaf order.
-        const uint32_t offset = uint32_t(device.triangles.size());
-        device.triangles.reserve(offset + bvh.primitive_order.size());
-        for (uint32_t p : bvh.primitive_order) {
-            const WorldTriangle& t = triangles[p];
-            glm::vec3 e1 = t.b - t.a, e2 = t.c - t.a;
-            float edge_scale = rt_edge_scale(float3{e1.x, e1.y, e1.z}, float3{e2.x, e2.y, e2.z});
-            device.triangles.push_back(TriangleGeometry{float4{t.a.x, t.a.y, t.a.z, std::bit_cast<float>(t.slot)},
-                                                        float4{e1.x, e1.y, e1.z, edge_scale},
-                                                        float4{e2.x, e2.y, e2.z, std::bit_cast<float>(t.instance)}});
-        }
-        for (BvhNode& node : bvh.nodes)
-            if (std::bit_cast<uint32_t>(node.upper.w) != 0)  // a leaf: (first, count)
-                node.lower.w = std::bit_cast<float>(std::bit_cast<uint32_t>(node.lower.w) + offset);
-        device.nodes = std::move(bvh.nodes);
-        device.wide_nodes.assign(1, empty_wide_node());
-        device.triangle_blocks.assign(1, TriangleBlock{});
-        return;
-    }
 
     // Leaves become blocks of four world-space triangles; each lane remembers its instance, primitive and slot.
     device.triangle_blocks.clear();
@@ -116,9 +90,8 @@ void build_flat_instances(DeviceScene& device, const Scene& scene, const std::ve
         throw Error(scene.source + ": the flattened wide BVH needs " + std::to_string(bound) +
                     " traversal stack entries, more than " + std::to_string(RT_BVH_WIDE_STACK_SIZE) +
                     " (use the stack layout)");
-    BvhNode unused{};
-    set_node_box(unused, Aabb{});
-    device.nodes.assign(1, unused);  // GPU APIs dislike empty buffers
+    device.top_level_nodes = 0;  // no top level: moving an instance cannot refit anything
+    device.sah_cost = bvh.sah_cost;
 }
 
 }  // namespace prism
