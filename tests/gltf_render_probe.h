@@ -35,8 +35,7 @@ struct ProbeImage {
 // A 2x2 (or any) RGBA8 image written as PNG next to the glTF files the builder writes (test::write_file's folder),
 // so a material can name it by a relative uri.
 inline std::string write_test_png(const std::string& name, int width, int height, const std::vector<uint32_t>& rgba8) {
-    std::filesystem::path path = write_file(name, "");
-    write_png(path, width, height, rgba8);
+    publish_file(name, [&](const std::filesystem::path& part) { write_png(part, width, height, rgba8); });
     return name;
 }
 

@@ -18,6 +18,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <unistd.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -42,10 +43,19 @@ std::filesystem::path temp_dir(const std::string& name) {
     return dir;
 }
 
-std::filesystem::path write_file(const std::string& name, const std::string& bytes) {
+std::filesystem::path publish_file(const std::string& name,
+                                   const std::function<void(const std::filesystem::path&)>& write) {
     std::filesystem::path path = temp_dir("files") / name;
-    std::ofstream(path, std::ios::binary) << bytes;
+    std::filesystem::path part = path;
+    part += ".part-" + std::to_string(::getpid());
+    write(part);
+    std::filesystem::rename(part, path);
     return path;
+}
+
+std::filesystem::path write_file(const std::string& name, const std::string& bytes) {
+    return publish_file(
+        name, [&bytes](const std::filesystem::path& part) { std::ofstream(part, std::ios::binary) << bytes; });
 }
 
 std::string error_message(const std::function<void()>& action) {
