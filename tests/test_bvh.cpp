@@ -20,8 +20,8 @@ namespace prism {
 namespace {
 
 // Byte equality of two node arrays (empty ones included: memcmp must not see their null data()).
-template <typename T>
-bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
+template <typename T, typename A>
+bool same_bytes(const std::vector<T, A>& a, const std::vector<T, A>& b) {
     return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
@@ -652,7 +652,7 @@ TEST(BvhBuild, WideLayoutCapsLeavesAt8) {
 
 // A traversal holds at most (children - 1) entries per node on its path; the bound must cover the deepest path.
 TEST(BvhBuild, WideStackBoundFollowsTheDeepestPath) {
-    std::vector<BvhWideNode> nodes(3, empty_wide_node());
+    BvhWideNodes nodes(3, empty_wide_node());
     Aabb box{glm::vec3(0.0f), glm::vec3(1.0f)};
     for (uint32_t k = 0; k < 3; ++k) set_wide_lane_box(nodes[0], k, box);  // root: a leaf, node 1, node 2
     set_wide_lane_leaf(nodes[0], 0, 0, 1);

@@ -10,6 +10,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/util/uninitialized_vector.h"
 #include "kernels/types.h"
 
 namespace prism {
@@ -69,9 +70,14 @@ struct BvhBuildPhases {
     double sah_ms = 0.0;       // the SAH cost of the result
 };
 
+// Node arrays are sized first and then written whole by the builders' threads: they are not zeroed on one thread
+// before (UninitializedVector).
+using BvhNodes = UninitializedVector<BvhNode>;
+using BvhWideNodes = UninitializedVector<BvhWideNode>;
+
 struct Bvh {
-    std::vector<BvhNode> nodes;             // node 0 is the root; see kernels/types.h for the layouts
-    std::vector<BvhWideNode> wide_nodes;    // the wide layout only: node 0 is the root
+    BvhNodes nodes;                         // node 0 is the root; see kernels/types.h for the layouts
+    BvhWideNodes wide_nodes;                // the wide layout only: node 0 is the root
     std::vector<uint32_t> primitive_order;  // leaf ranges index this; it maps to the caller's primitive indices
     BvhLayout layout = BvhLayout::Stack;
     float sah_cost = 0.0f;  // expected cost of a random ray that hits the root box
@@ -121,14 +127,14 @@ Aabb node_bounds(const BvhNode& node);
 // lanes hold the empty box and child 0. A root that is a leaf becomes one wide node with it in lane 0 (the empty
 // tree: no lane used). Binary leaves must hold at most RT_WIDE_LEAF_MAX primitives.
 // The same nodes for any `threads` (counted first, then the subtrees below the top nodes written in place at once).
-std::vector<BvhWideNode> collapse_bvh_wide(const std::vector<BvhNode>& stack_nodes,
-                                           uint32_t leaf_size = RT_WIDE_LEAF_MAX, uint32_t threads = 1);
+BvhWideNodes collapse_bvh_wide(const BvhNodes& stack_nodes, uint32_t leaf_size = RT_WIDE_LEAF_MAX,
+                               uint32_t threads = 1);
 // Refits the boxes of collapsed nodes in place (leaf ranges index primitive_order, as in the binary tree).
-void refit_bvh_wide(std::vector<BvhWideNode>& wide, const std::vector<uint32_t>& primitive_order,
+void refit_bvh_wide(BvhWideNodes& wide, const std::vector<uint32_t>& primitive_order,
                     std::span<const Aabb> primitive_bounds);
 // The most entries a wide traversal (kernels/traverse.h) can hold on its stack below `root`: each node on a path
 // leaves at most (its children - 1) behind.
-uint32_t wide_stack_bound(const std::vector<BvhWideNode>& wide, uint32_t root);
+uint32_t wide_stack_bound(const BvhWideNodes& wide, uint32_t root);
 
 // One lane (child) of a wide node.
 BvhWideNode empty_wide_node();

@@ -90,26 +90,6 @@ struct alignas(16) Reference {
     uint32_t primitive() const { return std::bit_cast<uint32_t>(lower[3]); }
 };
 
-// Leaves elements uninitialized on resize (a vector would zero the whole array on one thread first).
-template <class T>
-struct UninitializedAllocator : std::allocator<T> {
-    template <class U>
-    struct rebind {
-        using other = UninitializedAllocator<U>;
-    };
-    UninitializedAllocator() = default;
-    template <class U>
-    UninitializedAllocator(const UninitializedAllocator<U>&) {}
-    template <class U>
-    void construct(U* p) noexcept {
-        ::new (static_cast<void*>(p)) U;
-    }
-    template <class U, class... Args>
-    void construct(U* p, Args&&... args) {
-        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-    }
-};
-
 struct RangeBounds {
     Box4 box;        // of the primitive bounds
     Box4 centroids;  // of the primitives' doubled centroids (Reference::centroid2)
@@ -560,7 +540,7 @@ private:
     int threads_;  // the build's, the calling thread's among them
     ThreadBudget budget_;
     uint32_t max_leaf_ = 4;
-    std::vector<Reference, UninitializedAllocator<Reference>> references_;
+    UninitializedVector<Reference> references_;
     std::mutex arenas_mutex_;
     uint32_t leaf_block_ = 1;
     const BvhProgress& progress_;

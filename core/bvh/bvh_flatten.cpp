@@ -24,7 +24,7 @@ constexpr uint32_t kParallelSubtreeFrom = 1u << 14;
 // left child), with the same array as a result.
 class Flattener {
 public:
-    explicit Flattener(std::vector<BvhNode>& nodes) : nodes_(nodes) {}
+    explicit Flattener(BvhNodes& nodes) : nodes_(nodes) {}
 
     // Children sit in adjacent pairs allocated as their parent is written, so a parent always precedes its
     // children and the two children of a node are fetched together. `next`: where the pairs below `node` begin.
@@ -75,7 +75,7 @@ private:
         worker.join();
     }
 
-    std::vector<BvhNode>& nodes_;
+    BvhNodes& nodes_;
 };
 
 }  // namespace
@@ -90,9 +90,9 @@ void set_node_box(BvhNode& node, const Aabb& box) {
     node.upper.x = box.upper.x, node.upper.y = box.upper.y, node.upper.z = box.upper.z;
 }
 
-std::vector<BvhNode> flatten_bvh_tree(const BvhTree& tree, BvhLayout layout, uint32_t threads) {
+BvhNodes flatten_bvh_tree(const BvhTree& tree, BvhLayout layout, uint32_t threads) {
     if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-    std::vector<BvhNode> nodes(tree.root->nodes);
+    BvhNodes nodes(tree.root->nodes);
     Flattener flattener(nodes);
     if (layout == BvhLayout::Stack)
         flattener.write_stack(*tree.root, 0, 1, threads);

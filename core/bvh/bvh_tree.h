@@ -37,7 +37,7 @@ BvhTree build_bvh_tree(std::span<const Aabb> primitive_bounds, const BvhBuildOpt
                        const BvhProgress& progress = {});
 
 // Large subtrees are written on up to `threads` threads (0: all); the array is the same for any count.
-std::vector<BvhNode> flatten_bvh_tree(const BvhTree& tree, BvhLayout layout, uint32_t threads = 1);
+BvhNodes flatten_bvh_tree(const BvhTree& tree, BvhLayout layout, uint32_t threads = 1);
 
 // The node box as written to a flat node: an empty box becomes lower = +FLT_MAX, upper = -FLT_MAX, which every
 // slab test rejects without producing NaN (infinities would give inf - inf).

@@ -36,7 +36,7 @@ class Collapser {
 public:
     // The per-node tables are left uninitialized (zeroing them would be a serial pass over every node): the walk
     // below writes each node's entries, every node being reachable from the root.
-    Collapser(const std::vector<BvhNode>& binary, uint32_t leaf_size, uint32_t threads)
+    Collapser(const BvhNodes& binary, uint32_t leaf_size, uint32_t threads)
         : binary_(binary),
           range_(new Range[binary.size()]),
           area_(new float[binary.size()]),
@@ -51,8 +51,8 @@ public:
         }
     }
 
-    std::vector<BvhWideNode> run(uint32_t threads) {
-        std::vector<BvhWideNode> wide;
+    BvhWideNodes run(uint32_t threads) {
+        BvhWideNodes wide;
         // A root small enough for one leaf (or the empty tree's node, count 0, which needs no lane) takes lane 0.
         if (leaf(0)) {
             wide.push_back(empty_);
@@ -125,7 +125,7 @@ private:
     // it at [first, ...), in the order fill() appends them: its interior children side by side first, then the
     // nodes below each child in lane order. With threads to spare, the children's subtrees are written at the same
     // time (they know where they go from the counts), each with its share of the threads.
-    void place(std::vector<BvhWideNode>& wide, uint32_t slot, uint32_t source, uint32_t first, uint32_t threads) {
+    void place(BvhWideNodes& wide, uint32_t slot, uint32_t source, uint32_t first, uint32_t threads) {
         if (threads <= 1 || range_[source].count < kParallelCollapseFrom) {
             uint32_t next = first;
             fill(wide, slot, source, next);
@@ -198,7 +198,7 @@ private:
     // Writes the wide node of binary interior node `source` at `target` and the nodes below it from slot `next` on:
     // its interior children side by side, then the nodes below each of them in lane order, so a parent precedes its
     // children. Grows `wide` as needed (a collapse on one thread), or writes into it sized (place()).
-    void fill(std::vector<BvhWideNode>& wide, uint32_t target, uint32_t source, uint32_t& next) {
+    void fill(BvhWideNodes& wide, uint32_t target, uint32_t source, uint32_t& next) {
         uint32_t interior[RT_BVH_WIDTH];
         uint32_t interior_count = 0;
         const uint32_t first = next;
@@ -214,7 +214,7 @@ private:
         set_wide_lane_leaf(node, k, range_[source].first, range_[source].count);
     }
 
-    const std::vector<BvhNode>& binary_;
+    const BvhNodes& binary_;
     std::unique_ptr<Range[]> range_;
     std::unique_ptr<float[]> area_;      // each binary node's half area, looked up many times while opening children
     std::unique_ptr<uint32_t[]> count_;  // wide nodes under a binary node, where count_below() set it
@@ -273,13 +273,12 @@ void set_wide_lane_leaf(BvhWideNode& node, uint32_t k, uint32_t first, uint32_t 
     PRISM_WIDE_LANE(node, child, k) = RT_WIDE_LEAF | first << 3 | (count - 1);
 }
 
-std::vector<BvhWideNode> collapse_bvh_wide(const std::vector<BvhNode>& stack_nodes, uint32_t leaf_size,
-                                           uint32_t threads) {
+BvhWideNodes collapse_bvh_wide(const BvhNodes& stack_nodes, uint32_t leaf_size, uint32_t threads) {
     if (stack_nodes.empty()) throw Error("internal: collapsing an empty BVH");
     return Collapser(stack_nodes, std::min(leaf_size, RT_WIDE_LEAF_MAX), threads).run(threads);
 }
 
-uint32_t wide_stack_bound(const std::vector<BvhWideNode>& wide, uint32_t root) {
+uint32_t wide_stack_bound(const BvhWideNodes& wide, uint32_t root) {
     const BvhWideNode& node = wide.at(root);
     uint32_t used = 0, deepest = 0;
     for (uint32_t k = 0; k < RT_BVH_WIDTH; ++k) {
@@ -290,7 +289,7 @@ uint32_t wide_stack_bound(const std::vector<BvhWideNode>& wide, uint32_t root) {
     return (used > 0 ? used - 1 : 0) + deepest;
 }
 
-void refit_bvh_wide(std::vector<BvhWideNode>& wide, const std::vector<uint32_t>& primitive_order,
+void refit_bvh_wide(BvhWideNodes& wide, const std::vector<uint32_t>& primitive_order,
                     std::span<const Aabb> primitive_bounds) {
     // Children follow their parent, so one reverse sweep sees every child node before its parent.
     for (uint32_t index = uint32_t(wide.size()); index-- > 0;) {

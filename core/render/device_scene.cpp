@@ -28,7 +28,7 @@ bool degenerate(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
 }
 
 // Node indices of a separately built BVH moved to where it lands in the shared arrays.
-void rebase_nodes(std::vector<BvhNode>& nodes, BvhLayout layout, uint32_t node_offset, uint32_t primitive_offset) {
+void rebase_nodes(BvhNodes& nodes, BvhLayout layout, uint32_t node_offset, uint32_t primitive_offset) {
     for (BvhNode& node : nodes) {
         uint32_t lower_w = as_uint(node.lower.w);
         uint32_t upper_w = as_uint(node.upper.w);
@@ -51,8 +51,8 @@ void rebase_nodes(std::vector<BvhNode>& nodes, BvhLayout layout, uint32_t node_o
 
 // Top-level leaves index `primitive_order`; the kernels want the instance index itself. The builder's tree is
 // kept unchanged for refits; this returns the nodes the device sees.
-std::vector<BvhNode> top_level_device_nodes(const Bvh& bvh) {
-    std::vector<BvhNode> nodes = bvh.nodes;
+BvhNodes top_level_device_nodes(const Bvh& bvh) {
+    BvhNodes nodes = bvh.nodes;
     for (BvhNode& node : nodes) {
         uint32_t upper_w = as_uint(node.upper.w);
         if (bvh.layout != BvhLayout::Escape) {
@@ -71,7 +71,7 @@ std::vector<BvhNode> top_level_device_nodes(const Bvh& bvh) {
 }
 
 // Wide nodes of a separately built mesh BVH moved to where they land in `wide_nodes`.
-void rebase_wide_nodes(std::vector<BvhWideNode>& nodes, uint32_t node_offset, uint32_t primitive_offset) {
+void rebase_wide_nodes(BvhWideNodes& nodes, uint32_t node_offset, uint32_t primitive_offset) {
     for (BvhWideNode& node : nodes)
         for (uint32_t k = 0; k < RT_BVH_WIDTH; ++k) {
             if (!wide_lane_used(node, k)) continue;
@@ -83,8 +83,8 @@ void rebase_wide_nodes(std::vector<BvhWideNode>& nodes, uint32_t node_offset, ui
 }
 
 // A mesh's wide leaves moved from triangle ranges (slots in `triangles`) to blocks of four appended to `blocks`.
-void block_wide_leaves(std::vector<BvhWideNode>& nodes, const std::vector<TriangleGeometry>& triangles,
-                       std::vector<TriangleBlock>& blocks) {
+void block_wide_leaves(BvhWideNodes& nodes, const UninitializedVector<TriangleGeometry>& triangles,
+                       UninitializedVector<TriangleBlock>& blocks) {
     auto lane = [](auto& v, uint32_t k) -> auto& { return k == 0 ? v.x : k == 1 ? v.y : k == 2 ? v.z : v.w; };
     for (BvhWideNode& node : nodes)
         for (uint32_t k = 0; k < RT_BVH_WIDTH; ++k) {
@@ -110,8 +110,8 @@ void block_wide_leaves(std::vector<BvhWideNode>& nodes, const std::vector<Triang
 
 // The top level in the wide layout: leaves name the instance itself, and the nodes are padded to `capacity` (the
 // most any top level over these instances can need), so a rebuild never moves the mesh BVHs behind it.
-std::vector<BvhWideNode> top_level_wide_device_nodes(const Bvh& bvh, size_t capacity) {
-    std::vector<BvhWideNode> nodes = bvh.wide_nodes;
+BvhWideNodes top_level_wide_device_nodes(const Bvh& bvh, size_t capacity) {
+    BvhWideNodes nodes = bvh.wide_nodes;
     if (nodes.size() > capacity) throw Error("internal: wide top level larger than its capacity");
     for (BvhWideNode& node : nodes)
         for (uint32_t k = 0; k < RT_BVH_WIDTH; ++k) {
@@ -488,13 +488,13 @@ void update_instance_transforms(DeviceScene& device, const std::vector<glm::mat4
     }
     build_top_level(device, transforms, rebuild);
     if (device.bvh_options.layout == BvhLayout::Wide) {
-        std::vector<BvhWideNode> top = top_level_wide_device_nodes(device.top_level, device.top_level_nodes);
+        BvhWideNodes top = top_level_wide_device_nodes(device.top_level, device.top_level_nodes);
         std::copy(top.begin(), top.end(), device.wide_nodes.begin());
         return;
     }
     if (device.top_level.nodes.size() != device.top_level_nodes)
         throw Error("internal: top-level BVH changed size on update");
-    std::vector<BvhNode> top = top_level_device_nodes(device.top_level);
+    BvhNodes top = top_level_device_nodes(device.top_level);
     std::copy(top.begin(), top.end(), device.nodes.begin());
 }
 

@@ -7,6 +7,7 @@
 
 #include "core/render/backend.h"
 #include "core/bvh/bvh.h"
+#include "core/util/uninitialized_vector.h"
 #include "core/scene/scene.h"
 #include "kernels/types.h"
 
@@ -14,7 +15,7 @@ namespace prism {
 
 struct DeviceScene {
     // One vector per scene array of kernels/data_arrays.h, named as there (the comments there say what each holds).
-#define RT_DATA_ARRAY(slot, type, name, access, role) PRISM_IF_SCENE_ARRAY(role, std::vector<::type> name;)
+#define RT_DATA_ARRAY(slot, type, name, access, role) PRISM_IF_SCENE_ARRAY(role, UninitializedVector<::type> name;)
 #include "kernels/data_arrays.h"
 #undef RT_DATA_ARRAY
 

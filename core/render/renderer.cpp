@@ -10,7 +10,7 @@ namespace prism {
 namespace {
 
 template <typename T>
-void upload(Backend& backend, DeviceArray array, const std::vector<T>& data) {
+void upload(Backend& backend, DeviceArray array, const UninitializedVector<T>& data) {
     backend.allocate(array, data.size() * sizeof(T));
     backend.write(array, data.data(), data.size() * sizeof(T));
 }
