@@ -15,6 +15,8 @@ namespace prism {
 
 struct DeviceScene {
     // One vector per scene array of kernels/data_arrays.h, named as there (the comments there say what each holds).
+    // UninitializedVector: a vector sized with resize(n) is not zeroed first, so the code that sizes one writes
+    // every element (the BVH builders' threads do).
 #define RT_DATA_ARRAY(slot, type, name, access, role) PRISM_IF_SCENE_ARRAY(role, UninitializedVector<::type> name;)
 #include "kernels/data_arrays.h"
 #undef RT_DATA_ARRAY
