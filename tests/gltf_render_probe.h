@@ -35,7 +35,7 @@ struct ProbeImage {
 // A 2x2 (or any) RGBA8 image written as PNG next to the glTF files the builder writes (test::write_file's folder),
 // so a material can name it by a relative uri.
 inline std::string write_test_png(const std::string& name, int width, int height, const std::vector<uint32_t>& rgba8) {
-    publish_file(name, [&](const std::filesystem::path& part) { write_png(part, width, height, rgba8); });
+    write_png(temp_dir("files") / name, width, height, rgba8);  // renamed into place whole (core/image/image_io.h)
     return name;
 }
 

@@ -3,6 +3,7 @@
 #include "backends/backend_list.h"
 #include "core/render/backend.h"
 #include "core/util/error.h"
+#include "core/util/output_file.h"
 #include "core/image/image_compare.h"
 #include "core/loaders/scene_loader.h"
 #ifdef PRISM_HAVE_VULKAN
@@ -18,7 +19,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <unistd.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -43,19 +43,12 @@ std::filesystem::path temp_dir(const std::string& name) {
     return dir;
 }
 
-std::filesystem::path publish_file(const std::string& name,
-                                   const std::function<void(const std::filesystem::path&)>& write) {
-    std::filesystem::path path = temp_dir("files") / name;
-    std::filesystem::path part = path;
-    part += ".part-" + std::to_string(::getpid());
-    write(part);
-    std::filesystem::rename(part, path);
-    return path;
-}
-
 std::filesystem::path write_file(const std::string& name, const std::string& bytes) {
-    return publish_file(
-        name, [&bytes](const std::filesystem::path& part) { std::ofstream(part, std::ios::binary) << bytes; });
+    // ctest runs test processes side by side and several write the same file (a shared test texture): written under
+    // a name of this process's own and renamed into place, a reader never sees one half written.
+    std::filesystem::path path = temp_dir("files") / name;
+    prism::write_file_atomically(path, bytes);
+    return path;
 }
 
 std::string error_message(const std::function<void()>& action) {

@@ -21,13 +21,8 @@ std::filesystem::path scenes_dir();
 std::filesystem::path scene(const std::string& relative);
 // A fresh directory for one test, removed by nobody (ctest's build tree is disposable).
 std::filesystem::path temp_dir(const std::string& name);
-// Writes bytes to a file under temp_dir("files") and returns its path.
+// Writes bytes to a file under temp_dir("files") (whole or not at all: core/util/output_file.h) and returns its path.
 std::filesystem::path write_file(const std::string& name, const std::string& bytes);
-// The file `name` under temp_dir("files"), written by `write` to a path of this process's own and then renamed into
-// place: ctest runs test processes side by side, several of them write the same file (a shared test texture), and a
-// reader must never see one half written.
-std::filesystem::path publish_file(const std::string& name,
-                                   const std::function<void(const std::filesystem::path&)>& write);
 
 // The message of the prism::Error that `action` throws, or "(no prism::Error thrown)".
 std::string error_message(const std::function<void()>& action);
