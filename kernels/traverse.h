@@ -530,7 +530,7 @@ RT_FUNC Hit rt_trace_wide_simt(KernelGlobals kg, float3 origin, float3 direction
             uint n2 = RT_STACK_POP;
             float t1 = RT_INFINITY;
             float t2 = RT_INFINITY;
-            for (uint k = 0u; k < RT_BVH_WIDTH; ++k) {
+            for (uint k = 0u; k < 4u; ++k) {  // probe: 4-wide
                 float t =
                     rt_wide_lane_entry(kg, current, k, rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin, reach);
                 if (t < RT_INFINITY) {
