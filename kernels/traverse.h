@@ -14,9 +14,6 @@
 #if defined(RT_CPU)
 #define RT_WIDE_TRAVERSAL 1
 #endif
-#if defined(RT_CUDA) || defined(RT_WIDE_SIMT_ON_CPU)
-#define RT_WIDE_SIMT 1  // probe: the wide layout walked a child at a time on a GPU
-#endif
 
 #include "globals.h"
 #include "intersect.h"
@@ -94,7 +91,7 @@ RT_FUNC Hit rt_intersect_leaf(KernelGlobals kg, Hit best, TraversalRay ray, floa
     return best;
 }
 
-#if defined(RT_WIDE_TRAVERSAL) || defined(RT_WIDE_SIMT)
+#if defined(RT_WIDE_TRAVERSAL)
 // The traversal's instance while it walks a flattened world BVH (RT_FLAG_FLAT_INSTANCES): each block lane names
 // its own.
 #define RT_INSTANCE_PER_LANE 0xfffffffdu
@@ -124,7 +121,7 @@ RT_FUNC Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, fl
     return best;
 }
 
-#endif  // RT_WIDE_TRAVERSAL || RT_WIDE_SIMT
+#endif  // RT_WIDE_TRAVERSAL
 
 // The node count the stack walk sets when it has no child to go to: pop the next node.
 #define RT_STACK_POP 0xffffffffu
@@ -275,7 +272,7 @@ RT_FUNC Hit rt_trace_escape(KernelGlobals kg, float3 origin, float3 direction, f
     return best;
 }
 
-#if defined(RT_WIDE_TRAVERSAL) || defined(RT_WIDE_SIMT)
+#if defined(RT_WIDE_TRAVERSAL)
 // An instance whose transform is the identity keeps the world ray (and its inverse direction) as it is.
 RT_FUNC TraversalRay rt_wide_ray_to_object(Instance inst, TraversalRay world) {
     return (inst.flags & RT_INSTANCE_IDENTITY) != 0u ? world : rt_ray_to_object(inst, world);
@@ -291,9 +288,6 @@ RT_FUNC void rt_wide_prefetch(KernelGlobals kg, uint entry) {
 }
 
 RT_FUNC uint rt_wide_child(BvhWideNode node, uint k) { return rt_lane8_u(node.child0, node.child1, k); }
-#endif  // RT_WIDE_TRAVERSAL || RT_WIDE_SIMT
-
-#if defined(RT_WIDE_TRAVERSAL)
 
 // Wide layout: a node tests its eight children at once and the traversal goes on with the nearest child entered;
 // a second one is pushed, and with three or more all are pushed and sorted, nearest on top (Embree's order). A
@@ -444,169 +438,12 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
 
 #endif  // RT_WIDE_TRAVERSAL
 
-#if defined(RT_WIDE_SIMT)
-// Child k's entry distance: rt_intersect_box on lane k of the node's per-axis boxes (k is a constant once the
-// child loop is unrolled, so picking the lane costs nothing).
-RT_FUNC float rt_wide_lane_entry(KernelGlobals kg, uint node, uint k, float3 origin, float3 inv_dir, float tmin,
-                                 float tmax) {
-    // Lane k of lower_x is word k of the node (lower_x0 then lower_x1), of upper_x word 8 + k, and so on.
-    float3 lower = make_float3(RT_FETCH_WORD(kg, wide_nodes, node, k), RT_FETCH_WORD(kg, wide_nodes, node, 16u + k),
-                               RT_FETCH_WORD(kg, wide_nodes, node, 32u + k));
-    float3 upper =
-        make_float3(RT_FETCH_WORD(kg, wide_nodes, node, 8u + k), RT_FETCH_WORD(kg, wide_nodes, node, 24u + k),
-                    RT_FETCH_WORD(kg, wide_nodes, node, 40u + k));
-    return rt_intersect_box(lower, upper, origin, inv_dir, tmin, tmax);
-}
-
-// A wide leaf's triangles one at a time (rt_intersect_leaf's test on lane k of the blocks).
-RT_FUNC Hit rt_intersect_blocks_simt(KernelGlobals kg, Hit best, TraversalRay ray, float tmax, uint instance,
-                                     uint first, uint count) {
-    for (uint k = 0u; k < count; ++k) {
-        uint b = first + (k >> 2u);
-        uint l = k & 3u;
-        float3 e1 =
-            make_float3(RT_FETCH_WORD(kg, triangle_blocks, b, 12u + l), RT_FETCH_WORD(kg, triangle_blocks, b, 16u + l),
-                        RT_FETCH_WORD(kg, triangle_blocks, b, 20u + l));
-        float3 e2 =
-            make_float3(RT_FETCH_WORD(kg, triangle_blocks, b, 24u + l), RT_FETCH_WORD(kg, triangle_blocks, b, 28u + l),
-                        RT_FETCH_WORD(kg, triangle_blocks, b, 32u + l));
-        TriangleGeometry tri;
-        tri.v0 = make_float4(RT_FETCH_WORD(kg, triangle_blocks, b, l), RT_FETCH_WORD(kg, triangle_blocks, b, 4u + l),
-                             RT_FETCH_WORD(kg, triangle_blocks, b, 8u + l), 0.0f);
-        tri.e1 = rt_float4(e1, rt_edge_scale(e1, e2));
-        tri.e2 = rt_float4(e2, 0.0f);
-        float4 h = rt_intersect_triangle(tri, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w,
-                                         rt_hit_reach(best, tmax));
-        if (h.x < RT_INFINITY) {
-            uint primitive = RT_FETCH_WORD_U(kg, triangle_blocks, b, 40u + l);
-            uint hit_instance =
-                instance == RT_INSTANCE_PER_LANE ? RT_FETCH_WORD_U(kg, triangle_blocks, b, 44u + l) : instance;
-            if (rt_hit_wins(h.x, hit_instance, primitive, best)) {
-                best.tuv = make_float4(h.x, h.y, h.z, 0.0f);
-                best.instance = hit_instance;
-                best.primitive = primitive;
-                best.slot = RT_FETCH_WORD_U(kg, triangle_blocks, b, 36u + l);
-            }
-        }
-    }
-    return best;
-}
-
-#define RT_WIDE_SIMT_PUSH(entry, t)             \
-    if (sp < rt_uint(RT_BVH_WIDE_STACK_SIZE)) { \
-        stack[sp].x = (entry);                  \
-        stack[sp].y = rt_as_uint(t);            \
-        sp += 1u;                               \
-    }
-
-// The wide layout on a GPU thread: a node's children are tested one after another (no vector unit to test them
-// at once); the nearest entered child is walked next, the second nearest pushed last (popped next), the others
-// pushed as they come.
-RT_FUNC Hit rt_trace_wide_simt(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit,
-                               bool one_instance, bool flat) {
-    Hit best = rt_no_hit();
-    best.tuv.x = tmax;
-    TraversalRay world = rt_traversal_ray(origin, direction, tmin);
-    TraversalRay ray = world;
-    uint instance = RT_NONE;
-    uint2 stack[RT_BVH_WIDE_STACK_SIZE];
-    uint sp = 0u;
-
-    uint current = 0u;
-    if (flat) {
-        instance = RT_INSTANCE_PER_LANE;
-    } else if (one_instance) {
-        instance = 0u;
-        Instance inst = RT_FETCH(kg, instances, 0u);
-        if ((inst.flags & RT_INSTANCE_IDENTITY) == 0u) ray = rt_ray_to_object(inst, world);
-        current = inst.root;
-    }
-    bool going = true;
-    while (going) {
-        // Walk interior nodes until a leaf (or nothing) is next.
-        while ((current & RT_WIDE_LEAF) == 0u) {
-            float reach = rt_min(rt_hit_reach(best, tmax), RT_FLT_MAX);
-            uint n1 = RT_STACK_POP;
-            uint n2 = RT_STACK_POP;
-            float t1 = RT_INFINITY;
-            float t2 = RT_INFINITY;
-            for (uint k = 0u; k < 4u; ++k) {  // probe: 4-wide
-                float t =
-                    rt_wide_lane_entry(kg, current, k, rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin, reach);
-                if (t < RT_INFINITY) {
-                    uint e = RT_FETCH_WORD_U(kg, wide_nodes, current, 48u + k);
-                    if (t < t1) {
-                        if (n2 != RT_STACK_POP) {
-                            RT_WIDE_SIMT_PUSH(n2, t2)
-                        }
-                        n2 = n1;
-                        t2 = t1;
-                        n1 = e;
-                        t1 = t;
-                    } else if (t < t2) {
-                        if (n2 != RT_STACK_POP) {
-                            RT_WIDE_SIMT_PUSH(n2, t2)
-                        }
-                        n2 = e;
-                        t2 = t;
-                    } else {
-                        RT_WIDE_SIMT_PUSH(e, t)
-                    }
-                }
-            }
-            if (n2 != RT_STACK_POP) {
-                RT_WIDE_SIMT_PUSH(n2, t2)
-            }
-            current = n1;
-            if (n1 == RT_STACK_POP) break;
-        }
-        if (current != RT_STACK_POP) {
-            uint first = (current & ~RT_WIDE_LEAF) >> 3u;
-            if (instance == RT_NONE) {
-                instance = first;
-                Instance inst = RT_FETCH(kg, instances, instance);
-                ray = rt_wide_ray_to_object(inst, world);
-                current = inst.root;
-                if (sp > 0u && sp < rt_uint(RT_BVH_WIDE_STACK_SIZE)) {
-                    stack[sp].x = RT_STACK_LEAVE_INSTANCE;
-                    stack[sp].y = 0u;
-                    sp += 1u;
-                }
-                continue;
-            }
-            best = rt_intersect_blocks_simt(kg, best, ray, tmax, instance, first, (current & 7u) + 1u);
-            if (any_hit && best.instance != RT_NONE) return best;
-        }
-        going = false;
-        while (sp > 0u && !going) {
-            sp -= 1u;
-            uint2 popped = stack[sp];
-            if (popped.x == RT_STACK_LEAVE_INSTANCE) {
-                ray = world;
-                instance = RT_NONE;
-            } else if (rt_as_float(popped.y) <= rt_hit_reach(best, tmax)) {
-                current = popped.x;
-                going = true;
-            }
-        }
-    }
-    if (best.instance == RT_NONE) best.tuv.x = RT_INFINITY;
-    return best;
-}
-#endif  // RT_WIDE_SIMT
-
 RT_FUNC Hit rt_trace(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit) {
     // The frame is loaded whole: Mesa 22.3's lavapipe, in the Vulkan backend's buffer-address mode, read
     // the frame's bvh_layout (a single field fetched from the frame array) as its instance count after the stage had
     // loaded the frame.
     FrameParams frame = RT_FETCH(kg, frame, 0u);
     uint bvh_layout = frame.bvh_layout;
-#if defined(RT_WIDE_SIMT)
-    if (bvh_layout == RT_BVH_LAYOUT_WIDE)
-        return rt_trace_wide_simt(kg, origin, direction, tmin, tmax, any_hit,
-                                  (frame.flags & RT_FLAG_ONE_INSTANCE) != 0u,
-                                  (frame.flags & RT_FLAG_FLAT_INSTANCES) != 0u);
-#endif
 #if defined(RT_WIDE_TRAVERSAL)
     if (bvh_layout == RT_BVH_LAYOUT_WIDE)
         return rt_trace_wide(kg, origin, direction, tmin, tmax, any_hit, (frame.flags & RT_FLAG_ONE_INSTANCE) != 0u,

@@ -159,7 +159,7 @@ private:
         children[0] = lower_w(binary_[source]);
         children[1] = children[0] + 1;
         uint32_t count = 2;
-        while (count < 4u) {  // probe: 4-wide
+        while (count < RT_BVH_WIDTH) {
             int widest = -1;
             float widest_area = -1.0f;
             for (uint32_t k = 0; k < count; ++k) {

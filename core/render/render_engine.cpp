@@ -47,7 +47,7 @@ RenderEngine::RenderEngine(const std::string& backend_name, const DeviceScene& s
     : name_(resolve_backend_name(backend_name)), scene_(scene) {
     BackendSpec spec = parse_backend_spec(name_);
     // The GPU kernels are built without the wide traversal (kernels/traverse.h says why).
-    if (scene.bvh_options.layout == BvhLayout::Wide && spec.api != "cpu" && spec.api != "cpu-ref" && spec.api != "cuda")
+    if (scene.bvh_options.layout == BvhLayout::Wide && spec.api != "cpu" && spec.api != "cpu-ref")
         throw Error(name_ +
                     ": the wide BVH layout is traced by the cpu backends only; use --bvh-layout stack, "
                     "escape or auto");

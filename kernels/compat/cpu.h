@@ -212,8 +212,6 @@ RT_FUNC float rt_int_as_float(int i) { return std::bit_cast<float>(i); }
 
 // Buffers: `kg` is a struct of pointers generated from kernels/data_arrays.h.
 #define RT_FETCH(kg, array, i) ((kg).array[(i)])
-#define RT_FETCH_WORD(kg, array, i, word) (reinterpret_cast<const float*>(&(kg).array[(i)])[(word)])
-#define RT_FETCH_WORD_U(kg, array, i, word) (reinterpret_cast<const uint*>(&(kg).array[(i)])[(word)])
 #define RT_STORE(kg, array, i, value) ((kg).array[(i)] = (value))
 // Atomic add on a uint buffer element, returning the old value. atomic_ref keeps the buffers plain arrays.
 #define RT_ATOMIC_ADD(kg, array, i, value) (std::atomic_ref<uint>((kg).array[(i)]).fetch_add((value)))

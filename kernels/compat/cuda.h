@@ -106,9 +106,6 @@ static __device__ __forceinline__ T rt_fetch(T* __restrict__ array, uint i) {
     return array[i];
 }
 #define RT_FETCH(kg, array, i) rt_fetch((kg).array, (i))
-// Probe: one 4-byte word of element i (a lane of a wide node or a triangle block) without loading the element.
-#define RT_FETCH_WORD(kg, array, i, word) __ldg(reinterpret_cast<const float*>((kg).array + (i)) + (word))
-#define RT_FETCH_WORD_U(kg, array, i, word) __ldg(reinterpret_cast<const uint*>((kg).array + (i)) + (word))
 #define RT_STORE(kg, array, i, value) ((kg).array[(i)] = (value))
 #define RT_ATOMIC_ADD(kg, array, i, value) atomicAdd(&(kg).array[(i)], (value))
 #define RT_PREFETCH(kg, array, i, n) ((void)0)  // a CPU cache hint; GPUs hide latency with other warps
