@@ -167,6 +167,29 @@ TEST_P(BackendContract, MemoryRoundTripsAndRangesAreChecked) {
     EXPECT_NE(never.find("'rays'"), std::string::npos) << never;
 }
 
+// read_pinned (how a frame's image comes back): the array's contents as of the call, a smaller read within the
+// same host memory, a larger one after growing it, each read seeing writes made since; ranges checked as read's.
+TEST_P(BackendContract, PinnedReadsSeeTheArrayAsItIsNow) {
+    std::unique_ptr<prism::Backend> backend = prism::create_backend(GetParam());
+    std::vector<uint32_t> data(1u << 20);
+    for (size_t i = 0; i < data.size(); ++i) data[i] = uint32_t(i * 2654435761u);
+    backend->allocate(DeviceArray::image, data.size() * 4);
+    backend->write(DeviceArray::image, data.data(), data.size() * 4);
+    const auto* small = static_cast<const uint32_t*>(backend->read_pinned(DeviceArray::image, 4096));
+    ASSERT_NE(small, nullptr);
+    EXPECT_TRUE(std::equal(small, small + 1024, data.begin()));
+    for (size_t i = 0; i < data.size(); ++i) data[i] = ~data[i];
+    backend->write(DeviceArray::image, data.data(), data.size() * 4);
+    const auto* whole = static_cast<const uint32_t*>(backend->read_pinned(DeviceArray::image, data.size() * 4));
+    ASSERT_NE(whole, nullptr);
+    EXPECT_TRUE(std::equal(whole, whole + data.size(), data.begin()));
+    backend->zero(DeviceArray::image);
+    const auto* zeroed = static_cast<const uint32_t*>(backend->read_pinned(DeviceArray::image, 4096));
+    EXPECT_TRUE(std::all_of(zeroed, zeroed + 1024, [](uint32_t w) { return w == 0u; }));
+    std::string past = error_message([&] { backend->read_pinned(DeviceArray::image, data.size() * 4 + 4); });
+    EXPECT_EQ(past.rfind(api_of(GetParam()) + ": access past the end of array 'image'", 0), 0u) << past;
+}
+
 // PRISM_DEVICE_MEMORY_LIMIT caps what all arrays take together on every GPU API, before anything is allocated,
 // and the error names the array and the limit; shrinking arrays makes room again.
 TEST_P(BackendContract, MemoryLimitCountsEveryArrayAndNamesTheLimit) {

@@ -46,9 +46,10 @@ public:
 
     ~CudaBackend() override {
         gl_.reset();  // unregister the GL buffer while the context is alive
-        for (void* pointer : pointers_) {
+        for (size_t slot = 0; slot < device_array_count; ++slot) {
             try {
-                context_.release(pointer);
+                context_.release(pointers_[slot]);
+                context_.release_host(pinned_[slot].pointer);
             } catch (const Error&) {
                 // A dead context (after a kernel fault) cannot free; the process exit reclaims the memory.
             }
@@ -96,6 +97,19 @@ public:
         context_.copy_to_host(data, static_cast<const char*>(pointers_[size_t(array)]) + offset, bytes);
     }
 
+    const void* read_pinned(DeviceArray array, size_t bytes) override {
+        book_.check_range(array, bytes, 0);
+        PinnedHost& host = pinned_[size_t(array)];
+        if (host.bytes < bytes) {
+            context_.release_host(std::exchange(host.pointer, nullptr));
+            host.bytes = 0;
+            host.pointer = context_.allocate_host(bytes, device_array_name(array));
+            host.bytes = bytes;
+        }
+        context_.copy_to_host(host.pointer, pointers_[size_t(array)], bytes);
+        return host.pointer;
+    }
+
     void zero(DeviceArray array) override {
         if (pointers_[size_t(array)]) context_.fill_zero(pointers_[size_t(array)], book_.size(array));
     }
@@ -135,6 +149,11 @@ private:
     DeviceArrayBook book_;
     unsigned blocks_ = 0;
     std::array<void*, device_array_count> pointers_{};  // indexed by slot: what stages.cu receives
+    struct PinnedHost {
+        void* pointer = nullptr;
+        size_t bytes = 0;
+    };
+    std::array<PinnedHost, device_array_count> pinned_{};  // read_pinned's host memory, by slot
     std::vector<StageTiming> pending_;
     std::unique_ptr<GlInterop> gl_;  // CUDA-GL, when the viewer asked and its GL context is on this device
     std::string gl_reason_;          // why gl_ is null

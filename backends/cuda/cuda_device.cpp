@@ -122,6 +122,20 @@ void DeviceContext::release(void* pointer) {
     check(cudaFree(pointer), "cudaFree");  // waits for the device: no launch still uses it
 }
 
+void* DeviceContext::allocate_host(size_t bytes, const char* what) {
+    bind();
+    void* pointer = nullptr;
+    check(cudaMallocHost(&pointer, bytes),
+          std::string("cudaMallocHost for '") + what + "' (" + std::to_string(bytes) + " bytes)");
+    return pointer;
+}
+
+void DeviceContext::release_host(void* pointer) {
+    if (!pointer) return;
+    bind();
+    check(cudaFreeHost(pointer), "cudaFreeHost");
+}
+
 void DeviceContext::copy_to_device(void* device_pointer, const void* host, size_t bytes) {
     if (!bytes) return;
     bind();

@@ -37,6 +37,8 @@ public:
     size_t free_memory();
     void* allocate(size_t bytes, const char* what);
     void release(void* pointer);
+    void* allocate_host(size_t bytes, const char* what);  // page-locked (cudaMallocHost)
+    void release_host(void* pointer);
     void copy_to_device(void* device_pointer, const void* host, size_t bytes);  // asynchronous on the stream
     void copy_to_host(void* host, const void* device_pointer, size_t bytes);    // waits for it (and all before)
     void fill_zero(void* device_pointer, size_t bytes);                         // asynchronous on the stream

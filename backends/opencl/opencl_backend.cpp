@@ -143,6 +143,27 @@ public:
               "clEnqueueReadBuffer", dev_.entry());
     }
 
+    // Page-locked host memory in OpenCL: a buffer the driver allocates on the host (CL_MEM_ALLOC_HOST_PTR), mapped
+    // once; a read into its mapped pointer is a direct copy (NVIDIA's OpenCL best-practices guide, "Pinned memory").
+    const void* read_pinned(DeviceArray array, size_t bytes) override {
+        book_.check_range(array, bytes, 0);
+        PinnedHost& host = pinned_[size_t(array)];
+        if (host.bytes < bytes) {
+            release_pinned(host);
+            cl_int err = CL_SUCCESS;
+            host.buffer = clCreateBuffer(dev_.context(), CL_MEM_READ_WRITE | CL_MEM_ALLOC_HOST_PTR,
+                                         std::max<size_t>(bytes, 16), nullptr, &err);
+            check(err, (std::string("clCreateBuffer (host memory for '") + device_array_name(array) + "')").c_str(),
+                  dev_.entry());
+            host.mapped = clEnqueueMapBuffer(dev_.queue(), host.buffer, CL_TRUE, CL_MAP_READ | CL_MAP_WRITE, 0,
+                                             std::max<size_t>(bytes, 16), 0, nullptr, nullptr, &err);
+            check(err, "clEnqueueMapBuffer", dev_.entry());
+            host.bytes = bytes;
+        }
+        read(array, host.mapped, bytes, 0);
+        return host.mapped;
+    }
+
     void zero(DeviceArray array) override {
         const size_t a = size_t(array);
         if (!buffers_[a]) return;
@@ -191,9 +212,25 @@ private:
         cl_event event;
     };
 
+    struct PinnedHost {
+        cl_mem buffer = nullptr;
+        void* mapped = nullptr;
+        size_t bytes = 0;
+    };
+
+    void release_pinned(PinnedHost& host) {
+        if (host.mapped) {
+            clEnqueueUnmapMemObject(dev_.queue(), host.buffer, host.mapped, 0, nullptr, nullptr);
+            clFinish(dev_.queue());
+        }
+        if (host.buffer) clReleaseMemObject(host.buffer);
+        host = PinnedHost{};
+    }
+
     void release() {
         for (const Pending& p : pending_) clReleaseEvent(p.event);
         pending_.clear();
+        for (PinnedHost& host : pinned_) release_pinned(host);
         for (cl_mem& b : buffers_)
             if (b) clReleaseMemObject(std::exchange(b, nullptr));
         if (placeholder_) clReleaseMemObject(std::exchange(placeholder_, nullptr));
@@ -207,7 +244,8 @@ private:
     cl_program program_ = nullptr;
     std::array<cl_kernel, stage_count> kernels_{};
     std::array<cl_mem, device_array_count> buffers_{};
-    cl_mem placeholder_ = nullptr;  // zeroed; bound to arrays never allocated
+    std::array<PinnedHost, device_array_count> pinned_{};  // read_pinned's host memory, by slot
+    cl_mem placeholder_ = nullptr;                         // zeroed; bound to arrays never allocated
     size_t local_size_ = kThreadsPerBlock;
     size_t global_size_ = 0;
     std::vector<Pending> pending_;

@@ -199,26 +199,27 @@ public:
                     VK_MEMORY_PROPERTY_HOST_CACHED_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, 0, true);
             }
             VkDeviceSize piece = std::min<VkDeviceSize>(bytes, readback_.capacity);
-            begin_command();
-            VkBufferCopy region{offset, 0, piece};
-            vkCmdCopyBuffer(command_, arrays_[size_t(array)].buffer, readback_.buffer, 1, &region);
-            VkMemoryBarrier to_host{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-            to_host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-            to_host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-            vkCmdPipelineBarrier(command_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &to_host,
-                                 0, nullptr, 0, nullptr);
-            flush();
-            if (!readback_.coherent) {
-                VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE};
-                range.memory = readback_.memory;
-                range.size = VK_WHOLE_SIZE;
-                vk::check(vkInvalidateMappedMemoryRanges(device_, 1, &range), "vkInvalidateMappedMemoryRanges");
-            }
+            copy_to_host_buffer(array, offset, piece, readback_);
             std::memcpy(target, readback_.mapped, piece);
             target += piece;
             offset += piece;
             bytes -= piece;
         }
+    }
+
+    // The array straight into host-visible memory kept for it: no copy into the caller's memory after the transfer.
+    const void* read_pinned(DeviceArray array, size_t bytes) override {
+        book_->check_range(array, bytes, 0);
+        Buffer& host = pinned_[size_t(array)];
+        if (host.capacity < bytes) {
+            flush();
+            release(host);
+            host = create_buffer("pinned read-back", round_up(std::max<VkDeviceSize>(bytes, 16), 16),
+                                 VK_BUFFER_USAGE_TRANSFER_DST_BIT, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
+                                 VK_MEMORY_PROPERTY_HOST_CACHED_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, 0, true);
+        }
+        if (bytes > 0) copy_to_host_buffer(array, 0, bytes, host);
+        return host.mapped;
     }
 
     void zero(DeviceArray array) override {
@@ -489,6 +490,7 @@ private:
         release(addresses_);
         release(staging_);
         release(readback_);
+        for (Buffer& b : pinned_) release(b);
         for (auto* set : {&pipelines_, &address_pipelines_, &launch_args_pipelines_, &launch_args_address_pipelines_})
             for (VkPipeline p : *set)
                 if (p) vkDestroyPipeline(device_, p, nullptr);
@@ -564,6 +566,25 @@ private:
         b.coherent = memory_.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
         if (map) vk::check(vkMapMemory(device_, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped), "vkMapMemory");
         return b;
+    }
+
+    // Copies [offset, offset + bytes) of the array to the start of host-visible `host` and waits for it.
+    void copy_to_host_buffer(DeviceArray array, VkDeviceSize offset, VkDeviceSize bytes, const Buffer& host) {
+        begin_command();
+        VkBufferCopy region{offset, 0, bytes};
+        vkCmdCopyBuffer(command_, arrays_[size_t(array)].buffer, host.buffer, 1, &region);
+        VkMemoryBarrier to_host{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        to_host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        to_host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+        vkCmdPipelineBarrier(command_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &to_host, 0,
+                             nullptr, 0, nullptr);
+        flush();
+        if (!host.coherent) {
+            VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE};
+            range.memory = host.memory;
+            range.size = VK_WHOLE_SIZE;
+            vk::check(vkInvalidateMappedMemoryRanges(device_, 1, &range), "vkInvalidateMappedMemoryRanges");
+        }
     }
 
     void release(Buffer& b) {
@@ -754,6 +775,7 @@ private:
     Buffer staging_;
     VkDeviceSize staging_used_ = 0;
     Buffer readback_;
+    std::array<Buffer, device_array_count> pinned_{};  // read_pinned's host memory, by slot
 
     std::unique_ptr<GlInterop> gl_;  // Vulkan-GL, when the viewer asked and GL can import this device's memory
     std::string gl_reason_;          // why gl_ is null

