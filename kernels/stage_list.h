@@ -20,6 +20,7 @@
 // No include guard: it is expanded several times with different definitions of RT_STAGE.
 RT_STAGE(generate, Generate, Before, GridSizesQueue, 0)
 RT_STAGE(intersect, Intersect, Bounce, Queue, 0)
+RT_STAGE(miss, Miss, Bounce, Queue, 0)
 RT_STAGE(shade, Shade, Bounce, QueueGrows, 0)
 RT_STAGE(shadow, Shadow, Bounce, GridSizesQueue, 0)
 RT_STAGE(shadow_layers, ShadowLayers, Bounce, Grid, RT_FLAG_ALPHA_SHADOWS)

@@ -65,6 +65,15 @@ RT_FUNC void rt_stage_intersect(KernelGlobals kg, uint index, uint depth) {
     RT_STORE(kg, hits, index, hit);
 }
 
+// Rays that left the scene see the environment (the seed's "Cube Map" kernel).
+RT_FUNC void rt_stage_miss(KernelGlobals kg, uint index, uint depth) {
+    Hit hit = RT_FETCH(kg, hits, index);
+    if (hit.tuv.x < RT_INFINITY) return;
+    FrameParams frame = RT_FETCH(kg, frame, 0u);
+    Ray ray = RT_FETCH(kg, rays, rt_queue_base(frame, depth) + index);
+    rt_accumulate(kg, ray.pixel, rt_xyz(ray.weight) * rt_environment(kg, rt_xyz(ray.direction)));
+}
+
 // Takes n consecutive slots of a queue for one item and returns the first. RT_QUEUE_RESERVE sums the n of the
 // items running together (a warp, a subgroup) and takes all of their slots with one atomic add; taking one slot
 // per ray, the shade stage's warps spent a third of their time waiting for the counters (docs/kernels.md, "Queue
@@ -84,16 +93,11 @@ RT_FUNC uint rt_queue_reserve(KernelGlobals kg, uint counter, uint n, uint capac
 // go to the queue light by light: its rays towards light 0, then those towards light 1, so that the shadow stage's
 // neighbours head for one light, not for each light in turn (docs/kernels.md, "Shadow and child rays in the
 // queue").
-// A ray that left the scene sees the environment (the seed's "Cube Map" kernel): a stage of its own until it cost
-// a launch and a second read of every hit per depth (docs/kernels.md, "The miss stage folded into shade").
 RT_FUNC void rt_stage_shade(KernelGlobals kg, uint index, uint depth) {
     Hit hit = RT_FETCH(kg, hits, index);
+    if (!(hit.tuv.x < RT_INFINITY)) return;
     FrameParams frame = RT_FETCH(kg, frame, 0u);
     Ray ray = RT_FETCH(kg, rays, rt_queue_base(frame, depth) + index);
-    if (!(hit.tuv.x < RT_INFINITY)) {
-        rt_accumulate(kg, ray.pixel, rt_xyz(ray.weight) * rt_environment(kg, rt_xyz(ray.direction)));
-        return;
-    }
     Ray children[RT_MAX_CHILDREN];
     ShadeResult shade = rt_shade(kg, ray, hit, children);
     rt_accumulate(kg, ray.pixel, rt_xyz(shade.emitted));
@@ -200,6 +204,9 @@ RT_FUNC void rt_kernel_generate(KernelGlobals kg, uint depth) {
 }
 RT_FUNC void rt_kernel_intersect(KernelGlobals kg, uint depth) {
     RT_WORK_LOOP(kg, i, rt_ray_count(kg, depth), RT_COUNTER_TAKEN_RAYS + depth) { rt_stage_intersect(kg, i, depth); }
+}
+RT_FUNC void rt_kernel_miss(KernelGlobals kg, uint depth) {
+    RT_GRID_LOOP(i, rt_ray_count(kg, depth)) { rt_stage_miss(kg, i, depth); }
 }
 RT_FUNC void rt_kernel_shade(KernelGlobals kg, uint depth) {
     RT_GRID_LOOP(i, rt_ray_count(kg, depth)) { rt_stage_shade(kg, i, depth); }
