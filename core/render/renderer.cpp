@@ -182,17 +182,30 @@ FrameResult Renderer::render(const Camera& camera, const RenderSettings& setting
         backend_.read(DeviceArray::counters, counters.data(), counters.size() * sizeof(uint32_t));
         auto counted = std::chrono::steady_clock::now();
         // The frame lands in host memory the backend keeps page-locked (or mapped) from frame to frame, as a
-        // real-time caller would read it; the copy into the result's vectors is after the clock.
+        // real-time caller would read it; the copy into the result's vectors is after the clock. Page-locked memory
+        // can run out where pageable memory does not (the radiance of a 16K frame is 4 GiB): then the array is read
+        // into the result directly, as before read_pinned.
+        auto read_back = [&](DeviceArray array, auto& into, size_t bytes) -> const void* {
+            if (bytes == 0) return nullptr;
+            try {
+                return backend_.read_pinned(array, bytes);
+            } catch (const Error&) {
+                into.resize(bytes / sizeof(into[0]));
+                backend_.read(array, into.data(), bytes);  // a device fault throws here again, with its cause
+                return into.data();
+            }
+        };
         const size_t image_bytes = settings.read_image ? size_t(pixels) * sizeof(uint32_t) : 0u;
         const size_t radiance_bytes = settings.read_radiance ? size_t(pixels) * 4 * sizeof(float) : 0u;
-        const void* image = image_bytes ? backend_.read_pinned(DeviceArray::image, image_bytes) : nullptr;
-        const void* radiance = radiance_bytes ? backend_.read_pinned(DeviceArray::radiance, radiance_bytes) : nullptr;
+        const void* image = read_back(DeviceArray::image, result.image, image_bytes);
+        const void* radiance = read_back(DeviceArray::radiance, result.radiance, radiance_bytes);
         result.stats.stages = backend_.finish();
         auto end = std::chrono::steady_clock::now();
         result.image.resize(image_bytes / sizeof(uint32_t));
-        if (image_bytes) std::memcpy(result.image.data(), image, image_bytes);
+        if (image && image != result.image.data()) std::memcpy(result.image.data(), image, image_bytes);
         result.radiance.resize(radiance_bytes / sizeof(float));
-        if (radiance_bytes) std::memcpy(result.radiance.data(), radiance, radiance_bytes);
+        if (radiance && radiance != result.radiance.data())
+            std::memcpy(result.radiance.data(), radiance, radiance_bytes);
         using ms = std::chrono::duration<double, std::milli>;
         result.stats.frame_ms = ms(end - start).count();
         result.stats.enqueue_ms = ms(enqueued - start).count();
