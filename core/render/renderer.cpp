@@ -184,7 +184,7 @@ FrameResult Renderer::render(const Camera& camera, const RenderSettings& setting
         // The frame lands in host memory the backend keeps page-locked (or mapped) from frame to frame, as a
         // real-time caller would read it; the copy into the result's vectors is after the clock. Page-locked memory
         // can run out where pageable memory does not (the radiance of a 16K frame is 4 GiB): then the array is read
-        // into the result directly, as before read_pinned.
+        // into the result's own (pageable) memory with read(), inside the clock.
         auto read_back = [&](DeviceArray array, auto& into, size_t bytes) -> const void* {
             if (bytes == 0) return nullptr;
             try {
