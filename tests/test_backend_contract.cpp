@@ -167,6 +167,27 @@ TEST_P(BackendContract, MemoryRoundTripsAndRangesAreChecked) {
     EXPECT_NE(never.find("'rays'"), std::string::npos) << never;
 }
 
+// A write takes the caller's data when it is called: the caller may overwrite or free its memory at once, and
+// writes land in the order made (small ones, which a backend may copy and enqueue without waiting, and large ones).
+TEST_P(BackendContract, WritesTakeTheCallersDataWhenCalled) {
+    std::unique_ptr<prism::Backend> backend = prism::create_backend(GetParam());
+    const size_t small = 1024, large = (3u << 20) / 4;
+    backend->allocate(DeviceArray::counters, small * 4);
+    backend->allocate(DeviceArray::texels, large * 4);
+    for (uint32_t round = 1; round <= 8; ++round) {
+        auto data = std::make_unique<std::vector<uint32_t>>(large, round);
+        backend->write(DeviceArray::counters, data->data(), small * 4);
+        if (round % 3 == 0) backend->write(DeviceArray::texels, data->data(), large * 4);
+        std::fill(data->begin(), data->end(), 0xdeadbeefu);
+        data.reset();
+    }
+    std::vector<uint32_t> counters(small), texels(large);
+    backend->read(DeviceArray::counters, counters.data(), small * 4);
+    backend->read(DeviceArray::texels, texels.data(), large * 4);
+    EXPECT_TRUE(std::all_of(counters.begin(), counters.end(), [](uint32_t w) { return w == 8u; }));
+    EXPECT_TRUE(std::all_of(texels.begin(), texels.end(), [](uint32_t w) { return w == 6u; }));
+}
+
 // read_pinned (how a frame's image comes back): the array's contents as of the call, a smaller read within the
 // same host memory, a larger one after growing it, each read seeing writes made since; ranges checked as read's.
 TEST_P(BackendContract, PinnedReadsSeeTheArrayAsItIsNow) {

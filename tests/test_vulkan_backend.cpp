@@ -225,6 +225,23 @@ TEST_F(Vulkan, AddressesAndFixedDispatchGiveIdenticalImages) {
     }
 }
 
+// The host waits for a frame's fence by polling it on a GPU and by sleeping in vkWaitForFences on a CPU device,
+// whose stages need every core; either way, and with PRISM_VULKAN_WAIT=block, the frame is the same.
+TEST_F(Vulkan, FenceWaitPollsOnAGpuOnlyAndEitherWaitGivesTheSameFrame) {
+    prism::Scene scene;
+    prism::DeviceScene device = load("builtin:bunny", &scene);
+    prism::RenderSettings settings = prism::test::small_settings(80, 60, 5);
+    prism::VulkanLaunchMode mode;
+    prism::FrameResult base = render_with(kDevice, device, scene.camera, settings, &mode);
+    EXPECT_EQ(mode.polls_fence, !on_lavapipe());  // the tests run on lavapipe or on a GPU
+    ScopedEnv block("PRISM_VULKAN_WAIT", "block");
+    prism::FrameResult blocked = render_with(kDevice, device, scene.camera, settings, &mode);
+    EXPECT_FALSE(mode.polls_fence);
+    EXPECT_EQ(base.image, blocked.image);
+    EXPECT_EQ(base.stats.rays_per_depth, blocked.stats.rays_per_depth);
+    EXPECT_EQ(base.stats.stages.size(), blocked.stats.stages.size());
+}
+
 TEST_F(Vulkan, UnknownLaunchSettingIsAnErrorNamingTheVariable) {
     ScopedEnv bad("PRISM_VULKAN_ADDRESSING", "pointers");
     try {

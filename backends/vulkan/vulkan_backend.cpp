@@ -7,7 +7,7 @@
 // staging buffer, zero() a vkCmdFillBuffer. A full memory barrier (compute, transfer and indirect reads) precedes every
 // command, which makes the queue behave in order like a CUDA stream or an in-order OpenCL queue. Nothing is submitted
 // until read() or finish() (or a full staging buffer or query pool), which submit, wait on a fence and collect the
-// timestamps.
+// timestamps. The host polls that fence (PRISM_VULKAN_WAIT=block: it sleeps in vkWaitForFences instead).
 //
 // Memory: every device array is its own device-local storage buffer (binding = its line in kernels/data_arrays.h);
 // uploads go through a host-visible, coherent, preferably uncached staging buffer; read-backs through a
@@ -30,6 +30,7 @@
 #include <initializer_list>
 #include <map>
 #include <optional>
+#include <thread>
 #include <utility>
 
 #include "backends/vulkan/vulkan_context.h"
@@ -280,6 +281,7 @@ public:
     // For the tests: the variant the next stage would run with, and whether launches are indirect.
     bool uses_addresses() const { return addressing(); }
     bool uses_indirect_dispatch() const { return indirect_; }
+    bool polls_fence() const { return poll_fence_; }
 
 private:
     // vk::ImageCopier, for the Vulkan-GL path: the image array into the exported buffer, handed to and taken back
@@ -362,6 +364,9 @@ private:
             throw Error(std::string("vulkan: PRISM_VULKAN_ADDRESSING=addresses but ") +
                         physical_.properties.deviceName + " lacks bufferDeviceAddress or shaderInt64");
         indirect_ = setting_choice(Setting::VulkanDispatch, {"indirect", "fixed"}, "vulkan") != "fixed";
+        // On a CPU device (lavapipe) a polling host thread would take a core from the threads that run the stages.
+        poll_fence_ = setting_choice(Setting::VulkanWait, {"poll", "block"}, "vulkan") != "block" &&
+                      physical_.properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU;
         max_buffer_ = std::min<size_t>(max_allocation_, device_heap_bytes_);
         if (!address_supported_ || forced_addressing_ == "descriptors")
             max_buffer_ = std::min<size_t>(max_buffer_, physical_.properties.limits.maxStorageBufferRange);
@@ -693,7 +698,7 @@ private:
         vk::check(vkQueueSubmit(queue_, copy_recorded_ ? 2 : 1, batches.data(), fence_), "vkQueueSubmit");
         copy_recorded_ = false;
         copy_wait_ = copy_signal_ = VK_NULL_HANDLE;
-        VkResult waited = vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX);
+        VkResult waited = wait_for_fence();
         if (waited == VK_ERROR_DEVICE_LOST)
             throw Error(std::string("vulkan: device lost on ") + physical_.properties.deviceName +
                         " (a stage crashed or ran past the driver's time limit)");
@@ -721,6 +726,20 @@ private:
         queries_used_ = 0;
     }
 
+    // CUDA's wait for a stream spins by default where the host has more cores than GPUs; vkWaitForFences sleeps on
+    // NVIDIA's driver, and waking it cost a frame of the seed's setting 0.1-0.4 ms (docs/vulkan.md). So the host
+    // polls the fence, yielding its core to any thread that wants it.
+    VkResult wait_for_fence() {
+        if (poll_fence_) {
+            for (;;) {
+                VkResult status = vkGetFenceStatus(device_, fence_);
+                if (status != VK_NOT_READY) return status;
+                std::this_thread::yield();
+            }
+        }
+        return vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX);
+    }
+
     vk::Instance instance_;
     vk::DeviceCandidate physical_;
     vk::GridChoice grid_;
@@ -735,6 +754,7 @@ private:
     VkCommandPool command_pool_ = VK_NULL_HANDLE;
     VkCommandBuffer command_ = VK_NULL_HANDLE;
     VkFence fence_ = VK_NULL_HANDLE;
+    bool poll_fence_ = true;  // PRISM_VULKAN_WAIT != block, and not a CPU device
     // The frame's Vulkan-GL copy, submitted with the next flush as a batch of its own, and the semaphores shared
     // with GL that batch waits on and signals (or none).
     VkCommandBuffer copy_command_ = VK_NULL_HANDLE;
@@ -794,7 +814,7 @@ void vulkan_dispatch_module(Backend& backend, std::span<const uint32_t> spirv, u
 VulkanLaunchMode vulkan_launch_mode(const Backend& backend) {
     auto* vulkan = dynamic_cast<const VulkanBackend*>(&backend);
     if (!vulkan) throw Error("vulkan_launch_mode: not a Vulkan backend");
-    return VulkanLaunchMode{vulkan->uses_addresses(), vulkan->uses_indirect_dispatch()};
+    return VulkanLaunchMode{vulkan->uses_addresses(), vulkan->uses_indirect_dispatch(), vulkan->polls_fence()};
 }
 
 BackendFactory vulkan_backend_factory() {

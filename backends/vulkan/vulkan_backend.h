@@ -34,6 +34,7 @@ void vulkan_dispatch_module(Backend& backend, std::span<const uint32_t> spirv, u
 struct VulkanLaunchMode {
     bool addresses = false;
     bool indirect = false;
+    bool polls_fence = false;  // the host polls a frame's fence instead of sleeping in vkWaitForFences
 };
 VulkanLaunchMode vulkan_launch_mode(const Backend& backend);
 
