@@ -18,7 +18,6 @@ enum class Setting {
     HostMemoryLimit,    // PRISM_HOST_MEMORY_LIMIT
     CudaGl,             // PRISM_CUDA_GL
     OpenclOptions,      // PRISM_OPENCL_OPTIONS
-    OpenclWait,         // PRISM_OPENCL_WAIT
     VulkanValidation,   // PRISM_VULKAN_VALIDATION
     VulkanAddressing,   // PRISM_VULKAN_ADDRESSING
     VulkanDispatch,     // PRISM_VULKAN_DISPATCH
