@@ -483,7 +483,113 @@ TEST(LoadGltf, PunctualLightsAndSecondCameraIgnored) {
     EXPECT_EQ(scene.camera.position, glm::vec3(0, 0, 10));
 }
 
+// ---- The rest pose: animations and skins are not read ------------------------------------------------------------
+
+// A .glb of `document` and `bin` (the GLB container written here, independently of the loader's own repacking).
+std::string glb(const json& document, const std::string& bin) {
+    std::string text = document.dump();
+    while (text.size() % 4) text += ' ';
+    std::string body = bin;
+    while (body.size() % 4) body += '\0';
+    auto u32 = [](uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+    uint32_t total = uint32_t(12 + 8 + text.size() + (body.empty() ? 0 : 8 + body.size()));
+    std::string out = "glTF" + u32(2) + u32(total) + u32(uint32_t(text.size())) + "JSON" + text;
+    if (!body.empty()) out += u32(uint32_t(body.size())) + std::string("BIN\0", 4) + body;
+    return out;
+}
+
+// An animation that targets a property through KHR_animation_pointer, with no node: valid glTF that tinygltf 2.7
+// refuses. Prism does not play animations, so the file loads, drawn as its nodes place it, with a warning.
+json pointer_animation(int input, int output) {
+    return {{{"channels",
+              {{{"sampler", 0},
+                {"target",
+                 {{"path", "pointer"},
+                  {"extensions", {{"KHR_animation_pointer", {{"pointer", "/nodes/0/translation"}}}}}}}}}},
+             {"samplers", {{{"input", input}, {"output", output}}}}}};
+}
+
+TEST(LoadGltf, AnimationsWithoutATargetNodeLoadAsTheRestPose) {
+    GltfBuilder gltf;
+    int positions = triangle_positions(gltf);
+    int times = gltf.view(std::vector<float>{0, 1});
+    int input = gltf.accessor(
+        {{"bufferView", times}, {"componentType", 5126}, {"count", 2}, {"type", "SCALAR"}, {"min", {0}}, {"max", {1}}});
+    int moves = gltf.view(std::vector<float>{0, 0, 0, 5, 0, 0});
+    int output = gltf.accessor({{"bufferView", moves}, {"componentType", 5126}, {"count", 2}, {"type", "VEC3"}});
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}}}}})}});
+    gltf.document["animations"] = pointer_animation(input, output);
+    gltf.document["extensionsUsed"] = {"KHR_animation_pointer"};
+    Scene scene = load(gltf.write("animation_pointer.gltf"));
+    EXPECT_EQ(scene.triangle_count(), 1u);
+    ASSERT_EQ(scene.instances.size(), 1u);
+    EXPECT_EQ(scene.instances[0].transform, glm::mat4(1.0f));
+    ASSERT_EQ(scene.warnings.size(), 1u);
+    EXPECT_NE(scene.warnings[0].find("animations are not played"), std::string::npos) << scene.warnings[0];
+}
+
+// Skins need no inverseBindMatrices (the spec's default is identity); tinygltf 2.7 asks for them.
+TEST(LoadGltf, SkinWithoutInverseBindMatricesLoadsAsTheRestPose) {
+    GltfBuilder gltf;
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", triangle_positions(gltf)}}}}})}, {"skin", 0}});
+    gltf.node({{"translation", {0, 1, 0}}});
+    gltf.document["skins"] = {{{"joints", {1}}}};
+    Scene scene = load(gltf.write("skin_without_ibm.gltf"));
+    EXPECT_EQ(scene.triangle_count(), 1u);
+    ASSERT_EQ(scene.warnings.size(), 1u);
+    EXPECT_NE(scene.warnings[0].find("skins and morph targets are not applied"), std::string::npos)
+        << scene.warnings[0];
+}
+
+// In a .glb the JSON chunk is rewritten and the binary chunk kept: the same triangles as the file without.
+TEST(LoadGltf, GlbWithAnimationsKeepsItsBinaryChunk) {
+    GltfBuilder gltf;
+    int positions = gltf.positions({0, 0, 0, 2, 0, 0, 0, 3, 0, 4, 4, 4});
+    int indices = gltf.indices({0, 1, 2, 1, 3, 2});
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}}}, {"indices", indices}}})}});
+    json document = gltf.document;
+    document["buffers"] = {{{"byteLength", gltf.buffer.size()}}};
+    document["scenes"] = {{{"nodes", {0}}}};
+    Scene plain = load(test::write_file("plain.glb", glb(document, gltf.buffer)));
+    document["animations"] = pointer_animation(0, 0);
+    Scene animated = load(test::write_file("animated.glb", glb(document, gltf.buffer)));
+    ASSERT_EQ(plain.triangle_count(), 2u);
+    ASSERT_EQ(animated.meshes.size(), 1u);
+    EXPECT_EQ(animated.meshes[0].positions, plain.meshes[0].positions);
+    EXPECT_EQ(animated.meshes[0].triangles, plain.meshes[0].triangles);
+    EXPECT_EQ(animated.warnings.size(), plain.warnings.size() + 1);
+}
+
+// An accessor without a bufferView is zeros (perhaps with sparse values): a small one loads even where the file's
+// buffers (here 36 bytes of positions) could not hold it (48 bytes of colours).
+TEST(LoadGltf, SmallAccessorWithoutBufferViewIsZeros) {
+    GltfBuilder gltf;
+    int positions = triangle_positions(gltf);
+    int colors = gltf.accessor({{"componentType", 5126}, {"count", 3}, {"type", "VEC4"}});
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}, {"COLOR_0", colors}}}}})}});
+    Scene scene = load(gltf.write("zero_colors.gltf"));
+    ASSERT_EQ(scene.meshes.size(), 1u);
+    EXPECT_EQ(scene.meshes[0].colors, std::vector<glm::vec4>(3, glm::vec4(0.0f)));
+}
+
 // ---- Malformed input -------------------------------------------------------------------------------------------
+
+// A .gltf's buffer must name its data (only a .glb's first buffer may leave the uri out, for its binary chunk).
+TEST(LoadGltf, BufferWithoutUriNamesTheFile) {
+    GltfBuilder gltf;
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", triangle_positions(gltf)}}}}})}});
+    gltf.document["buffers"] = {{{"byteLength", gltf.buffer.size()}}};
+    expect_error_naming_the_file(gltf.write("buffer_without_uri.gltf", false), "a buffer or image without a uri");
+}
+
+// A large accessor without a bufferView in a file whose buffers could not hold it is refused before its zeros are
+// allocated (bounded memory for a few bytes of hostile JSON).
+TEST(LoadGltf, HugeAccessorWithoutBufferViewIsAnError) {
+    GltfBuilder gltf;
+    int positions = gltf.accessor({{"componentType", 5126}, {"count", 400000000}, {"type", "VEC3"}});
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}}}}})}});
+    expect_error_naming_the_file(gltf.write("huge_zeros.gltf"), "without a bufferView is more than");
+}
 
 TEST(LoadGltf, OutOfRangeIndexIsAnError) {
     GltfBuilder gltf;

@@ -113,10 +113,12 @@ std::vector<double> read_components(const tinygltf::Model& model, int accessor_i
             locate(model, accessor.bufferView, accessor.byteOffset, accessor.count, element_size, stride, what, file);
     } else {
         // No bufferView: zeros (spec), perhaps with sparse values. Nothing backs the count, so it may not exceed
-        // what the file's buffers could hold as elements of this type.
+        // what the file's buffers could hold as elements of this type, or a few thousand elements, which a file
+        // without any buffer may zero-fill too (memory stays bounded either way).
+        constexpr size_t kZeroElementsAnyFileMay = 4096;
         size_t buffer_bytes = 0;
         for (const tinygltf::Buffer& buffer : model.buffers) buffer_bytes += buffer.data.size();
-        if (accessor.count > buffer_bytes / element_size)
+        if (accessor.count > std::max(buffer_bytes / element_size, kZeroElementsAnyFileMay))
             throw file_error(file, what + ": count " + std::to_string(accessor.count) +
                                        " without a bufferView is more than the file's buffers (" +
                                        std::to_string(buffer_bytes) + " bytes) hold");

@@ -16,6 +16,7 @@
 #include "core/loaders/gltf_accessor.h"
 #include "core/loaders/gltf_instancing.h"
 #include "core/loaders/gltf_material.h"
+#include "core/loaders/gltf_rest_pose.h"
 #include "core/util/input_file.h"
 #include "core/util/json_depth.h"
 #include "core/util/load_progress.h"
@@ -71,6 +72,8 @@ struct ExternalFiles {
         const std::optional<std::string> uri = uri_of(joined);
         if (!uri) return false;
         try {
+            // tinygltf asks for the folder itself when a .gltf's buffer has no uri (only a .glb's own may not).
+            if (uri->empty()) throw file_error(file, "a buffer or image without a uri (only a .glb's own buffer may)");
             // An absolute URI means itself, not the folder + it that tinygltf joins.
             const bool absolute = !uri->empty() && uri->front() == '/';
             check_scene_reference(file, *uri, absolute ? std::filesystem::path(*uri) : std::filesystem::path(joined));
@@ -451,11 +454,16 @@ bool has_extension(const std::filesystem::path& path, const char* extension) {
 void load_gltf(const std::filesystem::path& path, Scene& scene) {
     std::string file = path.string();
     const bool binary = has_extension(path, ".glb");
-    const std::string bytes = read_input_file(path);
+    std::string bytes = read_input_file(path);
     if (bytes.empty()) throw file_error(file, "empty file");
     if (bytes.size() > UINT32_MAX) throw file_error(file, "larger than 4 GiB, more than glTF allows");
     if (json_nesting_depth(json_text(bytes, binary)) > kMaxJsonDepth)
         throw file_error(file, "JSON nests deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+    bool had_animations = false;
+    if (std::optional<RestPoseGltf> rest_pose = gltf_without_animation(bytes, binary)) {
+        bytes = std::move(rest_pose->bytes);
+        had_animations = rest_pose->had_animations;
+    }
 
     tinygltf::TinyGLTF loader;
     tinygltf::Model model;
@@ -479,10 +487,12 @@ void load_gltf(const std::filesystem::path& path, Scene& scene) {
     for (std::string line; std::getline(lines, line);)
         if (!line.empty()) scene.warnings.push_back(file + ": " + library_message(line, line));
 
+    if (had_animations)
+        scene.warnings.push_back(file + ": animations are not played; the scene is drawn as its nodes place it");
     for (const std::string& required : model.extensionsRequired)
         if (required != "KHR_texture_transform" && required != "KHR_materials_emissive_strength" &&
             required != "KHR_lights_punctual" && required != "KHR_mesh_quantization" &&
-            required != "EXT_mesh_gpu_instancing")
+            required != "EXT_mesh_gpu_instancing" && required != "KHR_animation_pointer")
             scene.warnings.push_back(file + ": required extension " + required + " is not supported");
 
     // Progress for large files only: a small one loads at once, and one that fails leaves only its error line.
