@@ -582,6 +582,20 @@ TEST(LoadGltf, BufferWithoutUriNamesTheFile) {
     expect_error_naming_the_file(gltf.write("buffer_without_uri.gltf", false), "a buffer or image without a uri");
 }
 
+// A buffer whose uri names a folder, or holds a NUL once percent-decoded (tinygltf's regression file issue-416), is
+// refused in one line that starts with the glTF's name, not with the folder's.
+TEST(LoadGltf, BufferUriNamingAFolderOrHoldingNulNamesTheFile) {
+    std::filesystem::create_directories(test::temp_dir("files") / "a_folder");  // beside what write_file writes
+    for (const char* uri : {"a_folder", "x%00y.bin"}) {
+        SCOPED_TRACE(uri);
+        GltfBuilder gltf;
+        gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", triangle_positions(gltf)}}}}})}});
+        gltf.document["buffers"] = {{{"byteLength", gltf.buffer.size()}, {"uri", uri}}};
+        expect_error_naming_the_file(gltf.write("buffer_uri.gltf", false),
+                                     std::string(uri) == "a_folder" ? "is a directory" : "NUL");
+    }
+}
+
 // A large accessor without a bufferView in a file whose buffers could not hold it is refused before its zeros are
 // allocated (bounded memory for a few bytes of hostile JSON).
 TEST(LoadGltf, HugeAccessorWithoutBufferViewIsAnError) {

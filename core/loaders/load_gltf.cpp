@@ -67,6 +67,14 @@ struct ExternalFiles {
         return joined.substr(base.size() + 1);
     }
 
+    // Keeps the first refusal, as a message that starts with the glTF's name (a referenced file's own errors
+    // start with that file's path).
+    void refuse(const Error& error) {
+        if (refusal) return;
+        const std::string message = error.what();
+        refusal = message.rfind(file + ": ", 0) == 0 ? error : file_error(file, message);
+    }
+
     bool allowed(const std::string& joined) {
         if (refusal) return false;
         const std::optional<std::string> uri = uri_of(joined);
@@ -74,6 +82,8 @@ struct ExternalFiles {
         try {
             // tinygltf asks for the folder itself when a .gltf's buffer has no uri (only a .glb's own may not).
             if (uri->empty()) throw file_error(file, "a buffer or image without a uri (only a .glb's own buffer may)");
+            // A percent-decoded %00 would end the path early, at another file or a folder.
+            if (uri->find('\0') != std::string::npos) throw file_error(file, "a uri holds a NUL character (%00)");
             // An absolute URI means itself, not the folder + it that tinygltf joins.
             const bool absolute = !uri->empty() && uri->front() == '/';
             check_scene_reference(file, *uri, absolute ? std::filesystem::path(*uri) : std::filesystem::path(joined));
@@ -81,7 +91,7 @@ struct ExternalFiles {
             if (!std::filesystem::exists(joined, error)) return false;  // tinygltf: "File not found : <uri>"
             require_regular_file(joined);
         } catch (const Error& error) {
-            refusal = error;
+            refuse(error);
             return false;
         }
         return true;
@@ -104,7 +114,7 @@ bool read_external_file(std::vector<unsigned char>* out, std::string* error, con
         const std::string bytes = read_input_file(path);
         out->assign(bytes.begin(), bytes.end());
     } catch (const Error& refused) {
-        files.refusal = refused;
+        files.refuse(refused);
         if (error) *error = "refused";
         return false;
     }
