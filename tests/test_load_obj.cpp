@@ -211,6 +211,45 @@ TEST(LoadObj, AppendsToAnExistingScene) {
     }
 }
 
+// ---- what other tools read and tinyobjloader does not (core/loaders/obj_text.cpp) --------------------------------
+
+// A backslash at a line's end continues it (the OBJ format's long lines); later lines keep their numbers.
+TEST(LoadObj, BackslashContinuesALineAndLaterLinesKeepTheirNumbers) {
+    const std::string square = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 \\\n 3 4\n";
+    Scene scene = load(test::write_file("continued.obj", square));
+    ASSERT_EQ(scene.meshes.size(), 1u);
+    EXPECT_EQ(scene.meshes[0].triangles.size(), 2u);  // the quad, fanned
+    const std::filesystem::path bad = test::write_file("continued_bad.obj", square + "v nan 0 0\n");
+    EXPECT_EQ(error_message([&] { load(bad); }), bad.string() + ":7: v value 'nan' is not a finite number");
+}
+
+// Corners with empty fields at their end ("1//", "1/1/"), as some exporters write them, are read as "1", "1/1".
+TEST(LoadObj, CornersWithEmptyTrailingFieldsAreRead) {
+    const std::string vertices = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n";
+    Scene plain = load(test::write_file("plain_corners.obj", vertices + "f 1 2 3\n"));
+    Scene slashes = load(test::write_file("slash_corners.obj", vertices + "f 1// 2// 3//\n"));
+    EXPECT_EQ(slashes.meshes[0].positions, plain.meshes[0].positions);
+    EXPECT_EQ(slashes.meshes[0].triangles, plain.meshes[0].triangles);
+    Scene uv = load(test::write_file("uv_corners.obj", vertices + "f 1/1/ 2/2/ 3/3/  # a comment\n"));
+    ASSERT_EQ(uv.meshes[0].uv0.size(), 3u);
+    EXPECT_EQ(uv.meshes[0].uv0[1], glm::vec2(1.0f, 1.0f));  // v flipped: 1 - 0
+    EXPECT_TRUE(slashes.warnings.empty() && uv.warnings.empty());
+}
+
+// Texture coordinate or normal indices in a file with no vt or no vn line at all are dropped with a warning; an index
+// past the ones a file does have is still an error.
+TEST(LoadObj, IndicesOfAttributesTheFileLacksAreDroppedWithAWarning) {
+    const std::string vertices = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\n";
+    Scene scene = load(test::write_file("no_vt.obj", vertices + "f 1/1/1 2/2/1 3/3/1\n"));
+    ASSERT_EQ(scene.meshes.size(), 1u);
+    EXPECT_TRUE(scene.meshes[0].uv0.empty());
+    EXPECT_EQ(scene.meshes[0].normals, std::vector<glm::vec3>(3, glm::vec3(0, 0, 1)));
+    ASSERT_EQ(scene.warnings.size(), 1u);
+    EXPECT_NE(scene.warnings[0].find("no vt line"), std::string::npos) << scene.warnings[0];
+    const std::filesystem::path past = test::write_file("vn_past.obj", vertices + "f 1//1 2//1 3//2\n");
+    EXPECT_EQ(error_message([&] { load(past); }), past.string() + ":5: face references normal 2 but there are 1");
+}
+
 // ---- malformed input -----------------------------------------------------------------------------------------
 
 TEST(LoadObjErrors, MissingTextureNamesMtlMaterialAndFile) {

@@ -19,6 +19,7 @@
 #include "core/util/error.h"
 #include "core/image/image_io.h"
 #include "core/util/input_file.h"
+#include "core/loaders/obj_text.h"
 #include "core/loaders/obj_values.h"
 #include "core/util/scene_read_rules.h"
 
@@ -47,6 +48,8 @@ void add_warnings(const std::string& file, const std::string& text, std::vector<
         line = trim(line);
         // Every 3ds Max export writes both "d" and "Tr"; tinyobjloader's notice that "d" wins is not news.
         if (line.empty() || line.find("Both `d` and `Tr`") != std::string::npos) continue;
+        // Some of its messages end in a line of punctuation alone ("Degenerated face found\n.").
+        if (std::none_of(line.begin(), line.end(), [](unsigned char c) { return std::isalnum(c); })) continue;
         warnings.push_back(file + ": " + line);
     }
 }
@@ -158,7 +161,9 @@ struct CornerHash {
 
 void load_obj(const std::filesystem::path& path, Scene& scene) {
     const std::string file = path.string();
-    const std::string text = read_input_file(path);
+    ObjText normalized = normalize_obj_text(file, read_input_file(path));
+    const std::string& text = normalized.text;
+    scene.warnings.insert(scene.warnings.end(), normalized.warnings.begin(), normalized.warnings.end());
     check_obj_values(file, text);
     std::istringstream stream(text);
 
