@@ -485,10 +485,11 @@ TEST(LoadGltf, PunctualLightsAndSecondCameraIgnored) {
 
 // ---- The rest pose: animations and skins are not read ------------------------------------------------------------
 
-// A .glb of `document` and `bin` (the GLB container written here, independently of the loader's own repacking).
-std::string glb(const json& document, const std::string& bin) {
+// A .glb of `document` and `bin` (the GLB container written here, independently of the loader's own repacking);
+// `pad_json` false leaves the JSON chunk unpadded, as some exporters did.
+std::string glb(const json& document, const std::string& bin, bool pad_json = true) {
     std::string text = document.dump();
-    while (text.size() % 4) text += ' ';
+    while (pad_json && text.size() % 4) text += ' ';
     std::string body = bin;
     while (body.size() % 4) body += '\0';
     auto u32 = [](uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
@@ -558,6 +559,22 @@ TEST(LoadGltf, GlbWithAnimationsKeepsItsBinaryChunk) {
     EXPECT_EQ(animated.meshes[0].positions, plain.meshes[0].positions);
     EXPECT_EQ(animated.meshes[0].triangles, plain.meshes[0].triangles);
     EXPECT_EQ(animated.warnings.size(), plain.warnings.size() + 1);
+}
+
+// A JSON chunk not padded to 4 bytes (trimesh's old exporter) is read, with a warning; tinygltf alone refuses it.
+TEST(LoadGltf, GlbWithUnpaddedJsonChunkLoadsWithAWarning) {
+    GltfBuilder gltf;
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", triangle_positions(gltf)}}}}})}});
+    json document = gltf.document;
+    document["buffers"] = {{{"byteLength", gltf.buffer.size()}}};
+    document["scenes"] = {{{"nodes", {0}}}};
+    document["asset"]["generator"] = "x";
+    while (document.dump().size() % 4 == 0)  // a JSON chunk that needs padding
+        document["asset"]["generator"] = document["asset"]["generator"].get<std::string>() + "x";
+    Scene scene = load(test::write_file("unpadded.glb", glb(document, gltf.buffer, false)));
+    EXPECT_EQ(scene.triangle_count(), 1u);
+    ASSERT_EQ(scene.warnings.size(), 1u);
+    EXPECT_NE(scene.warnings[0].find("not padded to 4 bytes"), std::string::npos) << scene.warnings[0];
 }
 
 // An accessor without a bufferView is zeros (perhaps with sparse values): a small one loads even where the file's

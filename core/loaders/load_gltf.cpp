@@ -13,6 +13,7 @@
 #include <tiny_gltf.h>
 
 #include "core/util/error.h"
+#include "core/loaders/glb_container.h"
 #include "core/loaders/gltf_accessor.h"
 #include "core/loaders/gltf_instancing.h"
 #include "core/loaders/gltf_material.h"
@@ -474,6 +475,15 @@ void load_gltf(const std::filesystem::path& path, Scene& scene) {
         bytes = std::move(rest_pose->bytes);
         had_animations = rest_pose->had_animations;
     }
+    // The GLB spec pads the JSON chunk to 4 bytes and tinygltf insists; some exporters (trimesh's, for one) did not
+    // pad, and other viewers read those files. The chunk is padded here, with a warning.
+    bool padded_json = false;
+    if (std::optional<GlbParts> glb = binary ? split_glb(bytes) : std::nullopt; glb && glb->json.size() % 4 != 0) {
+        if (std::optional<std::string> repacked = join_glb(glb->header, glb->json, glb->rest)) {
+            bytes = std::move(*repacked);
+            padded_json = true;
+        }
+    }
 
     tinygltf::TinyGLTF loader;
     tinygltf::Model model;
@@ -497,6 +507,7 @@ void load_gltf(const std::filesystem::path& path, Scene& scene) {
     for (std::string line; std::getline(lines, line);)
         if (!line.empty()) scene.warnings.push_back(file + ": " + library_message(line, line));
 
+    if (padded_json) scene.warnings.push_back(file + ": the GLB's JSON chunk is not padded to 4 bytes; read anyway");
     if (had_animations)
         scene.warnings.push_back(file + ": animations are not played; the scene is drawn as its nodes place it");
     for (const std::string& required : model.extensionsRequired)

@@ -1,0 +1,23 @@
+// The GLB container (glTF 2.0 binary): a 12-byte header (magic, version, total length), then chunks of (length,
+// type, bytes), the JSON chunk first. Only what the loader needs to hand tinygltf a rewritten JSON chunk.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace prism {
+
+struct GlbParts {
+    std::string_view header;  // magic and version (8 bytes), as the file has them
+    std::string_view json;    // the JSON chunk's bytes
+    std::string_view rest;    // every chunk after it, as stored
+};
+
+// The parts of `bytes`, or nullopt when they do not start with a JSON chunk that fits (tinygltf then reports).
+std::optional<GlbParts> split_glb(std::string_view bytes);
+
+// A GLB of `header`, `json` (padded with blanks to a multiple of 4 bytes) and `rest`; nullopt past 4 GiB.
+std::optional<std::string> join_glb(std::string_view header, std::string_view json, std::string_view rest);
+
+}  // namespace prism
