@@ -51,6 +51,22 @@ TEST(ImageGuard, RefusesFormatsPrismDoesNotOffer) {
               std::string::npos);
 }
 
+// JPEG frame types stb_image does not decode are named as unsupported, not corrupt (libjpeg-turbo's testimages:
+// testimgari.jpg is arithmetic-coded, monkey12.jpg has 12-bit samples).
+TEST(ImageGuard, JpegFramesStbCannotDecodeAreNamedAsUnsupported) {
+    // SOI, then a frame header: marker, length 11, precision, 1x1 pixels, one component.
+    auto jpeg_with_frame = [](uint8_t marker, uint8_t precision) {
+        return bytes_of(std::string("\xff\xd8\xff", 3) + char(marker) + std::string("\x00\x0b", 2) + char(precision) +
+                        std::string("\x00\x01\x00\x01\x01\x01\x11\x00\xff\xd9", 10));
+    };
+    EXPECT_EQ(guard_error(jpeg_with_frame(0xc9, 8)),
+              "/x/t.img: arithmetic-coded JPEG is not supported (textures: baseline or progressive, Huffman-coded)");
+    EXPECT_NE(guard_error(jpeg_with_frame(0xc3, 8)).find("lossless JPEG"), std::string::npos);
+    EXPECT_NE(guard_error(jpeg_with_frame(0xc5, 8)).find("hierarchical JPEG"), std::string::npos);
+    EXPECT_EQ(guard_error(jpeg_with_frame(0xc0, 12)), "/x/t.img: 12-bit JPEG is not supported (8-bit samples only)");
+    EXPECT_EQ(guard_error(jpeg_with_frame(0xc2, 8)), "(no prism::Error thrown)");  // progressive: stb decodes it
+}
+
 TEST(ImageGuard, RefusesImagesOverTheSizeLimitFromTheHeader) {
     EXPECT_EQ(guard_error(png_header(20000, 1)),
               "/x/t.img: image is 20000x1 pixels; Prism takes textures up to 16384 on a side and 64M pixels");

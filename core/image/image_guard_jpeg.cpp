@@ -11,6 +11,27 @@ size_t jpeg_start_of_image(std::span<const uint8_t> bytes) {
     return at < bytes.size() && bytes[at] == 0xd8 ? at : 0;
 }
 
+namespace {
+
+// The frame types (SOFn markers) stb_image does not decode, by what they are; nullptr for the rest.
+const char* unsupported_frame(uint8_t marker) {
+    switch (marker) {
+        case 0xc3: return "lossless";
+        case 0xc5:
+        case 0xc6:
+        case 0xc7: return "hierarchical";
+        case 0xc9:
+        case 0xca:
+        case 0xcb: return "arithmetic-coded";
+        case 0xcd:
+        case 0xce:
+        case 0xcf: return "hierarchical arithmetic-coded";
+        default: return nullptr;
+    }
+}
+
+}  // namespace
+
 // JPEG: walks the marker segments the way stb_image does (declared lengths; over the entropy-coded data between
 // scans to the next marker) and checks the Huffman tables, for two faults of stb_image 2.27 that upstream 2.28
 // fixed. Bytes past the end read as 0, as stb_image reads them.
@@ -42,7 +63,12 @@ void check_jpeg(std::span<const uint8_t> bytes, const std::string& name) {
         }
         if (marker == 0xd9) return;  // EOI
         const size_t segment_end = at + 2 + (byte(at + 2) << 8 | byte(at + 3));
-        if (marker == 0xc2) progressive = true;  // the only progressive frame type stb decodes
+        if (marker == 0xc2) progressive = true;              // the only progressive frame type stb decodes
+        if (const char* coding = unsupported_frame(marker))  // a valid file stb cannot decode: not "corrupt"
+            throw file_error(name, std::string(coding) +
+                                       " JPEG is not supported (textures: baseline or progressive, Huffman-coded)");
+        if ((marker == 0xc0 || marker == 0xc1 || marker == 0xc2) && byte(at + 4) != 8)
+            throw file_error(name, std::to_string(byte(at + 4)) + "-bit JPEG is not supported (8-bit samples only)");
         if (marker == 0xc4) {  // DHT: tables of [class/id][16 counts][values] until the declared length
             for (size_t table = at + 4; table < segment_end && table < bytes.size();) {
                 size_t codes = 0;
