@@ -589,6 +589,31 @@ TEST(LoadGltf, SmallAccessorWithoutBufferViewIsZeros) {
     EXPECT_EQ(scene.meshes[0].colors, std::vector<glm::vec4>(3, glm::vec4(0.0f)));
 }
 
+// ---- Compressed meshes: named, not decoded ----------------------------------------------------------------------
+
+// A Draco primitive's accessors hold no data of their own (here: zeros that tinygltf accepts); it must not load as
+// an empty mesh.
+TEST(LoadGltf, DracoCompressedPrimitiveNamesTheExtension) {
+    GltfBuilder gltf;
+    int positions = gltf.accessor({{"componentType", 5126}, {"count", 3}, {"type", "VEC3"}});
+    json draco = {{"KHR_draco_mesh_compression",
+                   {{"bufferView", gltf.view(std::vector<uint8_t>{1, 2, 3, 4})}, {"attributes", {{"POSITION", 0}}}}}};
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}}}, {"extensions", draco}}})}});
+    gltf.document["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+    gltf.document["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+    expect_error_naming_the_file(gltf.write("draco.gltf"), "compressed with KHR_draco_mesh_compression");
+}
+
+// A meshopt file's fallback buffer has no uri (nothing to read without decoding): the error names the extension.
+TEST(LoadGltf, MeshoptCompressedFileNamesTheExtension) {
+    GltfBuilder gltf;
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", triangle_positions(gltf)}}}}})}});
+    gltf.document["buffers"] = {
+        {{"byteLength", gltf.buffer.size()}, {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}}};
+    gltf.document["extensionsUsed"] = {"EXT_meshopt_compression"};
+    expect_error_naming_the_file(gltf.write("meshopt.gltf", false), "compressed with EXT_meshopt_compression");
+}
+
 // ---- Malformed input -------------------------------------------------------------------------------------------
 
 // A .gltf's buffer must name its data (only a .glb's first buffer may leave the uri out, for its binary chunk).

@@ -291,6 +291,11 @@ private:
     bool convert_primitive(const tinygltf::Mesh& mesh, int mesh_index, int primitive_index, bool mirrored, Mesh& out) {
         const tinygltf::Primitive& primitive = mesh.primitives[primitive_index];
         std::string what = "mesh " + std::to_string(mesh_index) + " primitive " + std::to_string(primitive_index);
+        // Its accessors then have no data of their own (zeros, or an uncompressed copy the file may not have).
+        if (primitive.extensions.count("KHR_draco_mesh_compression"))
+            throw file_error(file_, what +
+                                        " is compressed with KHR_draco_mesh_compression, which Prism does not decode "
+                                        "(decompress the file first)");
         if (primitive.mode != TINYGLTF_MODE_TRIANGLES && primitive.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
             primitive.mode != TINYGLTF_MODE_TRIANGLE_FAN) {
             if (!warned_non_triangles_)
@@ -501,8 +506,17 @@ void load_gltf(const std::filesystem::path& path, Scene& scene) {
     } catch (const std::exception& exception) {  // tinygltf reports by return value, but its JSON layer may throw
         throw file_error(file, library_message(exception.what(), "malformed glTF"));
     }
-    if (files.refusal) throw *files.refusal;
-    if (!ok || !error.empty()) throw file_error(file, library_message(error, "malformed glTF"));
+    if (!ok || !error.empty() || files.refusal) {
+        // A compressed file fails in tinygltf on the data the compression replaced (an accessor without its view,
+        // a buffer without a uri); the extension is the cause worth naming.
+        for (const char* compression :
+             {"KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_meshopt_compression"})
+            if (json_text(bytes, binary).find(compression) != std::string_view::npos)
+                throw file_error(file, std::string("its meshes are compressed with ") + compression +
+                                           ", which Prism does not decode (decompress the file first)");
+        if (files.refusal) throw *files.refusal;
+        throw file_error(file, library_message(error, "malformed glTF"));
+    }
     std::istringstream lines(warning);
     for (std::string line; std::getline(lines, line);)
         if (!line.empty()) scene.warnings.push_back(file + ": " + library_message(line, line));
