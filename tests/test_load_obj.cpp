@@ -250,6 +250,33 @@ TEST(LoadObj, IndicesOfAttributesTheFileLacksAreDroppedWithAWarning) {
     EXPECT_EQ(error_message([&] { load(past); }), past.string() + ":5: face references normal 2 but there are 1");
 }
 
+// Windows tools write a UTF-8 byte-order mark, or UTF-16: the first line's "v" was lost (every face then one vertex
+// off) or the file read as no faces. Both read as the plain file, and an MTL with a mark names its material.
+TEST(LoadObj, ByteOrderMarksAndUtf16ReadAsThePlainFile) {
+    const std::string plain = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    auto utf16 = [](const std::string& text, bool big_endian) {
+        std::string out = big_endian ? std::string("\xfe\xff", 2) : std::string("\xff\xfe", 2);
+        for (char c : text) out += big_endian ? std::string{'\0', c} : std::string{c, '\0'};
+        return out;
+    };
+    const Scene expected = load(test::write_file("plain_text.obj", plain));
+    for (const auto& [name, bytes] : {std::pair<std::string, std::string>{"bom.obj", "\xef\xbb\xbf" + plain},
+                                      {"utf16le.obj", utf16(plain, false)},
+                                      {"utf16be.obj", utf16(plain, true)}}) {
+        SCOPED_TRACE(name);
+        const Scene scene = load(test::write_file(name, bytes));
+        ASSERT_EQ(scene.meshes.size(), 1u);
+        EXPECT_EQ(scene.meshes[0].positions, expected.meshes[0].positions);
+        EXPECT_EQ(scene.meshes[0].triangles, expected.meshes[0].triangles);
+    }
+    const std::filesystem::path directory = test::temp_dir("obj_bom_mtl");
+    write_in(directory, "bom.mtl", "\xef\xbb\xbfnewmtl red\nKd 1 0 0\n");
+    const Scene red = load(write_in(directory, "bom_mtl.obj", "mtllib bom.mtl\nusemtl red\n" + plain));
+    ASSERT_EQ(red.materials.size(), 1u);
+    EXPECT_EQ(red.materials[0].name, "red");
+    EXPECT_TRUE(red.warnings.empty()) << red.warnings[0];
+}
+
 // ---- malformed input -----------------------------------------------------------------------------------------
 
 TEST(LoadObjErrors, MissingTextureNamesMtlMaterialAndFile) {

@@ -333,6 +333,21 @@ TEST(LoadPlyErrors, HeaderOnly) {
                         "no faces");
 }
 
+// Blender 2.4x wrote "Created by Blender3D ..." without "comment" before the first element (assimp's Wuson.ply): read
+// as the comment it was meant to be. After an element an unknown keyword is still an error (it may be a property).
+TEST(LoadPly, UnknownHeaderLineBeforeTheFirstElementIsAComment) {
+    const std::string rest =
+        "element vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\n"
+        "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    Mesh mesh = load_ply(test::write_file(
+        "created_by.ply", "ply\nformat ascii 1.0\nCreated by Blender3D 247 - www.blender.org\n" + rest));
+    EXPECT_EQ(mesh.triangles.size(), 1u);
+    expect_error_naming(
+        test::write_file("unknown_after_element.ply", "ply\nformat ascii 1.0\nelement vertex 3\nCreated by someone\n" +
+                                                          rest.substr(rest.find("property"))),
+        ":4: unknown PLY header keyword 'Created'");
+}
+
 TEST(LoadPlyErrors, MalformedHeaderAndBody) {
     const std::string xyz = "property float x\nproperty float y\nproperty float z\n";
     const std::string face = "element face 1\nproperty list uchar int vertex_indices\n";

@@ -22,6 +22,7 @@
 #include "core/loaders/obj_text.h"
 #include "core/loaders/obj_values.h"
 #include "core/util/scene_read_rules.h"
+#include "core/util/text_encoding.h"
 
 namespace prism {
 namespace {
@@ -80,7 +81,7 @@ public:
         }
         // Exceptions pass through tinyobjloader to load_obj's caller: a refused file is an error, not a warning.
         check_scene_reference(obj_file_, trim(mtl_name), path);
-        std::stringstream text(read_input_file(path));
+        std::stringstream text(utf8_text(read_input_file(path)));
         note_ior_statements(text.str());
         std::string mtl_warnings;
         tinyobj::LoadMtl(name_to_index, materials, &text, &mtl_warnings, nullptr);
@@ -161,7 +162,7 @@ struct CornerHash {
 
 void load_obj(const std::filesystem::path& path, Scene& scene) {
     const std::string file = path.string();
-    ObjText normalized = normalize_obj_text(file, read_input_file(path));
+    ObjText normalized = normalize_obj_text(file, utf8_text(read_input_file(path)));
     const std::string& text = normalized.text;
     scene.warnings.insert(scene.warnings.end(), normalized.warnings.begin(), normalized.warnings.end());
     check_obj_values(file, text);

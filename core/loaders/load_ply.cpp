@@ -256,6 +256,10 @@ Header parse_header(const std::string& file, std::string_view bytes) {
                 throw fail("malformed property line");
             }
             header.elements.back().properties.push_back(std::move(property));
+        } else if (header.elements.empty()) {
+            // Before the first element only the format matters; Blender 2.4x wrote "Created by Blender3D ..." here
+            // without "comment" (assimp's Wuson.ply). Such a line is read as the comment it was meant to be.
+            continue;
         } else {
             throw fail("unknown PLY header keyword '" + std::string(keyword) + "'");
         }
