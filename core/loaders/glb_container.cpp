@@ -1,5 +1,6 @@
 #include "core/loaders/glb_container.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 
@@ -27,6 +28,12 @@ std::optional<GlbParts> split_glb(std::string_view bytes) {
         return std::nullopt;
     const size_t rest = kHeaderBytes + kChunkHeaderBytes + length;
     return GlbParts{bytes.substr(0, 8), bytes.substr(kHeaderBytes + kChunkHeaderBytes, length), bytes.substr(rest)};
+}
+
+std::string_view glb_first_chunk(std::string_view bytes) {
+    if (bytes.size() < kHeaderBytes + kChunkHeaderBytes) return {};
+    const size_t start = kHeaderBytes + kChunkHeaderBytes;
+    return bytes.substr(start, std::min<size_t>(read_u32(bytes, kHeaderBytes), bytes.size() - start));
 }
 
 std::optional<std::string> join_glb(std::string_view header, std::string_view json, std::string_view rest) {

@@ -17,6 +17,10 @@ struct GlbParts {
 // The parts of `bytes`, or nullopt when they do not start with a JSON chunk that fits (tinygltf then reports).
 std::optional<GlbParts> split_glb(std::string_view bytes);
 
+// The first chunk's bytes as far as the file holds them, whatever its type and declared length (for measuring a
+// broken file's JSON before tinygltf says what is wrong with it); empty when the file is shorter than the headers.
+std::string_view glb_first_chunk(std::string_view bytes);
+
 // A GLB of `header`, `json` (padded with blanks to a multiple of 4 bytes) and `rest`; nullopt past 4 GiB.
 std::optional<std::string> join_glb(std::string_view header, std::string_view json, std::string_view rest);
 

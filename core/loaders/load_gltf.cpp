@@ -1,7 +1,6 @@
 #include "core/loaders/load_gltf.h"
 
 #include <algorithm>
-#include <cstring>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -127,15 +126,8 @@ bool write_nothing(std::string* error, const std::string&, const std::vector<uns
     return false;
 }
 
-// The JSON text of a .gltf, or of a .glb's first chunk (the GLB container: a 12-byte header, then chunks of
-// length, type, bytes).
-std::string_view json_text(std::string_view bytes, bool binary) {
-    if (!binary) return bytes;
-    if (bytes.size() < 20) return {};
-    uint32_t length = 0;
-    std::memcpy(&length, bytes.data() + 12, 4);
-    return bytes.substr(20, std::min<size_t>(length, bytes.size() - 20));
-}
+// The JSON text of a .gltf, or of a .glb's first chunk.
+std::string_view json_text(std::string_view bytes, bool binary) { return binary ? glb_first_chunk(bytes) : bytes; }
 
 // Deeper JSON than this is refused before tinygltf, which recurses once per level; real files nest about 8 deep.
 constexpr size_t kMaxJsonDepth = 64;
