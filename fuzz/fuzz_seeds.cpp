@@ -1,8 +1,9 @@
 // fuzz_seeds SCENES_DIR REPO_DIR OUT_DIR: writes one seed folder per fuzz target under OUT_DIR, derived at run
 // time from the shared scenes (never copied into the repository): small real files as they are, and small
 // derivatives of the big ones (a patch of the Stanford bunny in every PLY encoding, real MTL files on a textured
-// triangle, glTF JSON with its buffer appended, images scaled down and re-encoded in every format stb writes).
-// Small seeds keep executions fast; libFuzzer's mutations and the dictionaries do the rest.
+// triangle, glTF JSON with its buffer appended, Draco and meshopt files the encoders make, images scaled down and
+// re-encoded in every format stb writes). Small seeds keep executions fast; libFuzzer's mutations and the dictionaries
+// do the rest.
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -19,6 +20,7 @@
 #include "core/image/image_io.h"
 #include "core/loaders/load_ply.h"
 #include "fuzz/fuzz_support.h"
+#include "tests/gltf_compressed.h"
 #include "tests/hostile_files.h"
 
 namespace fs = std::filesystem;
@@ -243,7 +245,38 @@ std::string base64(std::string_view bytes) {
     return out;
 }
 
+// A .glb of a JSON chunk and a BIN chunk (buffer 0 without a uri).
+std::string glb_with_bin(const std::string& json_text, std::string bin) {
+    std::string chunk = json_text;
+    while (chunk.size() % 4) chunk += ' ';
+    while (bin.size() % 4) bin += '\0';
+    const uint32_t length = uint32_t(12 + 8 + chunk.size() + 8 + bin.size());
+    return "glTF" + prism::test::little_endian32(2) + prism::test::little_endian32(length) +
+           prism::test::little_endian32(uint32_t(chunk.size())) + "JSON" + chunk +
+           prism::test::little_endian32(uint32_t(bin.size())) + std::string("BIN\0", 4) + bin;
+}
+
+// Draco and meshopt files as the encoders make them from a patch of the bunny, with the compressed bytes as the
+// buffer file (.gltf) or the BIN chunk (.glb), where the mutations reach them.
+void compressed_gltf_seeds(const fs::path& scenes, SeedWriter& seeds) {
+    const fs::path bunny = scenes / "stanford" / "bunny_res2.ply";
+    if (!fs::exists(bunny)) return;
+    const prism::test::PlainMesh plain = prism::test::plain_mesh(patch_of(prism::load_ply(bunny), 48));
+    const std::pair<const char*, prism::test::CompressedGltf> files[] = {
+        {"draco", prism::test::draco_gltf(plain)},
+        {"draco-quantized", prism::test::draco_gltf(plain, 11)},
+        {"meshopt", prism::test::meshopt_gltf(plain)},
+        {"meshopt-octahedral", prism::test::meshopt_gltf(plain, true)}};
+    for (const auto& [name, gltf] : files) {
+        json with_file = gltf.document;
+        with_file["buffers"][0]["uri"] = "fuzz.bin";
+        seeds.add("gltf", std::string(name) + ".txt", with_file.dump() + "\n#prism-fuzz-bin\n" + gltf.buffer);
+        seeds.add("glb", std::string(name) + ".glb", glb_with_bin(gltf.document.dump(), gltf.buffer));
+    }
+}
+
 void gltf_seeds(const fs::path& scenes, SeedWriter& seeds, const fs::path& scratch) {
+    compressed_gltf_seeds(scenes, seeds);
     for (const fs::path& gltf : files_with(scenes, {".gltf"})) {
         json model = json::parse(read_file(gltf), nullptr, false);
         if (model.is_discarded()) continue;

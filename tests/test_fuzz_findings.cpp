@@ -146,6 +146,17 @@ TEST(FuzzFindings, GlbImageBufferViewPastItsBufferIsRefused) {
     prism::test::expect_clean_failure(file.string(), "lies outside its buffer");
 }
 
+// fuzz_glb: a BIN chunk declaring 8 bytes with 4 left in the file. tinygltf 2.7 checks the chunk's length without
+// its 8-byte header, so a buffer read from it ran past the end of the file (ASan heap-buffer-overflow in
+// tinygltf::ParseBuffer).
+TEST(FuzzFindings, GlbBinChunkLongerThanTheFileIsRefused) {
+    const fs::path file = finding("glb-bin-chunk-overrun.glb");
+    EXPECT_EQ(
+        load_error(file),
+        file.string() + ": the chunk after the JSON chunk declares 8 bytes; 4 are left in the file (truncated GLB)");
+    prism::test::expect_clean_failure(file.string(), "declares 8 bytes");
+}
+
 // fuzz_image (a timeout): stb_image reads TGA, BMP, HDR and JPEG pixels past the end of the file as zeros, so 33
 // bytes of RLE TGA "decoded" to 3072x12832 pixels of nothing (over 10 s under the sanitizers, 0.6 s and 270 MB
 // without). A file too short for the pixels its header declares is now truncated, in every format stb zero-fills;

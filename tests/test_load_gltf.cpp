@@ -1,8 +1,13 @@
 // glTF loading: every Khronos sample in ../shared/scenes/gltf, plus small generated files for the corner cases
 // (sparse accessors, strips and fans, mirrored nodes, extensions) and malformed input.
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <fstream>
+#include <functional>
 #include <iterator>
+#include <map>
 #include <random>
 #include <set>
 
@@ -12,7 +17,9 @@
 #include "core/util/error.h"
 #include "core/loaders/gltf_material.h"
 #include "core/loaders/load_gltf.h"
+#include "core/loaders/scene_loader.h"
 #include "tests/gltf_builder.h"
+#include "tests/gltf_compressed.h"
 #include "tests/test_support.h"
 
 namespace prism {
@@ -589,29 +596,185 @@ TEST(LoadGltf, SmallAccessorWithoutBufferViewIsZeros) {
     EXPECT_EQ(scene.meshes[0].colors, std::vector<glm::vec4>(3, glm::vec4(0.0f)));
 }
 
-// ---- Compressed meshes: named, not decoded ----------------------------------------------------------------------
+// ---- Compressed meshes: Draco and meshopt ------------------------------------------------------------------------
 
-// A Draco primitive's accessors hold no data of their own (here: zeros that tinygltf accepts); it must not load as
-// an empty mesh.
-TEST(LoadGltf, DracoCompressedPrimitiveNamesTheExtension) {
-    GltfBuilder gltf;
-    int positions = gltf.accessor({{"componentType", 5126}, {"count", 3}, {"type", "VEC3"}});
-    json draco = {{"KHR_draco_mesh_compression",
-                   {{"bufferView", gltf.view(std::vector<uint8_t>{1, 2, 3, 4})}, {"attributes", {{"POSITION", 0}}}}}};
-    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}}}, {"extensions", draco}}})}});
-    gltf.document["extensionsUsed"] = {"KHR_draco_mesh_compression"};
-    gltf.document["extensionsRequired"] = {"KHR_draco_mesh_compression"};
-    expect_error_naming_the_file(gltf.write("draco.gltf"), "compressed with KHR_draco_mesh_compression");
+// The real models the compressed files are made from: a glTF sample with normals and texture coordinates, and the
+// Stanford bunny (a PLY scan, 69k triangles).
+const Mesh& model_mesh(const std::string& file) {
+    static std::map<std::string, Scene> loaded;
+    auto [it, inserted] = loaded.try_emplace(file);
+    if (inserted) it->second = load_scene(test::scene(file).string());
+    return it->second.meshes.at(0);
+}
+const char* const kCompressionModels[] = {"gltf/Suzanne/Suzanne.gltf", "stanford/bunny.ply"};
+
+glm::uvec3 smallest_corner_first(glm::uvec3 t) {
+    if (t.y < t.x && t.y < t.z) return {t.y, t.z, t.x};
+    if (t.z < t.x && t.z < t.y) return {t.z, t.x, t.y};
+    return t;
 }
 
-// A meshopt file's fallback buffer has no uri (nothing to read without decoding): the error names the extension.
-TEST(LoadGltf, MeshoptCompressedFileNamesTheExtension) {
-    GltfBuilder gltf;
-    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", triangle_positions(gltf)}}}}})}});
-    gltf.document["buffers"] = {
-        {{"byteLength", gltf.buffer.size()}, {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}}};
-    gltf.document["extensionsUsed"] = {"EXT_meshopt_compression"};
-    expect_error_naming_the_file(gltf.write("meshopt.gltf", false), "compressed with EXT_meshopt_compression");
+// Each triangle as its three positions, starting at its smallest corner (winding kept), in sorted order: Draco's
+// edgebreaker renumbers vertices and rotates corners, and the geometry must survive that unchanged.
+std::vector<std::array<float, 9>> triangle_soup(const Mesh& mesh) {
+    std::vector<std::array<float, 9>> soup;
+    for (const glm::uvec3& t : mesh.triangles) {
+        std::array<glm::vec3, 3> corners = {mesh.positions[t.x], mesh.positions[t.y], mesh.positions[t.z]};
+        auto less = [](const glm::vec3& a, const glm::vec3& b) {
+            return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z);
+        };
+        int first = less(corners[1], corners[0]) ? 1 : 0;
+        if (less(corners[2], corners[first])) first = 2;
+        std::array<float, 9> triangle;
+        for (int c = 0; c < 3; ++c)
+            for (int k = 0; k < 3; ++k) triangle[c * 3 + k] = corners[(first + c) % 3][k];
+        soup.push_back(triangle);
+    }
+    std::sort(soup.begin(), soup.end());
+    return soup;
+}
+
+TEST(LoadGltf, MeshoptCompressedModelsLoadExactly) {
+    for (const char* file : kCompressionModels) {
+        SCOPED_TRACE(file);
+        const Mesh& original = model_mesh(file);
+        Scene scene = load(test::write_file("meshopt.gltf", test::meshopt_gltf(test::plain_mesh(original)).embedded()));
+        ASSERT_EQ(scene.meshes.size(), 1u);
+        const Mesh& decoded = scene.meshes[0];
+        EXPECT_EQ(decoded.positions, original.positions);
+        EXPECT_EQ(decoded.normals, original.normals);
+        EXPECT_EQ(decoded.uv0, original.uv0);
+        // The index codec may rotate a triangle's corners (the winding stays).
+        ASSERT_EQ(decoded.triangles.size(), original.triangles.size());
+        size_t same = 0;
+        for (size_t t = 0; t < decoded.triangles.size(); ++t)
+            same += smallest_corner_first(decoded.triangles[t]) == smallest_corner_first(original.triangles[t]);
+        EXPECT_EQ(same, decoded.triangles.size());
+    }
+}
+
+// Normals as gltfpack stores them: 16-bit octahedral (the OCTAHEDRAL filter), normalized SHORT.
+TEST(LoadGltf, MeshoptOctahedralNormalsDecodeToTheOriginalDirections) {
+    const Mesh& original = model_mesh(kCompressionModels[0]);
+    ASSERT_FALSE(original.normals.empty());
+    Scene scene =
+        load(test::write_file("meshopt-oct.gltf", test::meshopt_gltf(test::plain_mesh(original), true).embedded()));
+    const Mesh& decoded = scene.meshes.at(0);
+    ASSERT_EQ(decoded.normals.size(), original.normals.size());
+    float worst = 0.0f;
+    for (size_t i = 0; i < decoded.normals.size(); ++i)
+        worst = std::max(worst, glm::length(decoded.normals[i] - glm::normalize(original.normals[i])));
+    EXPECT_LT(worst, 1e-3f);
+    EXPECT_EQ(decoded.positions, original.positions);
+}
+
+TEST(LoadGltf, DracoCompressedModelsKeepEveryTriangle) {
+    for (const char* file : kCompressionModels) {
+        SCOPED_TRACE(file);
+        const Mesh& original = model_mesh(file);
+        Scene scene = load(test::write_file("draco.gltf", test::draco_gltf(test::plain_mesh(original)).embedded()));
+        ASSERT_EQ(scene.meshes.size(), 1u);
+        const Mesh& decoded = scene.meshes[0];
+        // Draco keeps the vertices the triangles use (the bunny's scan has a thousand that none does).
+        EXPECT_LE(decoded.positions.size(), original.positions.size());
+        EXPECT_EQ(decoded.normals.size(), original.normals.empty() ? 0u : decoded.positions.size());
+        EXPECT_EQ(decoded.uv0.size(), original.uv0.empty() ? 0u : decoded.positions.size());
+        EXPECT_TRUE(triangle_soup(decoded) == triangle_soup(original));
+    }
+}
+
+// Quantized positions (Draco's usual setting): dequantized to within one step of the 14-bit grid over the bounds.
+TEST(LoadGltf, DracoQuantizedPositionsDequantize) {
+    const Mesh& original = model_mesh(kCompressionModels[1]);
+    Scene scene = load(test::write_file("draco-q14.gltf", test::draco_gltf(test::plain_mesh(original), 14).embedded()));
+    const Mesh& decoded = scene.meshes.at(0);
+    ASSERT_EQ(decoded.triangles.size(), original.triangles.size());
+    glm::vec3 low(INFINITY), high(-INFINITY), decoded_low(INFINITY), decoded_high(-INFINITY);
+    for (const glm::vec3& p : original.positions) low = glm::min(low, p), high = glm::max(high, p);
+    for (const glm::vec3& p : decoded.positions)
+        decoded_low = glm::min(decoded_low, p), decoded_high = glm::max(decoded_high, p);
+    const glm::vec3 extent = high - low;
+    const float step = std::max(extent.x, std::max(extent.y, extent.z)) / float((1 << 14) - 1);
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_LE(std::abs(decoded_low[k] - low[k]), step);
+        EXPECT_LE(std::abs(decoded_high[k] - high[k]), step);
+    }
+}
+
+// The Draco file with one change made to it, then written.
+std::filesystem::path broken_draco(const std::string& name, const std::function<void(json&)>& change) {
+    json gltf = json::parse(test::draco_gltf(test::plain_mesh(model_mesh(kCompressionModels[0]))).embedded());
+    change(gltf);
+    return test::write_file(name, gltf.dump());
+}
+
+std::filesystem::path broken_meshopt(const std::string& name, const std::function<void(json&)>& change) {
+    json gltf = json::parse(test::meshopt_gltf(test::plain_mesh(model_mesh(kCompressionModels[0]))).embedded());
+    change(gltf);
+    return test::write_file(name, gltf.dump());
+}
+
+TEST(LoadGltf, BrokenDracoDataIsNamedInOneLine) {
+    expect_error_naming_the_file(
+        broken_draco(
+            "draco-truncated.gltf",
+            [](json& g) { g["bufferViews"][0]["byteLength"] = g["bufferViews"][0]["byteLength"].get<size_t>() / 2; }),
+        "Draco data do not decode");
+    expect_error_naming_the_file(
+        broken_draco(
+            "draco-id.gltf",
+            [](json& g) {
+                g["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["attributes"]["POSITION"] =
+                    7;
+            }),
+        "Draco attribute POSITION (id 7) is missing");
+    expect_error_naming_the_file(
+        broken_draco("draco-view.gltf",
+                     [](json& g) {
+                         g["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["bufferView"] = 9;
+                     }),
+        "names no bufferView that exists");
+    expect_error_naming_the_file(
+        broken_draco("draco-past-end.gltf", [](json& g) { g["bufferViews"][0]["byteOffset"] = 64; }),
+        "Draco data lie past the end of buffer 0");
+    expect_error_naming_the_file(
+        broken_draco("draco-strip.gltf", [](json& g) { g["meshes"][0]["primitives"][0]["mode"] = 5; }),
+        "a Draco mesh is a triangle list");
+}
+
+TEST(LoadGltf, BrokenMeshoptDataIsNamedInOneLine) {
+    auto extension = [](json& g, int view) -> json& {
+        return g["bufferViews"][view]["extensions"]["EXT_meshopt_compression"];
+    };
+    // 2^31 vertices claimed from a few hundred bytes: refused before anything that size is allocated.
+    expect_error_naming_the_file(broken_meshopt("meshopt-count.gltf",
+                                                [&](json& g) {
+                                                    extension(g, 0)["count"] = 2147483647;
+                                                    g["accessors"][0]["count"] = 2147483647;
+                                                }),
+                                 "more than the codec can produce");
+    expect_error_naming_the_file(
+        broken_meshopt(
+            "meshopt-short.gltf",
+            [&](json& g) { extension(g, 0)["byteLength"] = extension(g, 0)["byteLength"].get<size_t>() / 2; }),
+        "ATTRIBUTES data do not decode");
+    expect_error_naming_the_file(
+        broken_meshopt("meshopt-stride.gltf", [&](json& g) { extension(g, 0)["byteStride"] = 6; }),
+        "must be a multiple of 4");
+    expect_error_naming_the_file(
+        broken_meshopt("meshopt-mode.gltf", [&](json& g) { extension(g, 0)["mode"] = "VERTICES"; }),
+        "unknown mode \"VERTICES\"");
+    expect_error_naming_the_file(
+        broken_meshopt("meshopt-filter.gltf",
+                       [&](json& g) { extension(g, int(g["bufferViews"].size()) - 1)["filter"] = "OCTAHEDRAL"; }),
+        "filter OCTAHEDRAL does not apply to mode TRIANGLES");
+    expect_error_naming_the_file(
+        broken_meshopt("meshopt-source.gltf", [&](json& g) { extension(g, 0)["byteOffset"] = 1 << 30; }),
+        "compressed bytes lie past the end of buffer 0");
+    // An accessor that reads the fallback buffer directly, through a view that is not compressed.
+    expect_error_naming_the_file(
+        broken_meshopt("meshopt-fallback.gltf", [&](json& g) { g["bufferViews"][0].erase("extensions"); }),
+        "the meshopt fallback buffer 1, which holds no data");
 }
 
 // ---- Malformed input -------------------------------------------------------------------------------------------

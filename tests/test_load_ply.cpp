@@ -1,6 +1,7 @@
 // PLY reader: the real Stanford scans, generated files in all three encodings, and malformed input.
 #include "core/loaders/load_ply.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -174,6 +175,17 @@ TEST(LoadPly, AwkwardLayoutInAllThreeEncodings) {
         std::filesystem::path path =
             test::write_file(std::string("awkward_") + format + ".ply", write_ply(format, awkward_mesh()));
         expect_awkward_mesh(load_ply(path));
+    }
+}
+
+// Lines ended by a carriage return alone (Rhinoceros wrote such PLY files): the header, and an ASCII body.
+TEST(LoadPly, LinesEndedByCarriageReturnsInAllThreeEncodings) {
+    for (const char* format : {"ascii", "binary_little_endian", "binary_big_endian"}) {
+        SCOPED_TRACE(format);
+        std::string bytes = write_ply(format, awkward_mesh());
+        const size_t text_end = std::string(format) == "ascii" ? bytes.size() : bytes.find("end_header\n") + 11;
+        std::replace(bytes.begin(), bytes.begin() + long(text_end), '\n', '\r');
+        expect_awkward_mesh(load_ply(test::write_file(std::string("cr_") + format + ".ply", bytes)));
     }
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <string>
 
 namespace prism {
 namespace {
@@ -34,6 +35,16 @@ std::string_view glb_first_chunk(std::string_view bytes) {
     if (bytes.size() < kHeaderBytes + kChunkHeaderBytes) return {};
     const size_t start = kHeaderBytes + kChunkHeaderBytes;
     return bytes.substr(start, std::min<size_t>(read_u32(bytes, kHeaderBytes), bytes.size() - start));
+}
+
+std::optional<std::string> glb_second_chunk_overrun(std::string_view bytes) {
+    std::optional<GlbParts> parts = split_glb(bytes);
+    if (!parts || parts->rest.size() < kChunkHeaderBytes) return std::nullopt;
+    const uint32_t length = read_u32(parts->rest, 0);
+    const size_t left = parts->rest.size() - kChunkHeaderBytes;
+    if (length <= left) return std::nullopt;
+    return "the chunk after the JSON chunk declares " + std::to_string(length) + " bytes; " + std::to_string(left) +
+           " are left in the file (truncated GLB)";
 }
 
 std::optional<std::string> join_glb(std::string_view header, std::string_view json, std::string_view rest) {

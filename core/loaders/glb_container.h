@@ -21,6 +21,10 @@ std::optional<GlbParts> split_glb(std::string_view bytes);
 // broken file's JSON before tinygltf says what is wrong with it); empty when the file is shorter than the headers.
 std::string_view glb_first_chunk(std::string_view bytes);
 
+// The cause when the chunk after the JSON chunk declares more bytes than the file holds after its 8-byte header
+// (tinygltf 2.7 checks that length without the header and reads up to 8 bytes past the end); nullopt otherwise.
+std::optional<std::string> glb_second_chunk_overrun(std::string_view bytes);
+
 // A GLB of `header`, `json` (padded with blanks to a multiple of 4 bytes) and `rest`; nullopt past 4 GiB.
 std::optional<std::string> join_glb(std::string_view header, std::string_view json, std::string_view rest);
 

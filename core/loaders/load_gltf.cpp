@@ -16,6 +16,9 @@
 #include "core/loaders/gltf_accessor.h"
 #include "core/loaders/gltf_instancing.h"
 #include "core/loaders/gltf_material.h"
+#include "core/loaders/gltf_compression_json.h"
+#include "core/loaders/gltf_draco.h"
+#include "core/loaders/gltf_meshopt.h"
 #include "core/loaders/gltf_rest_pose.h"
 #include "core/util/input_file.h"
 #include "core/util/json_depth.h"
@@ -283,11 +286,6 @@ private:
     bool convert_primitive(const tinygltf::Mesh& mesh, int mesh_index, int primitive_index, bool mirrored, Mesh& out) {
         const tinygltf::Primitive& primitive = mesh.primitives[primitive_index];
         std::string what = "mesh " + std::to_string(mesh_index) + " primitive " + std::to_string(primitive_index);
-        // Its accessors then have no data of their own (zeros, or an uncompressed copy the file may not have).
-        if (primitive.extensions.count("KHR_draco_mesh_compression"))
-            throw file_error(file_, what +
-                                        " is compressed with KHR_draco_mesh_compression, which Prism does not decode "
-                                        "(decompress the file first)");
         if (primitive.mode != TINYGLTF_MODE_TRIANGLES && primitive.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
             primitive.mode != TINYGLTF_MODE_TRIANGLE_FAN) {
             if (!warned_non_triangles_)
@@ -472,6 +470,7 @@ void load_gltf(const std::filesystem::path& path, Scene& scene) {
         bytes = std::move(rest_pose->bytes);
         had_animations = rest_pose->had_animations;
     }
+    if (std::optional<std::string> ready = gltf_ready_for_decompression(bytes, binary)) bytes = std::move(*ready);
     // The GLB spec pads the JSON chunk to 4 bytes and tinygltf insists; some exporters (trimesh's, for one) did not
     // pad, and other viewers read those files. The chunk is padded here, with a warning.
     bool padded_json = false;
@@ -481,6 +480,9 @@ void load_gltf(const std::filesystem::path& path, Scene& scene) {
             padded_json = true;
         }
     }
+
+    if (binary)
+        if (std::optional<std::string> overrun = glb_second_chunk_overrun(bytes)) throw file_error(file, *overrun);
 
     tinygltf::TinyGLTF loader;
     tinygltf::Model model;
@@ -499,13 +501,6 @@ void load_gltf(const std::filesystem::path& path, Scene& scene) {
         throw file_error(file, library_message(exception.what(), "malformed glTF"));
     }
     if (!ok || !error.empty() || files.refusal) {
-        // A compressed file fails in tinygltf on the data the compression replaced (an accessor without its view,
-        // a buffer without a uri); the extension is the cause worth naming.
-        for (const char* compression :
-             {"KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_meshopt_compression"})
-            if (json_text(bytes, binary).find(compression) != std::string_view::npos)
-                throw file_error(file, std::string("its meshes are compressed with ") + compression +
-                                           ", which Prism does not decode (decompress the file first)");
         if (files.refusal) throw *files.refusal;
         throw file_error(file, library_message(error, "malformed glTF"));
     }
@@ -519,8 +514,14 @@ void load_gltf(const std::filesystem::path& path, Scene& scene) {
     for (const std::string& required : model.extensionsRequired)
         if (required != "KHR_texture_transform" && required != "KHR_materials_emissive_strength" &&
             required != "KHR_lights_punctual" && required != "KHR_mesh_quantization" &&
-            required != "EXT_mesh_gpu_instancing" && required != "KHR_animation_pointer")
+            required != "EXT_mesh_gpu_instancing" && required != "KHR_animation_pointer" &&
+            required != "KHR_draco_mesh_compression" && required != "EXT_meshopt_compression" &&
+            required != "KHR_meshopt_compression")
             scene.warnings.push_back(file + ": required extension " + required + " is not supported");
+
+    // Compressed data become plain buffers first, so the importer reads every accessor one way.
+    decode_meshopt_buffer_views(model, file);
+    decode_draco_primitives(model, file);
 
     // Progress for large files only: a small one loads at once, and one that fails leaves only its error line.
     const bool report_progress = bytes.size() >= kBytesWorthReporting;

@@ -195,8 +195,11 @@ Header parse_header(const std::string& file, std::string_view bytes) {
     bool have_format = false;
     size_t offset = 0;
     size_t line_number = 0;
+    // Lines end in LF or CR LF, or in a CR alone where the file's first line does (Rhinoceros wrote such files:
+    // Draco's testdata/Box.ply).
+    const char line_end = bytes.starts_with("ply\r") && !bytes.starts_with("ply\r\n") ? '\r' : '\n';
     for (;;) {
-        const size_t newline = bytes.find('\n', offset);
+        const size_t newline = bytes.find(line_end, offset);
         if (newline == std::string_view::npos) {
             if (line_number == 0) throw file_error(file, "not a PLY file (no 'ply' line)");
             throw file_error(file, "PLY header has no end_header line (not a PLY file, or truncated)");

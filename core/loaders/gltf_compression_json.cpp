@@ -1,0 +1,72 @@
+#include "core/loaders/gltf_compression_json.h"
+
+#include <nlohmann/json.hpp>
+
+#include "core/loaders/glb_container.h"
+
+namespace prism {
+namespace {
+
+// A buffer tinygltf accepts in either container (it refuses an empty data URI): three zero bytes.
+constexpr const char* kPlaceholderUri = "data:application/octet-stream;base64,AAAA";
+constexpr int kPlaceholderBytes = 3;
+
+const nlohmann::json* extension(const nlohmann::json& object, const char* name) {
+    auto extensions = object.find("extensions");
+    if (extensions == object.end() || !extensions->is_object()) return nullptr;
+    auto found = extensions->find(name);
+    return found != extensions->end() && found->is_object() ? &*found : nullptr;
+}
+
+bool empty_meshopt_fallbacks(nlohmann::json& document) {
+    auto buffers = document.find("buffers");
+    if (buffers == document.end() || !buffers->is_array()) return false;
+    bool changed = false;
+    for (nlohmann::json& buffer : *buffers) {
+        if (!buffer.is_object() || buffer.contains("uri")) continue;
+        for (const char* name : kMeshoptExtensions) {
+            const nlohmann::json* meshopt = extension(buffer, name);
+            if (!meshopt || meshopt->value("fallback", false) != true) continue;
+            buffer["uri"] = kPlaceholderUri;
+            buffer["byteLength"] = kPlaceholderBytes;
+            changed = true;
+            break;
+        }
+    }
+    return changed;
+}
+
+bool drop_draco_indices(nlohmann::json& document) {
+    auto meshes = document.find("meshes");
+    if (meshes == document.end() || !meshes->is_array()) return false;
+    bool changed = false;
+    for (nlohmann::json& mesh : *meshes) {
+        if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+        for (nlohmann::json& primitive : mesh["primitives"])
+            if (primitive.is_object() && extension(primitive, kDracoExtension))
+                changed = primitive.erase("indices") > 0 || changed;
+    }
+    return changed;
+}
+
+}  // namespace
+
+std::optional<std::string> gltf_ready_for_decompression(std::string_view bytes, bool binary) {
+    std::optional<GlbParts> glb;
+    if (binary && !(glb = split_glb(bytes))) return std::nullopt;
+    const std::string_view json_text = binary ? glb->json : bytes;
+    // A cheap look first: most files are not compressed.
+    if (json_text.find("_meshopt_compression\"") == std::string_view::npos &&
+        json_text.find(kDracoExtension) == std::string_view::npos)
+        return std::nullopt;
+    nlohmann::json document = nlohmann::json::parse(json_text, nullptr, false);
+    if (document.is_discarded() || !document.is_object()) return std::nullopt;
+    const bool emptied = empty_meshopt_fallbacks(document);
+    const bool dropped = drop_draco_indices(document);
+    if (!emptied && !dropped) return std::nullopt;
+    std::string json = document.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    if (!binary) return json;
+    return join_glb(glb->header, json, glb->rest);
+}
+
+}  // namespace prism

@@ -1,0 +1,23 @@
+// What tinygltf 2.7 refuses in a compressed glTF before Prism can decode it, taken out of the JSON first:
+// - a meshopt "fallback" buffer (extensions.EXT_meshopt_compression.fallback: true) has a byteLength and no data:
+//   tinygltf refuses a buffer without a uri in a .gltf and reads one from a .glb's BIN chunk, failing when the
+//   fallback's length (the decompressed size) exceeds it. It becomes a 3-byte buffer of its own; the views that
+//   use it get decoded data (gltf_meshopt.h).
+// - a Draco primitive's index accessor has no bufferView, which tinygltf refuses for indices. The primitive loses
+//   its "indices"; the Draco decoder adds an index accessor of its own (gltf_draco.h).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace prism {
+
+inline constexpr const char* kMeshoptExtensions[] = {"EXT_meshopt_compression", "KHR_meshopt_compression"};
+inline constexpr const char* kDracoExtension = "KHR_draco_mesh_compression";
+
+// `bytes` (a .gltf, or a .glb when `binary`) with the changes above; nullopt when it needs none or its JSON does
+// not parse (tinygltf then reports).
+std::optional<std::string> gltf_ready_for_decompression(std::string_view bytes, bool binary);
+
+}  // namespace prism
