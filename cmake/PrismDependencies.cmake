@@ -11,6 +11,7 @@ find_package(draco CONFIG REQUIRED)      # KHR_draco_mesh_compression (Debian li
 find_package(meshoptimizer CONFIG REQUIRED)  # EXT_meshopt_compression (Debian libmeshoptimizer-dev)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
+pkg_check_modules(WEBP REQUIRED IMPORTED_TARGET libwebp)  # WebP textures (EXT_texture_webp); no CMake package
 find_path(CLI11_INCLUDE_DIR CLI/CLI.hpp REQUIRED)
 add_library(prism_cli11 INTERFACE)
 target_include_directories(prism_cli11 SYSTEM INTERFACE ${CLI11_INCLUDE_DIR})

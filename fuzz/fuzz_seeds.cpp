@@ -2,8 +2,8 @@
 // time from the shared scenes (never copied into the repository): small real files as they are, and small
 // derivatives of the big ones (a patch of the Stanford bunny in every PLY encoding, real MTL files on a textured
 // triangle, glTF JSON with its buffer appended, Draco and meshopt files the encoders make, images scaled down and
-// re-encoded in every format stb writes). Small seeds keep executions fast; libFuzzer's mutations and the dictionaries
-// do the rest.
+// re-encoded in every format stb writes and as WebP). Small seeds keep executions fast; libFuzzer's mutations and the
+// dictionaries do the rest.
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <stb_image.h>
 #include <stb_image_write.h>
+#include <webp/encode.h>
 #include <zlib.h>
 
 #include "core/image/image_io.h"
@@ -387,6 +388,14 @@ void image_seeds(const fs::path& scenes, SeedWriter& seeds, const fs::path& scra
             seeds.add("image", stem + ".bmp", read_file(file));
             stbi_write_tga(file.c_str(), w, h, 4, rgba.data());
             seeds.add("image", stem + ".tga", read_file(file));
+            for (bool lossless : {true, false}) {  // WebP goes to libwebp (core/image/image_webp.h)
+                uint8_t* webp = nullptr;
+                const size_t size = lossless ? WebPEncodeLosslessRGBA(rgba.data(), w, h, w * 4, &webp)
+                                             : WebPEncodeRGBA(rgba.data(), w, h, w * 4, 75.0f, &webp);
+                seeds.add("image", stem + (lossless ? "-lossless.webp" : "-lossy.webp"),
+                          std::string_view(reinterpret_cast<const char*>(webp), size));
+                WebPFree(webp);
+            }
         }
         ++shrunk;
     }

@@ -13,8 +13,9 @@ packages=(
   # (16-bit PNG) and tinyexr (OpenEXR) for image output.
   libglm-dev libtinygltf-dev libstb-dev nlohmann-json3-dev libtinyobjloader-dev libcli11-dev zlib1g-dev
   libpng-dev libtinyexr-dev
-  # Compressed glTF meshes: Draco (KHR_draco_mesh_compression) and meshoptimizer (EXT_meshopt_compression).
-  libdraco-dev libmeshoptimizer-dev
+  # Compressed glTF: Draco (KHR_draco_mesh_compression) and meshoptimizer (EXT_meshopt_compression) meshes,
+  # WebP textures (EXT_texture_webp).
+  libdraco-dev libmeshoptimizer-dev libwebp-dev
   # Tests (GoogleTest) and the hit-level oracle of the tests and `prism bench --embree` (Embree).
   libgtest-dev libgmock-dev libembree-dev
   # OpenCL backend: headers, the ICD loader, PoCL as the device on machines without a GPU, clinfo to look at it.

@@ -44,7 +44,7 @@ std::string guard_error(const std::vector<uint8_t>& bytes) {
 
 TEST(ImageGuard, RefusesFormatsPrismDoesNotOffer) {
     EXPECT_EQ(guard_error(bytes_of("GIF89a\x01\x00\x01\x00")),
-              "/x/t.img: unsupported image format GIF (textures: PNG, JPEG, BMP, TGA or Radiance HDR)");
+              "/x/t.img: unsupported image format GIF (textures: PNG, JPEG, WebP, BMP, TGA or Radiance HDR)");
     EXPECT_NE(guard_error(bytes_of("8BPS\x00\x01")).find("Photoshop (PSD)"), std::string::npos);
     EXPECT_NE(guard_error(bytes_of("P6\n1 1\n255\n\x01\x02\x03")).find("PNM"), std::string::npos);
     EXPECT_NE(guard_error(bytes_of(std::string("\x53\x80\xf6\x34", 4) + std::string(100, 'x'))).find("Softimage PIC"),

@@ -1,12 +1,15 @@
 // Texture loading and render output: round trips, the real environment maps, and failures that leave no file.
 #include "core/image/image_io.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <functional>
 #include <random>
 
 #include <gtest/gtest.h>
+#include <webp/encode.h>
 
 #include "core/util/error.h"
 #include "core/image/rgbe.h"
@@ -31,6 +34,62 @@ TEST(ImageIo, PngRoundTripKeepsEveryTexel) {
     EXPECT_EQ(loaded.encoding, TextureEncoding::Linear8);
     EXPECT_EQ(loaded.texels, texels);
     EXPECT_EQ(load_texture(path, true).encoding, TextureEncoding::Srgb8);
+}
+
+std::string webp_of(const std::vector<uint32_t>& rgba8, int width, int height, bool lossless) {
+    uint8_t* encoded = nullptr;
+    const auto* pixels = reinterpret_cast<const uint8_t*>(rgba8.data());
+    const size_t size = lossless ? WebPEncodeLosslessRGBA(pixels, width, height, width * 4, &encoded)
+                                 : WebPEncodeRGBA(pixels, width, height, width * 4, 90.0f, &encoded);
+    std::string bytes(reinterpret_cast<const char*>(encoded), size);
+    WebPFree(encoded);
+    return bytes;
+}
+
+TEST(ImageIo, WebpLosslessKeepsEveryTexelAndLossyStaysClose) {
+    const int width = 7, height = 5;
+    std::vector<uint32_t> texels(width * height);
+    std::mt19937 random(42);
+    // Alpha kept above 0: the encoder drops the colour of fully transparent pixels unless told to keep it.
+    for (uint32_t& texel : texels) texel = random() | 0x01000000u;
+    Texture lossless = load_texture(test::write_file("lossless.webp", webp_of(texels, width, height, true)), false);
+    EXPECT_EQ(lossless.width, width);
+    EXPECT_EQ(lossless.height, height);
+    EXPECT_EQ(lossless.encoding, TextureEncoding::Linear8);
+    EXPECT_EQ(lossless.texels, texels);
+
+    // A smooth gradient, opaque: lossy WebP keeps it within a few levels.
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            texels[y * width + x] = uint32_t(30 * x) | uint32_t(40 * y) << 8 | 128u << 16 | 255u << 24;
+    Texture lossy = load_texture(test::write_file("lossy.webp", webp_of(texels, width, height, false)), true);
+    EXPECT_EQ(lossy.encoding, TextureEncoding::Srgb8);
+    ASSERT_EQ(lossy.texels.size(), texels.size());
+    int worst = 0;
+    for (size_t i = 0; i < texels.size(); ++i)
+        for (int shift = 0; shift < 32; shift += 8)
+            worst = std::max(worst, std::abs(int(lossy.texels[i] >> shift & 255) - int(texels[i] >> shift & 255)));
+    EXPECT_LE(worst, 24);
+}
+
+TEST(ImageIo, BrokenOrHugeWebpIsNamedInOneLine) {
+    std::vector<uint32_t> texels(64 * 64, 0xff336699u);
+    const std::string webp = webp_of(texels, 64, 64, true);
+    auto error_of = [](const std::string& name, const std::string& bytes) {
+        const std::filesystem::path path = test::write_file(name, bytes);
+        const std::string message = error_message([&] { load_texture(path); });
+        EXPECT_EQ(message.rfind(path.string() + ": ", 0), 0u) << message;
+        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+        return message;
+    };
+    EXPECT_NE(error_of("truncated.webp", webp.substr(0, webp.size() / 2)).find("WebP"), std::string::npos);
+    EXPECT_NE(error_of("header.webp", webp.substr(0, 14)).find("corrupt WebP"), std::string::npos);
+    // A lossless header declaring 16384 x 16384 pixels over no data: refused from the header, nothing allocated.
+    ASSERT_EQ(webp.substr(12, 4), "VP8L");
+    std::string huge = webp.substr(0, 21);  // RIFF header, VP8L chunk header, the lossless signature byte
+    const uint32_t bits = (16384u - 1) | (16384u - 1) << 14;  // width - 1, height - 1; no alpha, version 0
+    huge.append(reinterpret_cast<const char*>(&bits), 4);
+    EXPECT_NE(error_of("huge.webp", huge).find("image is 16384x16384 pixels"), std::string::npos);
 }
 
 TEST(ImageIo, RgbePackUnpackWithinOnePercent) {

@@ -13,8 +13,10 @@
 
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
+#include <webp/encode.h>
 
 #include "core/util/error.h"
+#include "core/image/image_io.h"
 #include "core/loaders/gltf_material.h"
 #include "core/loaders/load_gltf.h"
 #include "core/loaders/scene_loader.h"
@@ -841,6 +843,43 @@ TEST(LoadGltf, MissingImageFileNamesTheUri) {
     gltf.document["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
     gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", triangle_positions(gltf)}}}, {"material", 0}}})}});
     expect_error_naming_the_file(gltf.write("missing_image.gltf"), "no_such_texture.png");
+}
+
+// EXT_texture_webp as gltf-transform writes it: the texture's image is a WebP file; a `source` beside it is a PNG
+// fallback for viewers without WebP, and Prism, reading WebP, takes the WebP image (as the extension asks).
+TEST(LoadGltf, WebpTexturesAreReadAndPreferredToTheFallback) {
+    auto one_pixel_file = [](const std::string& name, uint32_t rgba, bool webp) {
+        std::filesystem::path path = test::temp_dir("files") / name;
+        if (!webp) {
+            write_png(path, 1, 1, std::vector<uint32_t>{rgba});
+            return path;
+        }
+        uint8_t* encoded = nullptr;
+        const size_t size = WebPEncodeLosslessRGBA(reinterpret_cast<const uint8_t*>(&rgba), 1, 1, 4, &encoded);
+        test::write_file(name, std::string(reinterpret_cast<const char*>(encoded), size));
+        WebPFree(encoded);
+        return path;
+    };
+    one_pixel_file("red.webp", 0xff0000ffu, true);
+    one_pixel_file("green.png", 0xff00ff00u, false);
+    for (bool with_fallback : {false, true}) {
+        SCOPED_TRACE(with_fallback);
+        GltfBuilder gltf;
+        gltf.document["images"] = {{{"uri", "red.webp"}, {"mimeType", "image/webp"}}, {{"uri", "green.png"}}};
+        json texture = {{"extensions", {{"EXT_texture_webp", {{"source", 0}}}}}};
+        if (with_fallback) texture["source"] = 1;
+        gltf.document["textures"] = json::array({texture});
+        gltf.document["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+        gltf.document["extensionsUsed"] = {"EXT_texture_webp"};
+        if (!with_fallback) gltf.document["extensionsRequired"] = {"EXT_texture_webp"};
+        gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", triangle_positions(gltf)}}}, {"material", 0}}})}});
+        Scene scene = load(gltf.write("webp.gltf"));
+        ASSERT_EQ(scene.textures.size(), 1u);
+        EXPECT_EQ(scene.textures[0].texels, std::vector<uint32_t>{0xff0000ffu});
+        ASSERT_EQ(scene.materials.size(), 1u);
+        EXPECT_EQ(scene.materials[0].textures.size(), 1u);
+        EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+    }
 }
 
 TEST(LoadGltf, NodeCycleIsAnError) {

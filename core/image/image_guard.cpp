@@ -27,11 +27,18 @@ const char* unsupported_format(std::span<const uint8_t> bytes) {
 
 }  // namespace
 
+void check_texture_dimensions(const std::string& name, int64_t width, int64_t height) {
+    if (width > kMaxTextureSide || height > kMaxTextureSide || width * height > kMaxTexturePixels)
+        throw file_error(name, "image is " + std::to_string(width) + "x" + std::to_string(height) +
+                                   " pixels; Prism takes textures up to " + std::to_string(kMaxTextureSide) +
+                                   " on a side and " + std::to_string(kMaxTexturePixels >> 20) + "M pixels");
+}
+
 void check_encoded_image(std::span<const uint8_t> bytes, const std::string& name) {
     using namespace image_guard;
     if (const char* format = unsupported_format(bytes))
         throw file_error(name, std::string("unsupported image format ") + format +
-                                   " (textures: PNG, JPEG, BMP, TGA or Radiance HDR)");
+                                   " (textures: PNG, JPEG, WebP, BMP, TGA or Radiance HDR)");
     const bool jpeg = jpeg_start_of_image(bytes) != 0, png = starts_with(bytes, "\x89PNG\r\n\x1a\n");
     const bool hdr = starts_with(bytes, "#?RADIANCE\n") || starts_with(bytes, "#?RGBE\n"),
                bmp = starts_with(bytes, "BM");
@@ -44,10 +51,7 @@ void check_encoded_image(std::span<const uint8_t> bytes, const std::string& name
     // A BMP stored top down declares a negative height; stbi_info passes it on, while the decoder takes its
     // magnitude, so the limits below must see the magnitude too.
     if (bmp && height < 0 && height != INT_MIN) height = -height;
-    if (width > kMaxTextureSide || height > kMaxTextureSide || int64_t(width) * height > kMaxTexturePixels)
-        throw file_error(name, "image is " + std::to_string(width) + "x" + std::to_string(height) +
-                                   " pixels; Prism takes textures up to " + std::to_string(kMaxTextureSide) +
-                                   " on a side and " + std::to_string(kMaxTexturePixels >> 20) + "M pixels");
+    check_texture_dimensions(name, width, height);
     if (width <= 0 || height <= 0) return;  // stb refuses it
     // Whether the file can hold what its header declares. A file stb sizes that has none of the other signatures
     // is a TGA (stb tries TGA last; it has no signature, and its header rules out the others' first bytes).

@@ -14,10 +14,14 @@ namespace prism {
 constexpr int kMaxTextureSide = 16384;
 constexpr int64_t kMaxTexturePixels = int64_t(1) << 26;
 
+// Throws prism::Error "<name>: <cause>" when a width x height image exceeds the limits above.
+void check_texture_dimensions(const std::string& name, int64_t width, int64_t height);
+
 // Throws prism::Error "<name>: <cause>" for an image Prism does not take: a format other than PNG, JPEG, BMP,
-// TGA and Radiance HDR (stb_image would also decode GIF, PSD, PIC and PNM), a size over the limits above, a file
-// too short for the pixels its header declares (stb would fill them with zeros, or spin), or a structure Debian's
-// stb_image mishandles (image_guard_formats.h; each case has its test in tests/test_fuzz_findings.cpp).
+// TGA and Radiance HDR (WebP goes to libwebp instead, image_webp.h) (stb_image would also decode GIF, PSD, PIC and
+// PNM), a size over the limits above, a file too short for the pixels its header declares (stb would fill them with
+// zeros, or spin), or a structure Debian's stb_image mishandles (image_guard_formats.h; each case has its test in
+// tests/test_fuzz_findings.cpp).
 void check_encoded_image(std::span<const uint8_t> bytes, const std::string& name);
 
 }  // namespace prism

@@ -1,4 +1,5 @@
-// Texture loading and render output through stb_image / stb_image_write (implementations live in Debian's libstb).
+// Texture loading and render output through stb_image / stb_image_write (implementations live in Debian's libstb);
+// WebP textures through libwebp (image_webp.h).
 #include "core/image/image_io.h"
 
 #include <algorithm>
@@ -18,6 +19,7 @@
 
 #include "core/util/error.h"
 #include "core/image/image_guard.h"
+#include "core/image/image_webp.h"
 #include "core/util/input_file.h"
 #include "core/util/scene_read_rules.h"
 #include "core/image/rgbe.h"
@@ -72,11 +74,31 @@ void check_image_size(const std::filesystem::path& path, int width, int height, 
         throw file_error(path.string(), "cannot write (pixel buffer smaller than the image)");
 }
 
+// An 8-bit RGBA image as texels: sRGB for colour data (base colour, emissive), linear for the rest.
+Texture texture_of_rgba8(const uint8_t* rgba, int width, int height, const std::string& name, bool color_data) {
+    Texture texture;
+    texture.name = name;
+    texture.width = width;
+    texture.height = height;
+    texture.encoding = color_data ? TextureEncoding::Srgb8 : TextureEncoding::Linear8;
+    const size_t count = static_cast<size_t>(width) * static_cast<size_t>(height);
+    texture.texels.resize(count);
+    for (size_t i = 0; i < count; ++i) {
+        const uint8_t* p = rgba + 4 * i;
+        texture.texels[i] = uint32_t(p[0]) | (uint32_t(p[1]) << 8) | (uint32_t(p[2]) << 16) | (uint32_t(p[3]) << 24);
+    }
+    return texture;
+}
+
 }  // namespace
 
 Texture load_texture_from_memory(std::span<const uint8_t> bytes, const std::string& name, bool color_data) {
     if (bytes.empty()) throw file_error(name, "empty image file");
     if (bytes.size() > static_cast<size_t>(INT32_MAX)) throw file_error(name, "image file too large");
+    if (is_webp(bytes)) {
+        Rgba8Pixels pixels = decode_webp(bytes, name);
+        return texture_of_rgba8(pixels.rgba.data(), pixels.width, pixels.height, name, color_data);
+    }
     check_encoded_image(bytes, name);
     const int length = static_cast<int>(bytes.size());
     int declared_width = 0, declared_height = 0, declared_channels = 0;
@@ -101,15 +123,7 @@ Texture load_texture_from_memory(std::span<const uint8_t> bytes, const std::stri
     std::unique_ptr<uint8_t, StbFree> pixels(
         stbi_load_from_memory(bytes.data(), length, &texture.width, &texture.height, &channels, 4));
     if (!pixels) throw file_error(name, stb_reason());
-    texture.encoding = color_data ? TextureEncoding::Srgb8 : TextureEncoding::Linear8;
-    const size_t count = static_cast<size_t>(texture.width) * static_cast<size_t>(texture.height);
-    texture.texels.resize(count);
-    const uint8_t* rgba = pixels.get();
-    for (size_t i = 0; i < count; ++i) {
-        const uint8_t* p = rgba + 4 * i;
-        texture.texels[i] = uint32_t(p[0]) | (uint32_t(p[1]) << 8) | (uint32_t(p[2]) << 16) | (uint32_t(p[3]) << 24);
-    }
-    return texture;
+    return texture_of_rgba8(pixels.get(), texture.width, texture.height, name, color_data);
 }
 
 Texture load_texture(const std::filesystem::path& path, bool color_data) {

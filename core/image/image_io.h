@@ -1,6 +1,6 @@
-// Image files: textures in (PNG, JPEG, TGA, BMP through stb_image; Radiance .hdr kept as RGBE texels), renders
-// out (8-bit sRGB PNG; linear float .hdr). Outputs are written to a temporary name and renamed, so a failed
-// write never leaves a partial file.
+// Image files: textures in (PNG, JPEG, TGA, BMP through stb_image, WebP through libwebp; Radiance .hdr kept as RGBE
+// texels), renders out (8-bit sRGB PNG; linear float .hdr). Outputs are written to a temporary name and renamed,
+// so a failed write never leaves a partial file.
 #pragma once
 
 #include <cstdint>

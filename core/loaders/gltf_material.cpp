@@ -131,10 +131,14 @@ bool MaterialConverter::texture(int index, bool color_data, uint32_t& scene_text
     }
     if (index < 0 || index >= static_cast<int>(model_.textures.size()))
         throw file_error(file_, "texture " + std::to_string(index) + " does not exist");
-    int source = model_.textures[index].source;
+    // EXT_texture_webp's image is the texture's own (`source`, when present, is a PNG or JPEG fallback for viewers
+    // without WebP); the spec asks a viewer that reads WebP to use it.
+    const tinygltf::Texture& gltf_texture = model_.textures[index];
+    const double webp = number(extension(gltf_texture.extensions, "EXT_texture_webp"), "source", -1.0);
+    const int source = webp >= 0.0 && webp < double(model_.images.size()) ? int(webp) : gltf_texture.source;
     if (source < 0 || source >= static_cast<int>(model_.images.size())) {
         scene_.warnings.push_back(file_ + ": texture " + std::to_string(index) +
-                                  " has no PNG/JPEG image Prism can decode; ignored");
+                                  " has no PNG, JPEG or WebP image (KHR_texture_basisu is not read); ignored");
         return false;
     }
     const tinygltf::Image& image = model_.images[source];
