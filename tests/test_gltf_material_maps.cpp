@@ -8,6 +8,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/loaders/gltf_spec_gloss.h"
 #include "tests/gltf_builder.h"
 #include "tests/gltf_render_probe.h"
 
@@ -179,6 +180,49 @@ TEST(GltfMaterialMaps, MetallicRoughnessTextureDecidesWhatMirrors) {
     EXPECT_LT(dielectric.g - dielectric.r, 25);  // grey: the ambient light, and Fresnel's few % of the sky
     EXPECT_GT(dielectric.r, 60);
     EXPECT_LT(metal.r, 20);  // a mirror of the green sky, tinted by the grey base colour
+    EXPECT_GT(metal.g, 150);
+}
+
+// KHR_materials_pbrSpecularGlossiness, converted to metallic-roughness: a plastic (specular 0.04) keeps its diffuse
+// colour as base colour and no metal, a material whose specular is its colour and whose diffuse is black is a metal.
+TEST(GltfMaterialMaps, SpecularGlossinessFactorsConvertToMetallicRoughness) {
+    const gltf::MetallicRoughness plastic =
+        gltf::metallic_roughness_of({glm::vec4(0.5f, 0.2f, 0.1f, 0.8f), glm::vec3(0.04f), 0.7f});
+    EXPECT_EQ(plastic.metallic, 0.0f);
+    EXPECT_NEAR(plastic.base.x, 0.5f, 1e-5f);
+    EXPECT_NEAR(plastic.base.y, 0.2f, 1e-5f);
+    EXPECT_NEAR(plastic.base.z, 0.1f, 1e-5f);
+    EXPECT_EQ(plastic.base.w, 0.8f);
+    EXPECT_NEAR(plastic.roughness, 0.3f, 1e-6f);
+    const gltf::MetallicRoughness gold =
+        gltf::metallic_roughness_of({glm::vec4(0.0f, 0.0f, 0.0f, 1.0f), glm::vec3(1.0f, 0.78f, 0.34f), 1.0f});
+    EXPECT_NEAR(gold.metallic, 1.0f, 1e-3f);
+    EXPECT_NEAR(gold.base.x, 1.0f, 1e-3f);
+    EXPECT_NEAR(gold.base.y, 0.78f, 1e-3f);
+    EXPECT_NEAR(gold.base.z, 0.34f, 1e-3f);
+    EXPECT_EQ(gold.roughness, 0.0f);
+}
+
+// The same through textures, as exporters wrote it: left column grey plastic, right column a white mirror-metal
+// (specular white, diffuse black). Under a green sky the plastic stays grey and the metal mirrors the sky; before
+// the extension was read, the quad was the default white.
+TEST(GltfMaterialMaps, SpecularGlossinessTexturesDecideWhatMirrors) {
+    constexpr uint32_t kGrey = 0xffbcbcbcu, kPlasticSpecular = 0xff383838u;  // sRGB 0.5 and 0.04 linear
+    std::string diffuse = test::write_test_png("sg_diffuse.png", 2, 2, {kGrey, kBlack, kGrey, kBlack});
+    std::string spec_gloss =
+        test::write_test_png("sg_specgloss.png", 2, 2, {kPlasticSpecular, kWhite, kPlasticSpecular, kWhite});
+    GltfBuilder gltf;
+    add_textures(gltf, {diffuse, spec_gloss});
+    json extension = {{"diffuseTexture", {{"index", 0}}}, {"specularGlossinessTexture", {{"index", 1}}}};
+    gltf.document["materials"] = json::array({{{"extensions", {{"KHR_materials_pbrSpecularGlossiness", extension}}}}});
+    gltf.document["extensionsUsed"] = {"KHR_materials_pbrSpecularGlossiness"};
+    gltf.document["extensionsRequired"] = {"KHR_materials_pbrSpecularGlossiness"};
+    gltf.node({{"mesh", textured_quad(gltf)}});
+    test::ProbeImage image_out = test::render_gltf(gltf.write("spec_gloss.gltf"), green_sky_lit_by(0.5f));
+    test::Rgb plastic = at_world(image_out, -0.5f, 0.0f), metal = at_world(image_out, 0.5f, 0.0f);
+    EXPECT_LT(plastic.g - plastic.r, 25);  // grey: the ambient light, and Fresnel's few % of the sky
+    EXPECT_GT(plastic.r, 60);
+    EXPECT_LT(metal.r, 40);  // a mirror of the green sky (and the ambient term on its white base colour)
     EXPECT_GT(metal.g, 150);
 }
 

@@ -8,6 +8,7 @@
 
 #include "core/util/error.h"
 #include "core/image/image_io.h"
+#include "core/loaders/gltf_spec_gloss.h"
 #include "core/scene/seed_material.h"
 
 namespace prism::gltf {
@@ -64,6 +65,37 @@ void apply_texture_transform(const tinygltf::Value* transform, TextureLayer& lay
     layer.uv_row1 = {-scale.x * s, scale.y * c, offset.y};
     if (transform->IsObject() && transform->Has("texCoord") && transform->Get("texCoord").IsNumber())
         layer.uv_set = static_cast<uint32_t>(std::max(0, transform->Get("texCoord").GetNumberAsInt()));
+}
+
+// A textureInfo inside an extension object (its index, texCoord and KHR_texture_transform); index -1 when absent.
+struct TextureRef {
+    int index = -1;
+    int tex_coord = 0;
+    const tinygltf::Value* transform = nullptr;
+};
+
+TextureRef texture_ref(const tinygltf::Value* object, const char* key) {
+    TextureRef ref;
+    if (!object || !object->IsObject() || !object->Has(key)) return ref;
+    const tinygltf::Value& info = object->Get(key);
+    ref.index = static_cast<int>(number(&info, "index", -1.0));
+    ref.tex_coord = static_cast<int>(number(&info, "texCoord", 0.0));
+    if (info.IsObject() && info.Has("extensions") && info.Get("extensions").IsObject() &&
+        info.Get("extensions").Has("KHR_texture_transform"))
+        ref.transform = &info.Get("extensions").Get("KHR_texture_transform");
+    return ref;
+}
+
+glm::vec4 vec4_of(const tinygltf::Value* object, const char* key, glm::vec4 fallback) {
+    if (!object || !object->IsObject() || !object->Has(key)) return fallback;
+    const tinygltf::Value& value = object->Get(key);
+    if (!value.IsArray() || value.ArrayLen() < 4) return fallback;
+    glm::vec4 result;
+    for (int i = 0; i < 4; ++i) {
+        if (!value.Get(i).IsNumber()) return fallback;
+        result[i] = static_cast<float>(value.Get(i).GetNumberAsDouble());
+    }
+    return result;
 }
 
 // KHR_materials_specular's Fresnel: specularFactor k scales the whole Schlick term,
@@ -129,6 +161,15 @@ bool MaterialConverter::texture(int index, bool color_data, uint32_t& scene_text
         scene_texture = found->second;
         return true;
     }
+    std::optional<Texture> decoded = decode(index, color_data);
+    if (!decoded) return false;
+    scene_.textures.push_back(std::move(*decoded));
+    scene_texture = static_cast<uint32_t>(scene_.textures.size() - 1);
+    textures_[{index, color_data}] = scene_texture;
+    return true;
+}
+
+std::optional<Texture> MaterialConverter::decode(int index, bool color_data) {
     if (index < 0 || index >= static_cast<int>(model_.textures.size()))
         throw file_error(file_, "texture " + std::to_string(index) + " does not exist");
     // EXT_texture_webp's image is the texture's own (`source`, when present, is a PNG or JPEG fallback for viewers
@@ -139,7 +180,7 @@ bool MaterialConverter::texture(int index, bool color_data, uint32_t& scene_text
     if (source < 0 || source >= static_cast<int>(model_.images.size())) {
         scene_.warnings.push_back(file_ + ": texture " + std::to_string(index) +
                                   " has no PNG, JPEG or WebP image (KHR_texture_basisu is not read); ignored");
-        return false;
+        return std::nullopt;
     }
     const tinygltf::Image& image = model_.images[source];
     if (image.image.empty()) {
@@ -147,17 +188,21 @@ bool MaterialConverter::texture(int index, bool color_data, uint32_t& scene_text
         throw file_error(file_, "image " + std::to_string(source) + " has no data");
     }
     std::string name = file_ + ": " + (image.uri.empty() ? "image " + std::to_string(source) : image.uri);
-    scene_.textures.push_back(load_texture_from_memory(std::span<const uint8_t>(image.image), name, color_data));
-    scene_texture = static_cast<uint32_t>(scene_.textures.size() - 1);
-    textures_[{index, color_data}] = scene_texture;
-    return true;
+    return load_texture_from_memory(std::span<const uint8_t>(image.image), name, color_data);
 }
 
 std::optional<TextureLayer> MaterialConverter::layer(int index, int tex_coord, const tinygltf::Value* transform,
                                                      bool color_data, const std::string& material_name) {
     if (index < 0) return std::nullopt;
+    uint32_t scene_texture = 0;
+    if (!texture(index, color_data, scene_texture)) return std::nullopt;
+    return placed(scene_texture, index, tex_coord, transform, material_name);
+}
+
+TextureLayer MaterialConverter::placed(uint32_t scene_texture, int index, int tex_coord,
+                                       const tinygltf::Value* transform, const std::string& material_name) {
     TextureLayer layer;
-    if (!texture(index, color_data, layer.texture)) return std::nullopt;
+    layer.texture = scene_texture;
     layer.mode = TextureMode::Modulate;
     apply_sampler(model_, model_.textures[index].sampler, layer);
     layer.uv_set = static_cast<uint32_t>(std::max(0, tex_coord));
@@ -168,6 +213,43 @@ std::optional<TextureLayer> MaterialConverter::layer(int index, int tex_coord, c
         layer.uv_set = 0;
     }
     return layer;
+}
+
+void MaterialConverter::apply_specular_glossiness(const tinygltf::Value& extension, Material& material) {
+    SpecularGlossiness factors;
+    factors.diffuse = vec4_of(&extension, "diffuseFactor", glm::vec4(1.0f));
+    factors.specular = vec3_of(&extension, "specularFactor", glm::vec3(1.0f));
+    factors.glossiness = static_cast<float>(number(&extension, "glossinessFactor", 1.0));
+    const TextureRef diffuse = texture_ref(&extension, "diffuseTexture");
+    const TextureRef spec_gloss = texture_ref(&extension, "specularGlossinessTexture");
+    std::optional<Texture> diffuse_texels = diffuse.index >= 0 ? decode(diffuse.index, true) : std::nullopt;
+    std::optional<Texture> spec_gloss_texels = spec_gloss.index >= 0 ? decode(spec_gloss.index, true) : std::nullopt;
+    material.textures.clear();
+    material.metal_rough_map.reset();
+    if (!diffuse_texels && !spec_gloss_texels) {
+        const MetallicRoughness converted = metallic_roughness_of(factors);
+        material.diffuse = glm::vec3(converted.base);
+        material.alpha = converted.base.w;
+        material.metallic = converted.metallic;
+        material.roughness = converted.roughness;
+        return;
+    }
+    // Both textures become one base-colour and one metallic-roughness texture, placed as the diffuse texture is
+    // (or the specular-glossiness one without it); the factors are in the texels.
+    auto [base, metal_rough] = metallic_roughness_textures(factors, diffuse_texels ? &*diffuse_texels : nullptr,
+                                                           spec_gloss_texels ? &*spec_gloss_texels : nullptr,
+                                                           file_ + ": material '" + material.name + "'");
+    const TextureRef& place = diffuse_texels ? diffuse : spec_gloss;
+    scene_.textures.push_back(std::move(base));
+    material.textures.push_back(placed(static_cast<uint32_t>(scene_.textures.size() - 1), place.index, place.tex_coord,
+                                       place.transform, material.name));
+    scene_.textures.push_back(std::move(metal_rough));
+    material.metal_rough_map = placed(static_cast<uint32_t>(scene_.textures.size() - 1), place.index, place.tex_coord,
+                                      place.transform, material.name);
+    material.diffuse = glm::vec3(1.0f);
+    material.alpha = 1.0f;
+    material.metallic = 1.0f;
+    material.roughness = 1.0f;
 }
 
 Material MaterialConverter::convert(int index) {
@@ -205,18 +287,19 @@ Material MaterialConverter::convert(int index) {
     material.metallic = metallic;
     material.roughness = roughness;
     material.occlusion_strength = std::clamp(static_cast<float>(source.occlusionTexture.strength), 0.0f, 1.0f);
+    if (const tinygltf::Value* spec_gloss = extension(source.extensions, "KHR_materials_pbrSpecularGlossiness");
+        spec_gloss && spec_gloss->IsObject()) {
+        apply_specular_glossiness(*spec_gloss, material);
+        base = glm::vec4(material.diffuse, material.alpha);
+        metallic = material.metallic;
+        roughness = material.roughness;
+    }
 
     const tinygltf::Value* specular_ext = extension(source.extensions, "KHR_materials_specular");
     float specular_factor = static_cast<float>(number(specular_ext, "specularFactor", 1.0));
     auto extension_layer = [&](const char* key, bool color_data) -> std::optional<TextureLayer> {
-        if (!specular_ext || !specular_ext->IsObject() || !specular_ext->Has(key)) return std::nullopt;
-        const tinygltf::Value& info = specular_ext->Get(key);
-        const tinygltf::Value* transform = nullptr;
-        if (info.IsObject() && info.Has("extensions") && info.Get("extensions").IsObject() &&
-            info.Get("extensions").Has("KHR_texture_transform"))
-            transform = &info.Get("extensions").Get("KHR_texture_transform");
-        return layer(static_cast<int>(number(&info, "index", -1.0)), static_cast<int>(number(&info, "texCoord", 0.0)),
-                     transform, color_data, material.name);
+        const TextureRef ref = texture_ref(specular_ext, key);
+        return layer(ref.index, ref.tex_coord, ref.transform, color_data, material.name);
     };
     material.specular_map = extension_layer("specularTexture", false);
     material.specular_color_map = extension_layer("specularColorTexture", true);

@@ -30,11 +30,20 @@ private:
     // Index in scene.textures of glTF texture `index`, decoded as sRGB colour or as linear data; throws when its
     // image is missing. Returns false (with a warning) when the texture has no image Prism can decode.
     bool texture(int index, bool color_data, uint32_t& scene_texture);
+    // glTF texture `index` decoded, without adding it to the scene; nullopt (with a warning) when it has no image
+    // Prism can decode.
+    std::optional<Texture> decode(int index, bool color_data);
     // A material's texture reference (texture, texCoord, KHR_texture_transform) as a layer; nothing when the
     // reference is absent or its image undecodable.
     // `transform` is the reference's KHR_texture_transform object, if any.
     std::optional<TextureLayer> layer(int index, int tex_coord, const tinygltf::Value* transform, bool color_data,
                                       const std::string& material_name);
+    // Scene texture `scene_texture` placed as glTF texture `index` is referenced: its sampler, texCoord, transform.
+    TextureLayer placed(uint32_t scene_texture, int index, int tex_coord, const tinygltf::Value* transform,
+                        const std::string& material_name);
+    // KHR_materials_pbrSpecularGlossiness converted to the metallic-roughness fields of `material`
+    // (gltf_spec_gloss.h): diffuse, alpha, metallic, roughness, the base-colour layer and metal_rough_map.
+    void apply_specular_glossiness(const tinygltf::Value& extension, Material& material);
 
     const tinygltf::Model& model_;
     std::string file_;
