@@ -226,6 +226,21 @@ TEST(GltfMaterialMaps, SpecularGlossinessTexturesDecideWhatMirrors) {
     EXPECT_GT(metal.g, 150);
 }
 
+// KHR_materials_unlit: the base colour texture shows as it is with no light at all, and nothing is mirrored (the
+// material's metallic factor of 1 would otherwise make it a mirror of the black sky).
+TEST(GltfMaterialMaps, UnlitMaterialShowsItsBaseColourWithoutLight) {
+    std::string image = test::write_test_png("unlit.png", 2, 2, {kRed, kGreen, kRed, kGreen});
+    GltfBuilder gltf;
+    add_textures(gltf, {image});
+    gltf.document["materials"] = json::array({{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}},
+                                               {"extensions", {{"KHR_materials_unlit", json::object()}}}}});
+    gltf.document["extensionsUsed"] = {"KHR_materials_unlit"};
+    gltf.node({{"mesh", textured_quad(gltf)}});
+    test::ProbeImage image_out = test::render_gltf(gltf.write("unlit.gltf"), no_light);
+    EXPECT_TRUE(is_red(at_world(image_out, -0.5f, 0.0f)));
+    EXPECT_TRUE(is_green(at_world(image_out, 0.5f, 0.0f)));
+}
+
 // Occlusion darkens the ambient term only: under ambient light alone, the occluded half is black.
 TEST(GltfMaterialMaps, OcclusionTextureDarkensTheAmbientTerm) {
     std::string image = test::write_test_png("occlusion.png", 2, 2, {kBlack, kWhite, kBlack, kWhite});

@@ -107,6 +107,26 @@ void set_specular_fresnel(Material& material, float ior, float k) {
     material.fresnel_scale = (1.0f - f0) * k;
 }
 
+// KHR_materials_unlit (scans and baked-lighting assets): the surface shows its base colour (times the base colour
+// texture) whatever lights it, and reflects nothing. In the seed's model that is an emitter without diffuse or
+// specular terms; the base colour layer stays in the texture stack for its alpha (cut-outs, blending). COLOR_0 is
+// not applied to the emission.
+void make_unlit(Material& material, glm::vec4 base) {
+    material.emissive = glm::vec3(base);
+    material.emissive_map.reset();
+    if (!material.textures.empty()) material.emissive_map = material.textures.front();
+    material.diffuse = glm::vec3(0.0f);
+    material.metallic = 0.0f;
+    material.reflectivity = 0.0f;
+    material.transmittance = 0.0f;
+    material.metal_rough_map.reset();
+    material.normal_map.reset();
+    material.occlusion_map.reset();
+    material.specular_map.reset();
+    material.specular_color_map.reset();
+    set_specular_fresnel(material, 1.5f, 0.0f);  // a Fresnel term of 0: no reflection at any angle
+}
+
 TextureWrap wrap_mode(int gl_wrap) {
     switch (gl_wrap) {
         case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return TextureWrap::ClampToEdge;
@@ -358,6 +378,7 @@ Material MaterialConverter::convert(int index) {
     float emissive_strength = static_cast<float>(
         number(extension(source.extensions, "KHR_materials_emissive_strength"), "emissiveStrength", 1.0));
     material.emissive = first3(source.emissiveFactor, glm::vec3(0.0f)) * emissive_strength;
+    if (extension(source.extensions, "KHR_materials_unlit")) make_unlit(material, base);
     return material;
 }
 
