@@ -25,12 +25,14 @@ double number(const tinygltf::Value* object, const char* key, double fallback) {
     return value.IsNumber() ? value.GetNumberAsDouble() : fallback;
 }
 
-glm::vec3 vec3_of(const tinygltf::Value* object, const char* key, glm::vec3 fallback) {
+// An array of N numbers under `key`, or `fallback` when it is missing, shorter or not all numbers.
+template <int N>
+glm::vec<N, float> vector_of(const tinygltf::Value* object, const char* key, glm::vec<N, float> fallback) {
     if (!object || !object->IsObject() || !object->Has(key)) return fallback;
     const tinygltf::Value& value = object->Get(key);
-    if (!value.IsArray() || value.ArrayLen() < 3) return fallback;
-    glm::vec3 result;
-    for (int i = 0; i < 3; ++i) {
+    if (!value.IsArray() || value.ArrayLen() < N) return fallback;
+    glm::vec<N, float> result;
+    for (int i = 0; i < N; ++i) {
         if (!value.Get(i).IsNumber()) return fallback;
         result[i] = static_cast<float>(value.Get(i).GetNumberAsDouble());
     }
@@ -38,11 +40,20 @@ glm::vec3 vec3_of(const tinygltf::Value* object, const char* key, glm::vec3 fall
 }
 
 glm::vec2 vec2_of(const tinygltf::Value* object, const char* key, glm::vec2 fallback) {
-    if (!object || !object->IsObject() || !object->Has(key)) return fallback;
-    const tinygltf::Value& value = object->Get(key);
-    if (!value.IsArray() || value.ArrayLen() < 2 || !value.Get(0).IsNumber() || !value.Get(1).IsNumber())
-        return fallback;
-    return {static_cast<float>(value.Get(0).GetNumberAsDouble()), static_cast<float>(value.Get(1).GetNumberAsDouble())};
+    return vector_of<2>(object, key, fallback);
+}
+glm::vec3 vec3_of(const tinygltf::Value* object, const char* key, glm::vec3 fallback) {
+    return vector_of<3>(object, key, fallback);
+}
+glm::vec4 vec4_of(const tinygltf::Value* object, const char* key, glm::vec4 fallback) {
+    return vector_of<4>(object, key, fallback);
+}
+
+// An index or count under `key` as an int: `fallback` when missing, -1 when it is no integer in int's range (a
+// cast of 1e300 to int is undefined).
+int int_of(const tinygltf::Value* object, const char* key, int fallback) {
+    const double value = number(object, key, double(fallback));
+    return value >= double(INT32_MIN) && value <= double(INT32_MAX) && value == std::floor(value) ? int(value) : -1;
 }
 
 glm::vec3 first3(const std::vector<double>& values, glm::vec3 fallback) {
@@ -78,24 +89,12 @@ TextureRef texture_ref(const tinygltf::Value* object, const char* key) {
     TextureRef ref;
     if (!object || !object->IsObject() || !object->Has(key)) return ref;
     const tinygltf::Value& info = object->Get(key);
-    ref.index = static_cast<int>(number(&info, "index", -1.0));
-    ref.tex_coord = static_cast<int>(number(&info, "texCoord", 0.0));
+    ref.index = int_of(&info, "index", -1);
+    ref.tex_coord = std::max(0, int_of(&info, "texCoord", 0));
     if (info.IsObject() && info.Has("extensions") && info.Get("extensions").IsObject() &&
         info.Get("extensions").Has("KHR_texture_transform"))
         ref.transform = &info.Get("extensions").Get("KHR_texture_transform");
     return ref;
-}
-
-glm::vec4 vec4_of(const tinygltf::Value* object, const char* key, glm::vec4 fallback) {
-    if (!object || !object->IsObject() || !object->Has(key)) return fallback;
-    const tinygltf::Value& value = object->Get(key);
-    if (!value.IsArray() || value.ArrayLen() < 4) return fallback;
-    glm::vec4 result;
-    for (int i = 0; i < 4; ++i) {
-        if (!value.Get(i).IsNumber()) return fallback;
-        result[i] = static_cast<float>(value.Get(i).GetNumberAsDouble());
-    }
-    return result;
 }
 
 // KHR_materials_specular's Fresnel: specularFactor k scales the whole Schlick term,

@@ -4,6 +4,7 @@
 #include <tiny_gltf.h>
 
 #include <cmath>
+#include <optional>
 
 #include "core/loaders/gltf_compression_json.h"
 #include "core/util/error.h"
@@ -28,8 +29,6 @@ struct Reader {
     const tinygltf::Value& object;
     std::string what;
     const std::string& file;
-
-    bool has(const char* key) const { return object.Has(key); }
 
     size_t number(const char* key, std::optional<size_t> fallback) const {
         if (!object.Has(key)) {
@@ -129,9 +128,8 @@ void decode_meshopt_buffer_views(tinygltf::Model& model, const std::string& file
             status = meshopt_decodeIndexSequence(decoded.data.data(), count, stride, bytes, length);
         if (status != 0)
             throw file_error(file, read.what + ": its " + mode + " data do not decode (meshoptimizer error " +
-                                       std::to_string(status) + ": corrupt, or a codec version newer than " +
-                                       std::to_string(MESHOPTIMIZER_VERSION / 100) + "." +
-                                       std::to_string(MESHOPTIMIZER_VERSION % 100) + " reads)");
+                                       std::to_string(status) + ": corrupt, or encoded by a newer codec than " +
+                                       "meshoptimizer 0." + std::to_string(MESHOPTIMIZER_VERSION / 10) + " reads)");
         if (filter == "OCTAHEDRAL") meshopt_decodeFilterOct(decoded.data.data(), count, stride);
         if (filter == "QUATERNION") meshopt_decodeFilterQuat(decoded.data.data(), count, stride);
         if (filter == "EXPONENTIAL") meshopt_decodeFilterExp(decoded.data.data(), count, stride);
