@@ -139,18 +139,25 @@ RT_FUNC TriangleHits4 rt_intersect_triangles4(TriangleBlock tri, float3 origin, 
     float4 qy = sz * tri.e1x - sx * tri.e1z;
     float4 qz = sx * tri.e1y - sy * tri.e1x;
     hits.v = (dx * qx + dy * qy + dz * qz) * inv_det;
-    uint nonzero = rt_mask_lt4(det, zero) | rt_mask_lt4(zero, det);
     float4 low = zero - slack;
     float4 high = one + slack;
-    uint inside = rt_mask_le4(low, hits.u) & rt_mask_le4(hits.u, high) & rt_mask_le4(low, hits.v) &
-                  rt_mask_le4(hits.u + hits.v, high);
-    uint exact = rt_mask_le4(zero, hits.u) & rt_mask_le4(zero, hits.v) & rt_mask_le4(hits.u + hits.v, one);
     hits.t = (tri.e2x * qx + tri.e2y * qy + tri.e2z * qz) * inv_det;
     hits.t_slack = hits.t * rt_splat4(RT_SLACK_FARTHER);
-    hits.exact = exact;
-    uint in_range = rt_mask_lt4(rt_splat4(tmin), hits.t) & rt_mask_lt4(hits.t, rt_splat4(tmax));
-    uint in_range_slack = rt_mask_lt4(rt_splat4(tmin), hits.t_slack) & rt_mask_lt4(hits.t_slack, rt_splat4(tmax));
-    hits.mask = nonzero & inside & ((exact & in_range) | (~exact & in_range_slack));
+    float4 uv = hits.u + hits.v;
+    // The verdicts combine as lane masks (vector registers on the cpu backend) and become bits twice, not once per
+    // comparison (docs/kernels.md, "The wide layout", has the gain).
+    rt_lanes4 nonzero = rt_or_lanes4(rt_lt_lanes4(det, zero), rt_lt_lanes4(zero, det));
+    rt_lanes4 inside = rt_and_lanes4(rt_and_lanes4(rt_le_lanes4(low, hits.u), rt_le_lanes4(hits.u, high)),
+                                     rt_and_lanes4(rt_le_lanes4(low, hits.v), rt_le_lanes4(uv, high)));
+    rt_lanes4 exact =
+        rt_and_lanes4(rt_and_lanes4(rt_le_lanes4(zero, hits.u), rt_le_lanes4(zero, hits.v)), rt_le_lanes4(uv, one));
+    rt_lanes4 in_range = rt_and_lanes4(rt_lt_lanes4(rt_splat4(tmin), hits.t), rt_lt_lanes4(hits.t, rt_splat4(tmax)));
+    rt_lanes4 in_range_slack =
+        rt_and_lanes4(rt_lt_lanes4(rt_splat4(tmin), hits.t_slack), rt_lt_lanes4(hits.t_slack, rt_splat4(tmax)));
+    hits.exact = rt_lane_bits4(exact);
+    hits.mask = rt_lane_bits4(
+        rt_and_lanes4(rt_and_lanes4(nonzero, inside),
+                      rt_or_lanes4(rt_and_lanes4(exact, in_range), rt_andnot_lanes4(exact, in_range_slack))));
     return hits;
 }
 

@@ -119,6 +119,15 @@ RT_FUNC float4 rt_max4(float4 a, float4 b) { return rt_from_sse(_mm_max_ps(rt_ss
 RT_FUNC float4 rt_abs4(float4 a) { return rt_from_sse(_mm_andnot_ps(_mm_set1_ps(-0.0f), rt_sse(a))); }
 RT_FUNC uint rt_mask_le4(float4 a, float4 b) { return uint(_mm_movemask_ps(_mm_cmple_ps(rt_sse(a), rt_sse(b)))); }
 RT_FUNC uint rt_mask_lt4(float4 a, float4 b) { return uint(_mm_movemask_ps(_mm_cmplt_ps(rt_sse(a), rt_sse(b)))); }
+// A lane mask held as a comparison result (all ones or zeros per lane) while several combine, turned into bits
+// once (rt_lane_bits4): the four-triangle test combines thirteen comparisons into two masks.
+typedef __m128 rt_lanes4;
+RT_FUNC rt_lanes4 rt_lt_lanes4(float4 a, float4 b) { return _mm_cmplt_ps(rt_sse(a), rt_sse(b)); }
+RT_FUNC rt_lanes4 rt_le_lanes4(float4 a, float4 b) { return _mm_cmple_ps(rt_sse(a), rt_sse(b)); }
+RT_FUNC rt_lanes4 rt_and_lanes4(rt_lanes4 a, rt_lanes4 b) { return _mm_and_ps(a, b); }
+RT_FUNC rt_lanes4 rt_or_lanes4(rt_lanes4 a, rt_lanes4 b) { return _mm_or_ps(a, b); }
+RT_FUNC rt_lanes4 rt_andnot_lanes4(rt_lanes4 a, rt_lanes4 b) { return _mm_andnot_ps(a, b); }
+RT_FUNC uint rt_lane_bits4(rt_lanes4 m) { return uint(_mm_movemask_ps(m)); }
 #else
 RT_FUNC float4 operator+(float4 a, float4 b) { return {a.x + b.x, a.y + b.y, a.z + b.z, a.w + b.w}; }
 RT_FUNC float4 operator-(float4 a, float4 b) { return {a.x - b.x, a.y - b.y, a.z - b.z, a.w - b.w}; }
@@ -137,6 +146,14 @@ RT_FUNC uint rt_mask_le4(float4 a, float4 b) {
 RT_FUNC uint rt_mask_lt4(float4 a, float4 b) {
     return (a.x < b.x ? 1u : 0u) | (a.y < b.y ? 2u : 0u) | (a.z < b.z ? 4u : 0u) | (a.w < b.w ? 8u : 0u);
 }
+// Lane masks kept as bits (bit k: lane k), for code that combines several comparisons before it needs the bits.
+typedef uint rt_lanes4;
+RT_FUNC uint rt_lt_lanes4(float4 a, float4 b) { return rt_mask_lt4(a, b); }
+RT_FUNC uint rt_le_lanes4(float4 a, float4 b) { return rt_mask_le4(a, b); }
+RT_FUNC uint rt_and_lanes4(uint a, uint b) { return a & b; }
+RT_FUNC uint rt_or_lanes4(uint a, uint b) { return a | b; }
+RT_FUNC uint rt_andnot_lanes4(uint a, uint b) { return ~a & b; }
+RT_FUNC uint rt_lane_bits4(uint m) { return m; }
 #endif
 RT_FUNC float rt_lane(float4 v, uint k) {
     float lanes[4];

@@ -37,6 +37,14 @@ uint rt_mask_le4(vec4 a, vec4 b) {
 uint rt_mask_lt4(vec4 a, vec4 b) {
     return (a.x < b.x ? 1u : 0u) | (a.y < b.y ? 2u : 0u) | (a.z < b.z ? 4u : 0u) | (a.w < b.w ? 8u : 0u);
 }
+// Lane masks kept as bits (bit k: lane k), for code that combines several comparisons before it needs the bits.
+#define rt_lanes4 uint
+uint rt_lt_lanes4(vec4 a, vec4 b) { return rt_mask_lt4(a, b); }
+uint rt_le_lanes4(vec4 a, vec4 b) { return rt_mask_le4(a, b); }
+uint rt_and_lanes4(uint a, uint b) { return a & b; }
+uint rt_or_lanes4(uint a, uint b) { return a | b; }
+uint rt_andnot_lanes4(uint a, uint b) { return ~a & b; }
+uint rt_lane_bits4(uint m) { return m; }
 #define rt_lane(v, k) ((v)[(k)])
 #define rt_lane_u(v, k) ((v)[(k)])
 struct rt_float8 {
