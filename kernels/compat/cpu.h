@@ -146,14 +146,7 @@ RT_FUNC uint rt_mask_le4(float4 a, float4 b) {
 RT_FUNC uint rt_mask_lt4(float4 a, float4 b) {
     return (a.x < b.x ? 1u : 0u) | (a.y < b.y ? 2u : 0u) | (a.z < b.z ? 4u : 0u) | (a.w < b.w ? 8u : 0u);
 }
-// Lane masks kept as bits (bit k: lane k), for code that combines several comparisons before it needs the bits.
-typedef uint rt_lanes4;
-RT_FUNC uint rt_lt_lanes4(float4 a, float4 b) { return rt_mask_lt4(a, b); }
-RT_FUNC uint rt_le_lanes4(float4 a, float4 b) { return rt_mask_le4(a, b); }
-RT_FUNC uint rt_and_lanes4(uint a, uint b) { return a & b; }
-RT_FUNC uint rt_or_lanes4(uint a, uint b) { return a | b; }
-RT_FUNC uint rt_andnot_lanes4(uint a, uint b) { return ~a & b; }
-RT_FUNC uint rt_lane_bits4(uint m) { return m; }
+#include "lane_bits.h"
 #endif
 RT_FUNC float rt_lane(float4 v, uint k) {
     float lanes[4];
