@@ -2,8 +2,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/loaders/glb_container.h"
-
 namespace prism {
 namespace {
 
@@ -51,22 +49,15 @@ bool drop_draco_indices(nlohmann::json& document) {
 
 }  // namespace
 
-std::optional<std::string> gltf_ready_for_decompression(std::string_view bytes, bool binary) {
-    std::optional<GlbParts> glb;
-    if (binary && !(glb = split_glb(bytes))) return std::nullopt;
-    const std::string_view json_text = binary ? glb->json : bytes;
-    // A cheap look first: most files are not compressed.
-    if (json_text.find("_meshopt_compression\"") == std::string_view::npos &&
-        json_text.find(kDracoExtension) == std::string_view::npos)
-        return std::nullopt;
-    nlohmann::json document = nlohmann::json::parse(json_text, nullptr, false);
-    if (document.is_discarded() || !document.is_object()) return std::nullopt;
+bool mentions_compression(std::string_view json_text) {
+    return json_text.find("_meshopt_compression\"") != std::string_view::npos ||
+           json_text.find(kDracoExtension) != std::string_view::npos;
+}
+
+bool prepare_for_decompression(nlohmann::json& document) {
     const bool emptied = empty_meshopt_fallbacks(document);
     const bool dropped = drop_draco_indices(document);
-    if (!emptied && !dropped) return std::nullopt;
-    std::string json = document.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-    if (!binary) return json;
-    return join_glb(glb->header, json, glb->rest);
+    return emptied || dropped;
 }
 
 }  // namespace prism

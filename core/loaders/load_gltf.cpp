@@ -1,6 +1,7 @@
 #include "core/loaders/load_gltf.h"
 
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -9,6 +10,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
 #include "core/util/error.h"
@@ -131,6 +133,19 @@ bool write_nothing(std::string* error, const std::string&, const std::vector<uns
 
 // The JSON text of a .gltf, or of a .glb's first chunk.
 std::string_view json_text(std::string_view bytes, bool binary) { return binary ? glb_first_chunk(bytes) : bytes; }
+
+// `bytes` (a .gltf, or a .glb when `binary`) with its JSON changed by `edit`, which says whether it changed anything;
+// nullopt when nothing changed, the JSON does not parse or the container is broken (tinygltf then reports).
+std::optional<std::string> with_json_edited(std::string_view bytes, bool binary,
+                                            const std::function<bool(nlohmann::json&)>& edit) {
+    std::optional<GlbParts> glb;
+    if (binary && !(glb = split_glb(bytes))) return std::nullopt;
+    nlohmann::json document = nlohmann::json::parse(binary ? glb->json : bytes, nullptr, false);
+    if (document.is_discarded() || !document.is_object() || !edit(document)) return std::nullopt;
+    std::string json = document.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    if (!binary) return json;
+    return join_glb(glb->header, json, glb->rest);
+}
 
 // Deeper JSON than this is refused before tinygltf, which recurses once per level; real files nest about 8 deep.
 constexpr size_t kMaxJsonDepth = 64;
@@ -465,12 +480,16 @@ void load_gltf(const std::filesystem::path& path, Scene& scene) {
     if (bytes.size() > UINT32_MAX) throw file_error(file, "larger than 4 GiB, more than glTF allows");
     if (json_nesting_depth(json_text(bytes, binary)) > kMaxJsonDepth)
         throw file_error(file, "JSON nests deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+    // What tinygltf 2.7 would refuse is taken out of the JSON first, in one parse and one rewrite for every edit.
     bool had_animations = false;
-    if (std::optional<RestPoseGltf> rest_pose = gltf_without_animation(bytes, binary)) {
-        bytes = std::move(rest_pose->bytes);
-        had_animations = rest_pose->had_animations;
-    }
-    if (std::optional<std::string> ready = gltf_ready_for_decompression(bytes, binary)) bytes = std::move(*ready);
+    if (const std::string_view json = json_text(bytes, binary); mentions_animation(json) || mentions_compression(json))
+        if (std::optional<std::string> rewritten = with_json_edited(bytes, binary, [&](nlohmann::json& document) {
+                const RestPoseEdit rest_pose = remove_animation(document);
+                had_animations = rest_pose.had_animations;
+                const bool prepared = prepare_for_decompression(document);
+                return rest_pose.changed || prepared;
+            }))
+            bytes = std::move(*rewritten);
     // The GLB spec pads the JSON chunk to 4 bytes and tinygltf insists; some exporters (trimesh's, for one) did not
     // pad, and other viewers read those files. The chunk is padded here, with a warning.
     bool padded_json = false;
