@@ -19,6 +19,7 @@
 #include <zlib.h>
 
 #include "core/image/image_io.h"
+#include "core/loaders/glb_container.h"
 #include "core/loaders/load_ply.h"
 #include "fuzz/fuzz_support.h"
 #include "tests/gltf_compressed.h"
@@ -246,15 +247,14 @@ std::string base64(std::string_view bytes) {
     return out;
 }
 
-// A .glb of a JSON chunk and a BIN chunk (buffer 0 without a uri).
-std::string glb_with_bin(const std::string& json_text, std::string bin) {
-    std::string chunk = json_text;
-    while (chunk.size() % 4) chunk += ' ';
-    while (bin.size() % 4) bin += '\0';
-    const uint32_t length = uint32_t(12 + 8 + chunk.size() + 8 + bin.size());
-    return "glTF" + prism::test::little_endian32(2) + prism::test::little_endian32(length) +
-           prism::test::little_endian32(uint32_t(chunk.size())) + "JSON" + chunk +
-           prism::test::little_endian32(uint32_t(bin.size())) + std::string("BIN\0", 4) + bin;
+// A .glb of a JSON chunk and, when `bin` is not empty, a BIN chunk (buffer 0 without a uri).
+std::string glb_of(const std::string& json_text, std::string bin = "") {
+    std::string bin_chunk;
+    if (!bin.empty()) {
+        while (bin.size() % 4) bin += '\0';
+        bin_chunk = prism::test::little_endian32(uint32_t(bin.size())) + std::string("BIN\0", 4) + bin;
+    }
+    return prism::join_glb("glTF" + prism::test::little_endian32(2), json_text, bin_chunk).value();
 }
 
 // Draco and meshopt files as the encoders make them from a patch of the bunny, with the compressed bytes as the
@@ -272,7 +272,7 @@ void compressed_gltf_seeds(const fs::path& scenes, SeedWriter& seeds) {
         json with_file = gltf.document;
         with_file["buffers"][0]["uri"] = "fuzz.bin";
         seeds.add("gltf", std::string(name) + ".txt", with_file.dump() + "\n#prism-fuzz-bin\n" + gltf.buffer);
-        seeds.add("glb", std::string(name) + ".glb", glb_with_bin(gltf.document.dump(), gltf.buffer));
+        seeds.add("glb", std::string(name) + ".glb", glb_of(gltf.document.dump(), gltf.buffer));
     }
 }
 
@@ -416,15 +416,6 @@ std::string deep_chain_gltf(int nodes) {
         R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
         R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}]})";
     return text;
-}
-
-std::string glb_of(const std::string& json_text) {
-    std::string chunk = json_text;
-    while (chunk.size() % 4) chunk += ' ';
-    std::string out =
-        "glTF" + prism::test::little_endian32(2) + prism::test::little_endian32(uint32_t(20 + chunk.size()));
-    out += prism::test::little_endian32(uint32_t(chunk.size())) + "JSON" + chunk;
-    return out;
 }
 
 void hostile_seeds(SeedWriter& seeds, const fs::path& scratch) {
