@@ -153,6 +153,45 @@ std::string write_ply(const prism::Mesh& mesh, PlyFormat format, bool extras) {
     return text;
 }
 
+// MeshLab's textured PLY: a TextureFile comment naming the scratch folder's tex.png, per-corner texcoord lists, a
+// texnumber per face (core/loaders/load_ply.cpp FaceLayout).
+std::string write_meshlab_ply(const prism::Mesh& mesh, PlyFormat format) {
+    const char* names[] = {"ascii", "binary_little_endian", "binary_big_endian"};
+    std::string text = "ply\nformat " + std::string(names[int(format)]) +
+                       " 1.0\ncomment VCGLIB generated\ncomment TextureFile tex.png\nelement vertex " +
+                       std::to_string(mesh.positions.size()) +
+                       "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+                       std::to_string(mesh.triangles.size()) +
+                       "\nproperty list uchar int vertex_indices\nproperty list uchar float texcoord\n"
+                       "property int texnumber\nend_header\n";
+    const bool big = format == PlyFormat::Big;
+    for (const glm::vec3& p : mesh.positions) {
+        if (format == PlyFormat::Ascii) {
+            char line[128];
+            std::snprintf(line, sizeof line, "%g %g %g\n", p.x, p.y, p.z);
+            text += line;
+        } else {
+            for (int c = 0; c < 3; ++c) put<float>(text, p[c], big);
+        }
+    }
+    for (const glm::uvec3& t : mesh.triangles) {
+        const float uv[6] = {0.0f, 0.0f, 1.0f, 0.0f, float(t.x % 7) / 7.0f, 1.0f};
+        if (format == PlyFormat::Ascii) {
+            char line[160];
+            std::snprintf(line, sizeof line, "3 %u %u %u 6 %g %g %g %g %g %g 0\n", t.x, t.y, t.z, uv[0], uv[1], uv[2],
+                          uv[3], uv[4], uv[5]);
+            text += line;
+            continue;
+        }
+        put<uint8_t>(text, 3, big);
+        for (int c = 0; c < 3; ++c) put<int32_t>(text, int32_t(t[c]), big);
+        put<uint8_t>(text, 6, big);
+        for (float value : uv) put<float>(text, value, big);
+        put<int32_t>(text, 0, big);
+    }
+    return text;
+}
+
 std::string gzip(std::string_view bytes, const fs::path& scratch) {
     const fs::path file = scratch / "seed.gz";
     gzFile out = gzopen(file.c_str(), "wb9");
@@ -171,6 +210,8 @@ void ply_seeds(const fs::path& scenes, SeedWriter& seeds, const fs::path& scratc
             seeds.add("ply", std::string("bunny-patch-") + names[int(format)] + (extras ? "-extras" : "") + ".ply",
                       write_ply(patch, format, extras));
     seeds.add("ply", "bunny-patch-ascii.ply.gz", gzip(write_ply(patch, PlyFormat::Ascii, false), scratch));
+    seeds.add("ply", "bunny-patch-meshlab-textured-ascii.ply", write_meshlab_ply(patch, PlyFormat::Ascii));
+    seeds.add("ply", "bunny-patch-meshlab-textured-le.ply", write_meshlab_ply(patch, PlyFormat::Little));
     // The real header, cut after a few body lines: the truncation paths.
     const std::string real = read_file(bunny);
     seeds.add("ply", "bunny-truncated.ply", real.substr(0, std::min<size_t>(real.size(), 2048)));

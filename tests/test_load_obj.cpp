@@ -197,6 +197,26 @@ f 1/1/1 2/2/1 3/3/1 4/4/1
     EXPECT_EQ(scene.textures[0].texels[1], 0xff00ff00u);
 }
 
+// MeshLab writes "Tr 1" (fully transparent by the MTL spec) for opaque surfaces; without a "d" it is read as opaque,
+// with a warning. "d 0" says what it means and stays transparent, and "Tr 0.5" half transparent (above).
+TEST(LoadObj, TrOneWithoutDissolveIsReadAsOpaque) {
+    const std::filesystem::path directory = test::temp_dir("obj_tr_one");
+    write_in(directory, "bottle.mtl", "newmtl label\nKd 1 1 1\nTr 1.000000\nillum 2\n\nnewmtl clear\nd 0\n");
+    const std::filesystem::path obj = write_in(directory, "bottle.obj",
+                                               "mtllib bottle.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl label\n"
+                                               "f 1 2 3\nusemtl clear\nf 1 3 2\n");
+    Scene scene = load(obj);
+    const Mesh& mesh = scene.meshes[0];
+    const Material& label = scene.materials[mesh.triangle_materials[0]];
+    const Material& clear = scene.materials[mesh.triangle_materials[1]];
+    EXPECT_EQ(label.transmittance, 0.0f);
+    EXPECT_EQ(label.fresnel_bias, 1.0f) << "opaque, not a dielectric";
+    EXPECT_FLOAT_EQ(clear.transmittance, 1.0f);
+    ASSERT_EQ(scene.warnings.size(), 1u);
+    EXPECT_EQ(scene.warnings[0],
+              obj.string() + ": material 'label': 'Tr 1' (fully transparent) read as opaque, as MeshLab writes it");
+}
+
 TEST(LoadObj, AppendsToAnExistingScene) {
     Scene scene;
     load_obj(test::scene("mcguire/cornell-box/CornellBox-Original.obj"), scene);

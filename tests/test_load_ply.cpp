@@ -14,6 +14,8 @@
 #include <zlib.h>
 
 #include "core/util/error.h"
+#include "core/image/image_io.h"
+#include "core/loaders/load_model.h"
 #include "tests/test_support.h"
 
 namespace prism {
@@ -157,7 +159,7 @@ void expect_awkward_mesh(const Mesh& mesh) {
     for (int i = 0; i < 5; ++i) {
         EXPECT_EQ(mesh.positions[i], glm::vec3(i + 0.5f, 2.0f * i, -1.0f * i)) << i;
         EXPECT_NEAR(mesh.uv0[i].x, 0.1f * i, 1e-6f);
-        EXPECT_NEAR(mesh.uv0[i].y, 1.0f - 0.1f * i, 1e-6f);
+        EXPECT_NEAR(mesh.uv0[i].y, 0.1f * i, 1e-6f) << "v = 1 - 0.1 i grows upward; meshes keep glTF's v";
     }
     ASSERT_EQ(mesh.normals.size(), 5u);
     EXPECT_EQ(mesh.normals[3], glm::vec3(0, 0, 1));
@@ -358,6 +360,98 @@ TEST(LoadPly, UnknownHeaderLineBeforeTheFirstElementIsAComment) {
         test::write_file("unknown_after_element.ply", "ply\nformat ascii 1.0\nelement vertex 3\nCreated by someone\n" +
                                                           rest.substr(rest.find("property"))),
         ":4: unknown PLY header keyword 'Created'");
+}
+
+// VCGlib (MeshLab) wrote a face's colour as ten values where its header declares four (trimesh's fuze_ascii.ply):
+// a line's values past the header's properties are skipped, and the load says how many lines had them. A line with
+// too few values is an error on that line, not a read of the next line's values.
+TEST(LoadPly, ExtraValuesAtTheEndOfAnAsciiLineAreSkippedWithAWarning) {
+    const std::string header =
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 2\nproperty list uchar int vertex_indices\nproperty list uchar float texcoord\n"
+        "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n"
+        "element edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n";
+    const std::string body =
+        "0 0 0\n1 0 0 7\n1 1 0\n0 1 0\t\n"
+        "3 0 1 2 6 0 0 1 0 1 1 9 1 1 1 1 1 1 1 1 1\n\n"
+        "3 0 2 3 0 255 255 255 255  \r\n"
+        "0 1 one two\n";
+    PlyDetails details;
+    Mesh mesh = load_ply(test::write_file("extra_values.ply", header + body), &details);
+    ASSERT_EQ(mesh.triangles.size(), 2u);
+    auto corner = [&](size_t t, int k) { return mesh.positions.at(mesh.triangles[t][k]); };
+    EXPECT_EQ(corner(0, 1), glm::vec3(1, 0, 0));
+    EXPECT_EQ(corner(0, 2), glm::vec3(1, 1, 0));
+    EXPECT_EQ(corner(1, 2), glm::vec3(0, 1, 0));
+    // The first face's coordinates, v flipped; the second face's empty list reads as (0, 0).
+    EXPECT_EQ(mesh.uv0.at(mesh.triangles[0][2]), glm::vec2(1, 0));
+    EXPECT_EQ(mesh.uv0.at(mesh.triangles[1][1]), glm::vec2(0, 0));
+    const std::string file = (test::temp_dir("files") / "extra_values.ply").string();
+    EXPECT_EQ(
+        details.warnings,
+        (std::vector<std::string>{file + ": 1 of 4 vertex lines carry more values than the header declares (ignored)",
+                                  file + ": 1 of 2 face lines carry more values than the header declares (ignored)",
+                                  file + ": 1 of 1 edge lines carry more values than the header declares (ignored)"}));
+    // A line short of the header's values fails on that line.
+    expect_error_naming(
+        test::write_file("short_line.ply", header + "0 0 0\n1 0\n1 1 0\n0 1 0\n" + body.substr(body.find("3 0 1 2"))),
+        ":19: vertex 1 line ends before the values its header declares");
+}
+
+// MeshLab's textured PLY: "comment TextureFile <name>" lines (a name may hold spaces), per-corner "texcoord" lists
+// and a per-face "texnumber". Seams split vertices; each texture used becomes a material showing it.
+TEST(LoadPly, MeshLabTexturesCornerCoordinatesAndTextureNumbers) {
+    const std::filesystem::path directory = test::temp_dir("ply_meshlab");
+    write_png(directory / "red wall.png", 1, 1, std::vector<uint32_t>{0xff0000ffu});
+    write_png(directory / "green.png", 1, 1, std::vector<uint32_t>{0xff00ff00u});
+    auto ply = [](const std::string& faces) {
+        return "ply\nformat ascii 1.0\ncomment VCGLIB generated\ncomment TextureFile red wall.png \n"
+               "comment texturefile green.png\nelement vertex 4\nproperty float x\nproperty float y\n"
+               "property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
+               "element face 2\nproperty list uchar int vertex_indices\nproperty list uchar float texcoord\n"
+               "property int texnumber\nend_header\n0 0 0 9 9 9\n1 0 0 9 9 9\n1 1 0 9 9 9\n0 1 0 9 9 9\n" +
+               faces;
+    };
+    const std::filesystem::path path = directory / "quad.ply";
+    std::ofstream(path) << ply("3 0 1 2 6 0 0 1 0 1 1 1\n3 0 2 3 6 0.5 0 1 1 0 1 0\n");
+    Scene scene;
+    load_model(path, scene);
+    ASSERT_EQ(scene.meshes.size(), 1u);
+    const Mesh& mesh = scene.meshes[0];
+    ASSERT_EQ(mesh.triangles.size(), 2u);
+    // Vertex 0 has other coordinates in the second face, vertex 2 the same in both: 4 + 1 vertices.
+    EXPECT_EQ(mesh.positions.size(), 5u);
+    EXPECT_EQ(mesh.uv0.size(), 5u);
+    EXPECT_EQ(mesh.normals.size(), 5u);
+    EXPECT_EQ(mesh.triangles[0][2], mesh.triangles[1][1]);
+    EXPECT_EQ(mesh.normals[mesh.triangles[1][0]], glm::vec3(0, 0, 1));
+    EXPECT_EQ(mesh.uv0[mesh.triangles[0][2]], glm::vec2(1, 0));
+    EXPECT_EQ(mesh.uv0[mesh.triangles[1][0]], glm::vec2(0.5f, 1));
+    EXPECT_EQ(mesh.positions[mesh.triangles[1][0]], glm::vec3(0, 0, 0));
+    // texnumber 1 (green) is used first, then 0 (red wall): a material each, in first use.
+    ASSERT_EQ(scene.materials.size(), 2u);
+    ASSERT_EQ(scene.textures.size(), 2u);
+    EXPECT_EQ(mesh.triangle_materials, (std::vector<uint32_t>{0, 1}));
+    EXPECT_EQ(scene.materials[0].name, "green.png");
+    EXPECT_EQ(scene.materials[1].name, "red wall.png");
+    EXPECT_FALSE(scene.materials[1].use_vertex_colors) << "the texture is the colour, not times the grey";
+    ASSERT_EQ(scene.materials[1].textures.size(), 1u);
+    EXPECT_EQ(scene.textures[scene.materials[1].textures[0].texture].texels[0], 0xff0000ffu);
+
+    auto load_error = [&](const std::string& faces) {
+        std::ofstream(path) << ply(faces);
+        return error_message([&] {
+            Scene broken;
+            load_model(path, broken);
+        });
+    };
+    EXPECT_EQ(load_error("3 0 1 2 6 0 0 1 0 1 1 2\n3 0 2 3 6 0 0 1 1 0 1 0\n"),
+              path.string() + ":22: face 0 has texnumber 2 but the header names 2 texture files");
+    EXPECT_EQ(load_error("3 0 1 2 6 0 0 1 0 1 1 0\n3 0 2 3 4 0 0 1 1 0\n"),
+              path.string() + ":23: face 1 has 4 texcoord values for 3 corners");
+    std::filesystem::remove(directory / "green.png");
+    EXPECT_EQ(load_error("3 0 1 2 6 0 0 1 0 1 1 0\n3 0 2 3 6 0 0 1 1 0 1 1\n"),
+              path.string() + ": texture 'green.png' not found");
 }
 
 TEST(LoadPlyErrors, MalformedHeaderAndBody) {

@@ -6,7 +6,6 @@
 #include "core/loaders/load_gltf.h"
 #include "core/loaders/load_obj.h"
 #include "core/loaders/load_ply.h"
-#include "core/scene/seed_material.h"
 
 namespace prism {
 namespace {
@@ -31,18 +30,7 @@ void load_model(const std::filesystem::path& path, Scene& scene) {
     switch (model_format(path)) {
         case ModelFormat::Gltf: load_gltf(path, scene); return;
         case ModelFormat::Obj: load_obj(path, scene); return;
-        case ModelFormat::Ply: {
-            Mesh mesh = load_ply(path);
-            scene.materials.push_back(default_material());
-            mesh.triangle_materials.assign(mesh.triangles.size(), static_cast<uint32_t>(scene.materials.size() - 1));
-            if (mesh.name.empty()) mesh.name = path.filename().string();
-            scene.meshes.push_back(std::move(mesh));
-            Instance instance;
-            instance.mesh = static_cast<uint32_t>(scene.meshes.size() - 1);
-            instance.name = path.filename().string();
-            scene.instances.push_back(std::move(instance));
-            return;
-        }
+        case ModelFormat::Ply: add_ply_model(path, scene); return;
         default: throw file_error(path.string(), "unsupported scene format");
     }
 }

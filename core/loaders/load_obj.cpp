@@ -21,7 +21,7 @@
 #include "core/util/input_file.h"
 #include "core/loaders/obj_text.h"
 #include "core/loaders/obj_values.h"
-#include "core/util/scene_read_rules.h"
+#include "core/loaders/referenced_file.h"
 #include "core/util/text_encoding.h"
 
 namespace prism {
@@ -39,6 +39,7 @@ std::string trim(std::string_view text) {
 struct MaterialOrigins {
     std::vector<std::filesystem::path> mtl_file;  // per tinyobj material index
     std::set<std::string> names_with_ior;
+    std::set<std::string> names_with_dissolve;  // materials with a "d" statement
     std::vector<std::string> warnings;
 };
 
@@ -55,16 +56,6 @@ void add_warnings(const std::string& file, const std::string& text, std::vector<
     }
 }
 
-// find_file_case_insensitive finds regular files only; a FIFO or device under the exact name is refused as
-// what it is (after the folder rule), not reported missing.
-void refuse_if_not_regular(const std::string& referring_file, const std::string& name,
-                           const std::filesystem::path& path) {
-    std::error_code error;
-    if (!std::filesystem::exists(path, error)) return;
-    check_scene_reference(referring_file, name, path);
-    require_regular_file(path);
-}
-
 // tinyobjloader's own file reader wants exact names and one search folder; real MTL references are neither.
 class CaseInsensitiveMaterialReader : public tinyobj::MaterialReader {
 public:
@@ -73,16 +64,14 @@ public:
 
     bool operator()(const std::string& mtl_name, std::vector<tinyobj::material_t>* materials,
                     std::map<std::string, int>* name_to_index, std::string* warnings, std::string*) override {
-        const std::filesystem::path path = find_file_case_insensitive(obj_directory_, trim(mtl_name));
-        if (path.empty()) refuse_if_not_regular(obj_file_, trim(mtl_name), obj_directory_ / trim(mtl_name));
+        // Exceptions pass through tinyobjloader to load_obj's caller: a refused file is an error, not a warning.
+        const std::filesystem::path path = find_referenced_file(obj_file_, trim(mtl_name), obj_directory_);
         if (path.empty()) {
             *warnings += "material library '" + shorten(mtl_name) + "' not found\n";
             return false;
         }
-        // Exceptions pass through tinyobjloader to load_obj's caller: a refused file is an error, not a warning.
-        check_scene_reference(obj_file_, trim(mtl_name), path);
         std::stringstream text(utf8_text(read_input_file(path)));
-        note_ior_statements(text.str());
+        note_statements(text.str());
         std::string mtl_warnings;
         tinyobj::LoadMtl(name_to_index, materials, &text, &mtl_warnings, nullptr);
         add_warnings(path.string(), mtl_warnings, origins_.warnings);
@@ -91,7 +80,8 @@ public:
     }
 
 private:
-    void note_ior_statements(const std::string& text) {
+    // Which materials state an IOR ("Ni") and a dissolve ("d"): tinyobjloader's defaults do not say.
+    void note_statements(const std::string& text) {
         std::istringstream lines(text);
         std::string line, current;
         while (std::getline(lines, line)) {
@@ -100,6 +90,8 @@ private:
                 current = trim(std::string_view(statement).substr(7));
             else if (statement.rfind("Ni", 0) == 0 && statement.size() > 2 && std::isspace(statement[2]))
                 origins_.names_with_ior.insert(current);
+            else if (statement.rfind("d", 0) == 0 && statement.size() > 1 && std::isspace(statement[1]))
+                origins_.names_with_dissolve.insert(current);
         }
     }
 
@@ -112,7 +104,7 @@ glm::vec3 vec3_of(const tinyobj::real_t* values) { return glm::vec3(values[0], v
 
 float largest_component(glm::vec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
 
-Material convert_material(const tinyobj::material_t& source, bool has_ior) {
+Material convert_material(const tinyobj::material_t& source, bool has_ior, bool fully_transparent_means_opaque) {
     Material material;
     material.name = source.name;
     material.diffuse = vec3_of(source.diffuse);
@@ -122,7 +114,8 @@ Material convert_material(const tinyobj::material_t& source, bool has_ior) {
     if (source.illum == 3 || source.illum == 5 || source.illum == 7)
         material.reflectivity = std::clamp(largest_component(material.specular), 0.0f, 1.0f);
     // tinyobjloader folds "Tr" into dissolve (d wins when both are given).
-    const float dissolve = std::clamp(static_cast<float>(source.dissolve), 0.0f, 1.0f);
+    float dissolve = std::clamp(static_cast<float>(source.dissolve), 0.0f, 1.0f);
+    if (fully_transparent_means_opaque && dissolve == 0.0f) dissolve = 1.0f;
     if (dissolve < 1.0f) {
         material.transmittance = 1.0f - dissolve;
         const glm::vec3 filter = vec3_of(source.transmittance);
@@ -186,18 +179,21 @@ void load_obj(const std::filesystem::path& path, Scene& scene) {
     std::map<std::filesystem::path, uint32_t> texture_by_file;
     for (size_t i = 0; i < obj_materials.size(); ++i) {
         const tinyobj::material_t& source = obj_materials[i];
-        Material material = convert_material(source, origins.names_with_ior.count(source.name) > 0);
+        // "Tr 1" without "d" is fully transparent by the MTL spec, but MeshLab and other exporters write it for
+        // opaque surfaces (trimesh's fuze.obj: a textured bottle drawn as clear glass). A material nobody would see
+        // is read as the opaque one meant, with a warning.
+        const bool tr_means_opaque = source.dissolve <= 0.0 && origins.names_with_dissolve.count(source.name) == 0;
+        if (tr_means_opaque)
+            scene.warnings.push_back(file + ": material '" + source.name +
+                                     "': 'Tr 1' (fully transparent) read as opaque, as MeshLab writes it");
+        Material material = convert_material(source, origins.names_with_ior.count(source.name) > 0, tr_means_opaque);
         if (!source.diffuse_texname.empty()) {
             const std::filesystem::path mtl_file = i < origins.mtl_file.size() ? origins.mtl_file[i] : path;
             const std::filesystem::path texture_path =
-                find_file_case_insensitive(mtl_file.parent_path(), trim(source.diffuse_texname));
-            if (texture_path.empty())
-                refuse_if_not_regular(mtl_file.string(), trim(source.diffuse_texname),
-                                      mtl_file.parent_path() / trim(source.diffuse_texname));
+                find_referenced_file(mtl_file.string(), trim(source.diffuse_texname), mtl_file.parent_path());
             if (texture_path.empty())
                 throw file_error(mtl_file.string(), "material '" + source.name + "': texture '" +
                                                         shorten(source.diffuse_texname) + "' not found");
-            check_scene_reference(mtl_file.string(), trim(source.diffuse_texname), texture_path);
             auto [entry, inserted] =
                 texture_by_file.try_emplace(texture_path, static_cast<uint32_t>(scene.textures.size()));
             if (inserted) scene.textures.push_back(load_texture(texture_path, /*color_data=*/true));

@@ -3,11 +3,13 @@
 // 871k-triangle dragon loads in well under a second. Elements the tracer does not need are skipped in every format.
 #include "core/loaders/load_ply.h"
 
+#include "core/scene/corner_uvs.h"
 #include "core/scene/mesh_normals.h"
 
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cctype>
 #include <charconv>
 #include <climits>
 #include <cstdio>
@@ -16,6 +18,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <zlib.h>
@@ -175,7 +178,8 @@ enum class Format { Ascii, BinaryLittleEndian, BinaryBigEndian };
 struct Header {
     Format format = Format::Ascii;
     std::vector<Element> elements;
-    size_t body_offset = 0;  // first byte after the end_header line
+    std::vector<std::string> texture_files;  // "comment TextureFile <name>" lines (MeshLab), in order
+    size_t body_offset = 0;                  // first byte after the end_header line
 };
 
 std::vector<std::string_view> split_words(std::string_view line) {
@@ -188,6 +192,13 @@ std::vector<std::string_view> split_words(std::string_view line) {
         if (i > start) words.push_back(line.substr(start, i - start));
     }
     return words;
+}
+
+bool is_texture_file_keyword(std::string_view word) {
+    constexpr std::string_view keyword = "texturefile";
+    return word.size() == keyword.size() && std::equal(word.begin(), word.end(), keyword.begin(), [](char a, char b) {
+               return std::tolower(static_cast<unsigned char>(a)) == b;
+           });
 }
 
 Header parse_header(const std::string& file, std::string_view bytes) {
@@ -216,6 +227,14 @@ Header parse_header(const std::string& file, std::string_view bytes) {
         if (words.empty()) continue;
         const std::string_view keyword = words[0];
         auto fail = [&](const std::string& cause) { return file_error(file, line_number, cause); };
+        if (keyword == "comment" && words.size() >= 3 && is_texture_file_keyword(words[1])) {
+            // The name is the rest of the line: MeshLab writes names with spaces ("fuze uv.jpg") as they are.
+            std::string_view name = line.substr(static_cast<size_t>(words[1].data() + words[1].size() - line.data()));
+            while (!name.empty() && (name.front() == ' ' || name.front() == '\t')) name.remove_prefix(1);
+            while (!name.empty() && (name.back() == ' ' || name.back() == '\t')) name.remove_suffix(1);
+            header.texture_files.emplace_back(name);
+            continue;
+        }
         if (keyword == "comment" || keyword == "obj_info") continue;
         if (keyword == "end_header") {
             if (!have_format) throw fail("PLY header has no format line");
@@ -304,19 +323,41 @@ public:
     const char* position() const { return current_; }
     // Where the next value starts (after the separating white space), for messages that name its line.
     const char* next_value() {
-        while (current_ != end_ && is_space(*current_)) ++current_;
+        skip_separator();
         return current_;
     }
     size_t remaining() const { return static_cast<size_t>(end_ - current_); }
+    // One record per line, as every writer puts them (blank lines between records are passed over). Values after
+    // the last property the header declares (VCGlib wrote a face's colour as ten values where its header declares
+    // four) would otherwise be read as the next record's: they are skipped to the line's end and counted, so the
+    // file loads with a warning; a line with too few values is an error on that line, not a misread of the next.
+    void end_record() {
+        while (current_ != end_ && is_blank(*current_)) ++current_;
+        if (current_ != end_ && !is_line_end(*current_)) {
+            ++records_with_extra_values_;
+            while (current_ != end_ && !is_line_end(*current_)) ++current_;
+        }
+        at_record_start_ = true;
+    }
+    // How many records since the last call had values beyond the header's properties.
+    uint64_t take_records_with_extra_values() { return std::exchange(records_with_extra_values_, 0); }
 
 private:
-    static bool is_space(char c) { return c == ' ' || c == '\n' || c == '\r' || c == '\t' || c == '\v' || c == '\f'; }
+    static bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\v' || c == '\f'; }
+    static bool is_line_end(char c) { return c == '\n' || c == '\r'; }
 
+    // Before a record's first value: any white space and line ends; inside a record: blanks only.
+    void skip_separator() {
+        while (current_ != end_ && (is_blank(*current_) || (at_record_start_ && is_line_end(*current_)))) ++current_;
+    }
     std::pair<const char*, const char*> next_token() {
-        while (current_ != end_ && is_space(*current_)) ++current_;
+        skip_separator();
         if (current_ == end_) throw ParseFailure{true, current_, {}};
+        if (is_line_end(*current_))
+            throw ParseFailure{false, current_, "line ends before the values its header declares"};
+        at_record_start_ = false;
         const char* begin = current_;
-        while (current_ != end_ && !is_space(*current_)) ++current_;
+        while (current_ != end_ && !is_blank(*current_) && !is_line_end(*current_)) ++current_;
         return {begin, current_};
     }
     [[noreturn]] void bad_token(const char* begin, const char* end, const char* expected) {
@@ -326,6 +367,8 @@ private:
 
     const char* current_;
     const char* end_;
+    bool at_record_start_ = true;
+    uint64_t records_with_extra_values_ = 0;
 };
 
 template <bool SwapBytes>
@@ -366,6 +409,9 @@ public:
     }
     const char* position() const { return current_; }
     size_t remaining() const { return static_cast<size_t>(end_ - current_); }
+    // A binary record is exactly its properties' bytes.
+    void end_record() {}
+    uint64_t take_records_with_extra_values() { return 0; }
 
 private:
     template <typename T>
@@ -401,8 +447,10 @@ void skip_element(Source& source, const Element& element, uint64_t& index) {
         index = element.count;
         return;
     }
-    for (index = 0; index < element.count; ++index)
+    for (index = 0; index < element.count; ++index) {
         for (const Property& property : element.properties) skip_property(source, property);
+        source.end_record();
+    }
 }
 
 template <bool SwapBytes>
@@ -508,29 +556,68 @@ void read_vertices(Source& source, const Element& element, const VertexLayout& l
             else
                 values[layout.slots[p]] = source.read_float(property.type) * layout.scales[p];
         }
+        source.end_record();
         mesh.positions.emplace_back(values[X], values[Y], values[Z]);
         if (layout.has_normals) mesh.normals.emplace_back(values[NX], values[NY], values[NZ]);
         if (layout.has_colors) mesh.colors.emplace_back(values[Red], values[Green], values[Blue], values[Alpha]);
-        if (layout.has_uvs) mesh.uv0.emplace_back(values[U], values[V]);
+        // PLY's v (t) grows upward, as OBJ's and OpenGL's; meshes keep glTF's, which grows downward.
+        if (layout.has_uvs) mesh.uv0.emplace_back(values[U], 1.0f - values[V]);
     }
 }
+
+// What the face element carries besides its index list, as MeshLab writes textured meshes: texture coordinates
+// per corner ("texcoord", a list of 2 per corner) and the texture each face uses ("texnumber", an index into the
+// header's "comment TextureFile" names).
+struct FaceLayout {
+    size_t indices = 0;
+    size_t texcoords = SIZE_MAX;  // SIZE_MAX: none
+    size_t texnumber = SIZE_MAX;  // SIZE_MAX: none, or the header names no texture file
+    size_t texture_files = 0;     // how many the header names
+};
 
 struct FaceResult {
     int64_t largest_index = -1;
     uint64_t face_with_largest = 0;
+    std::vector<glm::vec2> corner_uvs;  // 3 per triangle when the faces carry texcoord lists
 };
 
 template <typename Source>
-void read_faces(Source& source, const Element& element, size_t index_property, Mesh& mesh, FaceResult& result,
+void read_faces(Source& source, const Element& element, const FaceLayout& layout, Mesh& mesh, FaceResult& result,
                 uint64_t& index, uint64_t report_every) {
-    mesh.triangles.reserve(mesh.triangles.size() + reservable(element.count, source.remaining()));
-    const Property& indices = element.properties[index_property];
+    const size_t reserve = reservable(element.count, source.remaining());
+    mesh.triangles.reserve(mesh.triangles.size() + reserve);
+    mesh.triangle_materials.reserve(mesh.triangles.size() + reserve);
+    const Property& indices = element.properties[layout.indices];
     std::vector<uint32_t> polygon;
+    std::vector<glm::vec2> uvs;
     for (index = 0; index < element.count; ++index) {
         if (index % report_every == 0 && index > 0) report_load_progress(double(index) / double(element.count));
+        polygon.clear();
+        uvs.clear();
+        uint32_t texture = 0;
+        const char* face_start = source.next_value();
         for (size_t p = 0; p < element.properties.size(); ++p) {
             const Property& property = element.properties[p];
-            if (p != index_property) {
+            if (p == layout.texcoords) {
+                const int64_t count = source.read_integer(property.count_type);
+                if (count < 0 || count % 2 != 0 || count > 2 * 255)
+                    throw ParseFailure{false, face_start, "has " + std::to_string(count) + " texcoord values"};
+                for (int64_t i = 0; i < count; i += 2) {
+                    const float u = source.read_float(property.type);
+                    uvs.emplace_back(u, 1.0f - source.read_float(property.type));  // v flipped as read_vertices
+                }
+                continue;
+            }
+            if (p == layout.texnumber) {
+                const int64_t number = source.read_integer(property.type);
+                if (number < 0 || static_cast<uint64_t>(number) >= layout.texture_files)
+                    throw ParseFailure{false, face_start,
+                                       "has texnumber " + std::to_string(number) + " but the header names " +
+                                           std::to_string(layout.texture_files) + " texture files"};
+                texture = static_cast<uint32_t>(number);
+                continue;
+            }
+            if (p != layout.indices) {
                 skip_property(source, property);
                 continue;
             }
@@ -539,7 +626,6 @@ void read_faces(Source& source, const Element& element, size_t index_property, M
             if (count < 3)
                 throw ParseFailure{false, list_start,
                                    "has " + std::to_string(count) + " vertices (a polygon needs at least 3)"};
-            polygon.clear();
             for (int64_t i = 0; i < count; ++i) {
                 const char* value_start = source.next_value();
                 const int64_t vertex = source.read_integer(indices.type);
@@ -551,9 +637,20 @@ void read_faces(Source& source, const Element& element, size_t index_property, M
                 }
                 polygon.push_back(static_cast<uint32_t>(vertex));
             }
-            // Fan triangulation: exact for the convex quads and pentagons scanners and modellers write.
-            for (size_t i = 1; i + 1 < polygon.size(); ++i)
-                mesh.triangles.emplace_back(polygon[0], polygon[i], polygon[i + 1]);
+        }
+        source.end_record();
+        const bool textured = layout.texcoords != SIZE_MAX;
+        // An empty list is a face without coordinates (they read as 0, 0); any other count must match the corners.
+        if (textured && !uvs.empty() && uvs.size() != polygon.size())
+            throw ParseFailure{false, face_start,
+                               "has " + std::to_string(2 * uvs.size()) + " texcoord values for " +
+                                   std::to_string(polygon.size()) + " corners"};
+        if (textured && uvs.empty()) uvs.assign(polygon.size(), glm::vec2(0.0f));
+        // Fan triangulation: exact for the convex quads and pentagons scanners and modellers write.
+        for (size_t i = 1; i + 1 < polygon.size(); ++i) {
+            mesh.triangles.emplace_back(polygon[0], polygon[i], polygon[i + 1]);
+            mesh.triangle_materials.push_back(texture);
+            if (textured) result.corner_uvs.insert(result.corner_uvs.end(), {uvs[0], uvs[i], uvs[i + 1]});
         }
     }
 }
@@ -596,10 +693,10 @@ size_t largest_body(const Header& header) {
 }
 
 template <typename Source>
-Mesh read_body(const std::string& file, std::string_view bytes, const Header& header, Source source) {
+Mesh read_body(const std::string& file, std::string_view bytes, const Header& header, Source source,
+               std::vector<std::string>& warnings, std::vector<glm::vec2>& corner_uvs) {
     const Element* vertices = nullptr;
     const Element* faces = nullptr;
-    size_t index_property = 0;
     for (const Element& element : header.elements) {
         if (element.name == "vertex" && !vertices) vertices = &element;
         if (element.name == "face" && !faces) faces = &element;
@@ -612,7 +709,18 @@ Mesh read_body(const std::string& file, std::string_view bytes, const Header& he
     });
     if (list == faces->properties.end()) throw file_error(file, "face element has no 'vertex_indices' list property");
     if (!is_integer(list->type)) throw file_error(file, "face vertex indices must have an integer type");
-    index_property = static_cast<size_t>(list - faces->properties.begin());
+    FaceLayout face_layout;
+    face_layout.indices = static_cast<size_t>(list - faces->properties.begin());
+    face_layout.texture_files = header.texture_files.size();
+    for (size_t p = 0; p < faces->properties.size(); ++p) {
+        const Property& property = faces->properties[p];
+        if (property.name == "texcoord" && property.is_list && !is_integer(property.type) &&
+            face_layout.texcoords == SIZE_MAX)
+            face_layout.texcoords = p;
+        if (property.name == "texnumber" && !property.is_list && is_integer(property.type) &&
+            !header.texture_files.empty() && face_layout.texnumber == SIZE_MAX)
+            face_layout.texnumber = p;
+    }
 
     Mesh mesh;
     FaceResult faces_read;
@@ -629,7 +737,7 @@ Mesh read_body(const std::string& file, std::string_view bytes, const Header& he
             if (&element == vertices)
                 read_vertices(source, element, layout, mesh, index, report_every);
             else if (&element == faces)
-                read_faces(source, element, index_property, mesh, faces_read, index, report_every);
+                read_faces(source, element, face_layout, mesh, faces_read, index, report_every);
             else
                 skip_element(source, element, index);
         } catch (const ParseFailure& failure) {
@@ -641,18 +749,22 @@ Mesh read_body(const std::string& file, std::string_view bytes, const Header& he
             throw file_error(
                 file, where + " " + failure.cause + " (byte " + std::to_string(failure.position - bytes.data()) + ")");
         }
+        if (const uint64_t extra = source.take_records_with_extra_values(); extra > 0)
+            warnings.push_back(file + ": " + std::to_string(extra) + " of " + std::to_string(element.count) + " " +
+                               element.name + " lines carry more values than the header declares (ignored)");
     }
     if (faces_read.largest_index >= static_cast<int64_t>(mesh.positions.size()))
         throw file_error(file, "face " + std::to_string(faces_read.face_with_largest) + " references vertex " +
                                    std::to_string(faces_read.largest_index) + " but there are " +
                                    std::to_string(mesh.positions.size()) + " vertices");
     if (mesh.triangles.empty()) throw file_error(file, "PLY file has no faces");
+    corner_uvs = std::move(faces_read.corner_uvs);
     return mesh;
 }
 
 }  // namespace
 
-Mesh load_ply(const std::filesystem::path& path) {
+Mesh load_ply(const std::filesystem::path& path, PlyDetails* details) {
     const std::string file = path.string();
     std::string bytes = read_input_file(path);
     const bool gzipped = looks_gzipped(bytes);
@@ -680,21 +792,30 @@ Mesh load_ply(const std::filesystem::path& path) {
     const Header header = parse_header(file, view);
     const char* body = bytes.data() + header.body_offset;
     const char* end = bytes.data() + bytes.size();
+    PlyDetails ignored;
+    PlyDetails& out = details ? *details : ignored;
+    out.texture_files = header.texture_files;
+    std::vector<glm::vec2> corner_uvs;
     Mesh mesh;
     switch (header.format) {
-        case Format::Ascii: mesh = read_body(file, view, header, AsciiSource(body, end)); break;
+        case Format::Ascii:
+            mesh = read_body(file, view, header, AsciiSource(body, end), out.warnings, corner_uvs);
+            break;
         case Format::BinaryLittleEndian:
-            mesh = read_body(file, view, header, BinarySource<std::endian::native == std::endian::big>(body, end));
+            mesh = read_body(file, view, header, BinarySource<std::endian::native == std::endian::big>(body, end),
+                             out.warnings, corner_uvs);
             break;
         case Format::BinaryBigEndian:
-            mesh = read_body(file, view, header, BinarySource<std::endian::native == std::endian::little>(body, end));
+            mesh = read_body(file, view, header, BinarySource<std::endian::native == std::endian::little>(body, end),
+                             out.warnings, corner_uvs);
             break;
     }
     std::string name = path.filename().string();
     if (name.size() > 3 && name.ends_with(".gz")) name.resize(name.size() - 3);
     mesh.name = std::filesystem::path(name).stem().string();
-    mesh.triangle_materials.assign(mesh.triangles.size(), 0u);
+    // Normals before the seams are split, so a vertex split by its texture coordinates stays smooth.
     if (mesh.normals.empty()) compute_smooth_normals(mesh);
+    if (!corner_uvs.empty()) apply_corner_uvs(mesh, corner_uvs);
     return mesh;
 }
 
