@@ -4,6 +4,7 @@
 #ifndef RT_MATERIAL_H
 #define RT_MATERIAL_H
 
+#include "iridescence.h"
 #include "texture.h"
 
 // Thesis Table 1. c = current colour C_c (rgb, a), t = texture colour (T_c, T_a), env = T_e.
@@ -91,6 +92,10 @@ RT_STRUCT_END(SurfaceTerms)
 // Fresnel term), transmitting transmission x (1 - metallic) and mirroring metallic + (1 - metallic) F. Emission is the
 // emissive factor times its texture; occlusion (glTF: 1 + strength (texel - 1)) darkens only the ambient term, the one
 // light with no shadow ray.
+// A thin film (KHR_materials_iridescence, factor k) replaces, by k, the dielectric's Fresnel term with the film's
+// reflectance over the dielectric's F0 and the metal's colour with the film's over the base colour as F0, per
+// channel (kernels/iridescence.h): the colours go into S, the channels' mean into r or R_f, so the diffuse and
+// transmitted shares stay the seed's scalars. Without a film the terms are computed as they were, bit for bit.
 RT_FUNC SurfaceTerms rt_surface_terms(KernelGlobals kg, Material m, float3 color, float4 uv, float i_dot_n) {
     SurfaceTerms terms;
     float4 white = make_float4(1.0f, 1.0f, 1.0f, 1.0f);
@@ -104,14 +109,31 @@ RT_FUNC SurfaceTerms rt_surface_terms(KernelGlobals kg, Material m, float3 color
         float4 texel = rt_sample_map(kg, m.metal_rough_map, uv, white);
         float metallic = m.metallic * texel.z;
         float gloss = 1.0f - 0.5f * (m.roughness * texel.y);
+        float film = m.iridescence.x * rt_sample_map(kg, m.iridescence_map, uv, white).x;
+        float3 metal_color = color;
+        if (film > 0.0f) {
+            // Without a thickness map the sample is white: the maximum, as glTF says.
+            float g = rt_sample_map(kg, m.iridescence_thickness_map, uv, white).y;
+            float thickness = m.iridescence.z + (m.iridescence.w - m.iridescence.z) * g;
+            float cos_theta = rt_min(rt_abs(i_dot_n), 1.0f);
+            // The dielectric: the film over F0 (the Schlick bias), scaled by KHR_materials_specular's texture as
+            // the plain term is.
+            float3 dielectric_film =
+                rt_thin_film_fresnel(m.iridescence.y, cos_theta, thickness, rt_splat3(m.fresnel.x)) * specular_texel;
+            float3 dielectric = rt_lerp3(rt_xyz(terms.specular) * terms.fresnel.x, dielectric_film, film);
+            float mean = (dielectric.x + dielectric.y + dielectric.z) * (1.0f / 3.0f);
+            terms.specular = rt_float4(mean > 0.0f ? dielectric * (1.0f / mean) : rt_xyz(terms.specular), m.specular.w);
+            terms.fresnel.x = mean;
+            metal_color = rt_lerp3(color, rt_thin_film_fresnel(m.iridescence.y, cos_theta, thickness, color), film);
+        }
         if (m.ambient.w > 0.0f) {
-            terms.specular = rt_float4(rt_lerp3(rt_xyz(terms.specular), color, metallic), m.specular.w);
+            terms.specular = rt_float4(rt_lerp3(rt_xyz(terms.specular), metal_color, metallic), m.specular.w);
             // glTF: a metal does not transmit; it mirrors at every angle
             terms.fresnel.x = terms.fresnel.x + metallic * (1.0f - terms.fresnel.x);
             terms.fresnel.y = m.ambient.w * (1.0f - metallic);
         } else {
             float dielectric = (1.0f - metallic) * gloss * terms.fresnel.x;
-            float3 reflected = color * (metallic * gloss) + rt_xyz(terms.specular) * dielectric;
+            float3 reflected = metal_color * (metallic * gloss) + rt_xyz(terms.specular) * dielectric;
             float r = metallic * gloss + dielectric;
             terms.specular = rt_float4(r > 0.0f ? reflected * (1.0f / r) : rt_xyz(terms.specular), r);
             terms.fresnel.x = 1.0f;

@@ -151,11 +151,12 @@ RT_STRUCT_BEGIN(Material)
     uint emissive_map;     // multiplies `emissive`
     uint occlusion_map;    // R
     uint normal_map;
-    float4 absorption;        // xyz: Beer-Lambert coefficients per unit length inside a solid medium (0: clear)
-    uint specular_map;        // KHR_materials_specular's specularTexture: A scales the Fresnel term
-    uint specular_color_map;  // its specularColorTexture: RGB tints it
-    uint unused0;
-    uint unused1;
+    float4 absorption;               // xyz: Beer-Lambert coefficients per unit length inside a solid medium (0: clear)
+    uint specular_map;               // KHR_materials_specular's specularTexture: A scales the Fresnel term
+    uint specular_color_map;         // its specularColorTexture: RGB tints it
+    uint iridescence_map;            // KHR_materials_iridescence's iridescenceTexture: R scales the factor
+    uint iridescence_thickness_map;  // its iridescenceThicknessTexture: G picks the thickness in [min, max]
+    float4 iridescence;              // x: factor (0: no film), y: film IOR, z, w: thickness min, max (nanometres)
 RT_STRUCT_END(Material)
 
 #define RT_VERTEX_HAS_NORMAL 1u

@@ -73,6 +73,7 @@ const Case kCases[] = {Case{"builtin:sphere", 160, 120, 8},
                        Case{"gltf/BoxTextured/BoxTextured.glb", 96, 96, 4},
                        Case{"gltf/OrientationTest/OrientationTest.glb", 128, 96, 4},
                        Case{"gltf/DamagedHelmet/DamagedHelmet.glb", 96, 96, 4},
+                       Case{"gltf/IridescenceSuzanne/IridescenceSuzanne.glb", 128, 48, 5},
                        Case{"gltf/MetalRoughSpheresNoTextures/MetalRoughSpheresNoTextures.glb", 128, 96, 4}};
 
 std::vector<Case> with_layout(prism::BvhLayout layout, bool flatten = false) {

@@ -405,6 +405,8 @@ INSTANTIATE_TEST_SUITE_P(
                           AgreementCase{"gltf/GlassVaseFlowers/GlassVaseFlowers.glb", 96, 96, 6},
                           AgreementCase{"gltf/TransmissionTest/TransmissionTest.glb", 96, 72, 6},
                           AgreementCase{"gltf/BoxTextured/BoxTextured.glb", 64, 64, 4},
+                          // Thin films: cos and exp in the shade stage (kernels/iridescence.h).
+                          AgreementCase{"gltf/IridescenceSuzanne/IridescenceSuzanne.glb", 128, 48, 5},
                           // Coplanar overlapping trim: the tie rule of kernels/traverse.h.
                           AgreementCase{"mcguire/conference/conference.obj", 160, 120, 4},
                           // Small spheres far from the camera: the edge slack of kernels/intersect.h.

@@ -233,6 +233,37 @@ TEST(LoadGltf, AttenuationDistanceBecomesAbsorption) {
     EXPECT_GE(coefficients.size(), 5u);
 }
 
+// IridescenceSuzanne: three films (KHR_materials_iridescence, required by the file) over a dielectric, a metal and
+// a glass, the last with a thickness texture; read without the "not supported" warning.
+TEST(LoadGltf, IridescentFilmsAreRead) {
+    Scene scene = load(test::scene("gltf/IridescenceSuzanne/IridescenceSuzanne.glb"));
+    for (const std::string& warning : scene.warnings) EXPECT_EQ(warning.find("iridescence"), std::string::npos);
+    std::vector<const Material*> films;
+    for (const Material& material : scene.materials)
+        if (material.iridescence > 0.0f) films.push_back(&material);
+    ASSERT_EQ(films.size(), 3u);
+    int metals = 0, glasses = 0, textured = 0;
+    for (const Material* film : films) {
+        EXPECT_EQ(film->iridescence, 1.0f);
+        metals += film->metallic == 1.0f;
+        glasses += film->transmittance == 1.0f;
+        if (film->iridescence_thickness_map) {
+            ++textured;
+            EXPECT_FLOAT_EQ(film->iridescence_ior, 1.8f);
+            EXPECT_EQ(film->iridescence_thickness_min, 200.0f);
+            EXPECT_EQ(film->iridescence_thickness_max, 600.0f);
+            EXPECT_GT(film->transmittance, 0.0f);
+        } else {
+            EXPECT_FLOAT_EQ(film->iridescence_ior, 1.33f);
+            EXPECT_EQ(film->iridescence_thickness_min, 100.0f) << "the default";
+            EXPECT_EQ(film->iridescence_thickness_max, 400.0f);
+        }
+    }
+    EXPECT_EQ(metals, 1);
+    EXPECT_EQ(glasses, 1);
+    EXPECT_EQ(textured, 1);
+}
+
 TEST(LoadGltf, VertexColoursArePresent) {
     for (const char* file : {"gltf/VertexColorTest/VertexColorTest.glb", "gltf/BoxVertexColors/BoxVertexColors.glb"}) {
         SCOPED_TRACE(file);

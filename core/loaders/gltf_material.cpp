@@ -123,6 +123,9 @@ void make_unlit(Material& material, glm::vec4 base) {
     material.occlusion_map.reset();
     material.specular_map.reset();
     material.specular_color_map.reset();
+    material.iridescence = 0.0f;
+    material.iridescence_map.reset();
+    material.iridescence_thickness_map.reset();
     set_specular_fresnel(material, 1.5f, 0.0f);  // a Fresnel term of 0: no reflection at any angle
 }
 
@@ -316,12 +319,23 @@ Material MaterialConverter::convert(int index) {
 
     const tinygltf::Value* specular_ext = extension(source.extensions, "KHR_materials_specular");
     float specular_factor = static_cast<float>(number(specular_ext, "specularFactor", 1.0));
-    auto extension_layer = [&](const char* key, bool color_data) -> std::optional<TextureLayer> {
-        const TextureRef ref = texture_ref(specular_ext, key);
+    auto extension_layer = [&](const tinygltf::Value* ext, const char* key,
+                               bool color_data) -> std::optional<TextureLayer> {
+        const TextureRef ref = texture_ref(ext, key);
         return layer(ref.index, ref.tex_coord, ref.transform, color_data, material.name);
     };
-    material.specular_map = extension_layer("specularTexture", false);
-    material.specular_color_map = extension_layer("specularColorTexture", true);
+    material.specular_map = extension_layer(specular_ext, "specularTexture", false);
+    material.specular_color_map = extension_layer(specular_ext, "specularColorTexture", true);
+    if (const tinygltf::Value* film = extension(source.extensions, "KHR_materials_iridescence")) {
+        material.iridescence = std::clamp(static_cast<float>(number(film, "iridescenceFactor", 0.0)), 0.0f, 1.0f);
+        material.iridescence_ior = std::max(1.0f, static_cast<float>(number(film, "iridescenceIor", 1.3)));
+        material.iridescence_thickness_min =
+            std::max(0.0f, static_cast<float>(number(film, "iridescenceThicknessMinimum", 100.0)));
+        material.iridescence_thickness_max =
+            std::max(0.0f, static_cast<float>(number(film, "iridescenceThicknessMaximum", 400.0)));
+        material.iridescence_map = extension_layer(film, "iridescenceTexture", false);
+        material.iridescence_thickness_map = extension_layer(film, "iridescenceThicknessTexture", false);
+    }
     glm::vec3 specular_color = vec3_of(specular_ext, "specularColorFactor", glm::vec3(1.0f));
     // Metals tint their reflection with the base colour, dielectrics with KHR_materials_specular's colour: the
     // kernel mixes the two per hit (kernels/material.h rt_surface_terms), as metallic may come from a texture.

@@ -536,7 +536,8 @@ void load_gltf(const std::filesystem::path& path, Scene& scene) {
             required != "EXT_mesh_gpu_instancing" && required != "KHR_animation_pointer" &&
             required != "KHR_draco_mesh_compression" && required != "EXT_meshopt_compression" &&
             required != "KHR_meshopt_compression" && required != "EXT_texture_webp" &&
-            required != "KHR_materials_pbrSpecularGlossiness" && required != "KHR_materials_unlit")
+            required != "KHR_materials_pbrSpecularGlossiness" && required != "KHR_materials_unlit" &&
+            required != "KHR_materials_iridescence")
             scene.warnings.push_back(file + ": required extension " + required + " is not supported");
 
     // Compressed data become plain buffers first, so the importer reads every accessor one way.

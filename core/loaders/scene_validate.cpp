@@ -98,7 +98,9 @@ private:
             {&material.occlusion_map, "occlusion map"},
             {&material.normal_map, "normal map"},
             {&material.specular_map, "specular map"},
-            {&material.specular_color_map, "specular colour map"}};
+            {&material.specular_color_map, "specular colour map"},
+            {&material.iridescence_map, "iridescence map"},
+            {&material.iridescence_thickness_map, "iridescence thickness map"}};
         for (const auto& [map, what] : maps)
             if (*map) check_layer(**map, name + ": " + what);
     }

@@ -114,6 +114,15 @@ struct Material {
     std::optional<TextureLayer> normal_map;          // linear tangent-space normals
     std::optional<TextureLayer> specular_map;        // linear: A scales the Fresnel term (KHR_materials_specular)
     std::optional<TextureLayer> specular_color_map;  // sRGB: tints the dielectric reflection
+
+    // glTF KHR_materials_iridescence (metal_rough materials): a thin film on the surface whose interference tints
+    // the reflection by view angle and thickness (kernels/iridescence.h). A factor of 0 is no film.
+    float iridescence = 0.0f;
+    float iridescence_ior = 1.3f;
+    float iridescence_thickness_min = 100.0f;               // nanometres
+    float iridescence_thickness_max = 400.0f;               // the thickness where no thickness map is given
+    std::optional<TextureLayer> iridescence_map;            // linear: R scales the factor
+    std::optional<TextureLayer> iridescence_thickness_map;  // linear: G picks the thickness in [min, max]
 };
 
 enum class LightType : uint32_t { Point = 0, Directional = 1 };

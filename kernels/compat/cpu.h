@@ -83,6 +83,7 @@ RT_FUNC float rt_max(float a, float b) { return a < b ? b : a; }
 #define rt_ldexp(a, e) std::ldexp((a), (e))
 #define rt_atan2(y, x) std::atan2((y), (x))
 #define rt_acos(a) std::acos(a)
+#define rt_cos(a) std::cos(a)
 #define rt_isfinite(a) std::isfinite(a)
 RT_FUNC uint rt_min_u(uint a, uint b) { return a < b ? a : b; }
 RT_FUNC uint rt_max_u(uint a, uint b) { return a > b ? a : b; }

@@ -53,6 +53,7 @@ RT_FUNC float3 normalize(float3 a) { return a * rsqrtf(dot(a, a)); }
 #define rt_ldexp(a, e) ldexpf((a), (e))
 #define rt_atan2(y, x) atan2f((y), (x))
 #define rt_acos(a) acosf(a)
+#define rt_cos(a) cosf(a)
 #define rt_isfinite(a) isfinite(a)
 // ---- Lanes (wide BVH nodes, four triangles at a time): per-component, as OpenCL C and GLSL have them built in.
 // A mask has bit k set for lane k; rt_float8 is two float4 halves (lanes 0-3, 4-7).

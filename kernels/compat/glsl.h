@@ -69,6 +69,7 @@ uint rt_lane8_u(uvec4 lo, uvec4 hi, uint k) { return k < 4u ? lo[k] : hi[k - 4u]
 #define rt_ldexp(a, e) ldexp((a), (e))
 #define rt_atan2(y, x) atan((y), (x))
 #define rt_acos(a) acos(a)
+#define rt_cos(a) cos(a)
 #define rt_isfinite(a) (!isinf(a) && !isnan(a))
 #define rt_min_u(a, b) min(uint(a), uint(b))
 #define rt_max_u(a, b) max(uint(a), uint(b))

@@ -36,6 +36,7 @@ RT_FUNC uint rt_lowest_bit(uint x) { return 31u - clz(x & (0u - x)); }
 #define rt_ldexp(a, e) ldexp((a), (e))
 #define rt_atan2(y, x) atan2((y), (x))
 #define rt_acos(a) acos(a)
+#define rt_cos(a) cos(a)
 #define rt_isfinite(a) isfinite(a)
 #define rt_min_u(a, b) min((uint)(a), (uint)(b))
 #define rt_max_u(a, b) max((uint)(a), (uint)(b))
