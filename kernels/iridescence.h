@@ -9,18 +9,6 @@
 
 #include "math.h"
 
-RT_FUNC float rt_schlick(float f0, float cos_theta) {
-    float x = 1.0f - cos_theta;
-    float x2 = x * x;
-    return f0 + (1.0f - f0) * (x2 * x2 * x);
-}
-
-// Normal-incidence reflectance between media of IORs a and b.
-RT_FUNC float rt_ior_to_f0(float a, float b) {
-    float r = (a - b) / (a + b);
-    return r * r;
-}
-
 // One Airy term's colour for an optical path difference `opd` (nanometres) and phase shifts per channel: the
 // Fourier transform of the CIE XYZ matching functions' Gaussian fit (Belcour & Barla's supplement), in Rec. 709.
 RT_FUNC float3 rt_thin_film_sensitivity(float opd, float3 shift) {

@@ -96,6 +96,9 @@ RT_STRUCT_END(SurfaceTerms)
 // reflectance over the dielectric's F0 and the metal's colour with the film's over the base colour as F0, per
 // channel (kernels/iridescence.h): the colours go into S, the channels' mean into r or R_f, so the diffuse and
 // transmitted shares stay the seed's scalars. Without a film the terms are computed as they were, bit for bit.
+// A clear coat (KHR_materials_clearcoat, factor c) is a varnish of IOR 1.5 over all of it: it reflects
+// c x Schlick(0.04) of the light uncoloured, dimmed by its own roughness as the base is by its, and the layers
+// beneath get the rest: r (or R_f) = coat + (1 - c F) x base, S the two reflections' mix.
 RT_FUNC SurfaceTerms rt_surface_terms(KernelGlobals kg, Material m, float3 color, float4 uv, float i_dot_n) {
     SurfaceTerms terms;
     float4 white = make_float4(1.0f, 1.0f, 1.0f, 1.0f);
@@ -137,6 +140,20 @@ RT_FUNC SurfaceTerms rt_surface_terms(KernelGlobals kg, Material m, float3 color
             float r = metallic * gloss + dielectric;
             terms.specular = rt_float4(r > 0.0f ? reflected * (1.0f / r) : rt_xyz(terms.specular), r);
             terms.fresnel.x = 1.0f;
+        }
+        float coat = m.clearcoat.x * rt_sample_map(kg, m.clearcoat_map, uv, white).x;
+        if (coat > 0.0f) {
+            float coat_f = coat * rt_schlick(0.04f, rt_min(rt_abs(i_dot_n), 1.0f));
+            float coat_gloss =
+                1.0f - 0.5f * (m.clearcoat.y * rt_sample_map(kg, m.clearcoat_roughness_map, uv, white).y);
+            // A transmissive base keeps r = 1 and splits by R_f: the coat adds to R_f (its roughness is not seen).
+            bool split = m.ambient.w > 0.0f;
+            float base = (split ? terms.fresnel.x : terms.specular.w) * (1.0f - coat_f);
+            float coat_reflects = split ? coat_f : coat_f * coat_gloss;
+            float total = base + coat_reflects;
+            float3 tint = (rt_xyz(terms.specular) * base + rt_splat3(coat_reflects)) * (1.0f / total);
+            terms.specular = rt_float4(tint, split ? terms.specular.w : total);
+            if (split) terms.fresnel.x = total;
         }
         float occlusion = rt_sample_map(kg, m.occlusion_map, uv, white).x;
         terms.emission.w = 1.0f + m.occlusion_strength * (occlusion - 1.0f);

@@ -43,6 +43,19 @@ RT_FUNC float3 rt_transform_normal(float4 w2o0, float4 w2o1, float4 w2o2, float3
 }
 
 // 1/d with zero components replaced by a tiny value of the same sign, so slab tests never compute 0 * inf.
+// Schlick's Fresnel reflectance from the normal-incidence reflectance f0, at cos_theta to the normal.
+RT_FUNC float rt_schlick(float f0, float cos_theta) {
+    float x = 1.0f - cos_theta;
+    float x2 = x * x;
+    return f0 + (1.0f - f0) * (x2 * x2 * x);
+}
+
+// Normal-incidence reflectance between media of IORs a and b.
+RT_FUNC float rt_ior_to_f0(float a, float b) {
+    float r = (a - b) / (a + b);
+    return r * r;
+}
+
 RT_FUNC float rt_safe_inverse1(float x) {
     float tiny = 1e-20f;
     return 1.0f / (rt_abs(x) > tiny ? x : (x >= 0.0f ? tiny : -tiny));

@@ -157,6 +157,11 @@ RT_STRUCT_BEGIN(Material)
     uint iridescence_map;            // KHR_materials_iridescence's iridescenceTexture: R scales the factor
     uint iridescence_thickness_map;  // its iridescenceThicknessTexture: G picks the thickness in [min, max]
     float4 iridescence;              // x: factor (0: no film), y: film IOR, z, w: thickness min, max (nanometres)
+    float4 clearcoat;                // KHR_materials_clearcoat: x factor (0: no coat), y roughness; z, w unused
+    uint clearcoat_map;              // clearcoatTexture: R scales the factor
+    uint clearcoat_roughness_map;    // clearcoatRoughnessTexture: G scales the roughness
+    uint unused0;
+    uint unused1;
 RT_STRUCT_END(Material)
 
 #define RT_VERTEX_HAS_NORMAL 1u

@@ -235,3 +235,43 @@ TEST(ThinFilm, MatchesTheExactInterferenceOfAWaterFilmOnGlass) {
     EXPECT_GT(gold.x, gold.y);
     EXPECT_GT(gold.y, gold.z);
 }
+
+namespace {
+
+// An opaque glTF material as device_material makes it: F0 0.04, metal-rough, no maps.
+Material opaque_gltf(float metallic, float roughness, float clearcoat, float clearcoat_roughness) {
+    Material m{};
+    m.specular = float4{1, 1, 1, metallic * (1 - 0.5f * roughness)};
+    m.fresnel = float4{0.04f, 0.96f, 5.0f, 0.0f};
+    m.flags = RT_MATERIAL_METAL_ROUGH;
+    m.metallic = metallic;
+    m.roughness = roughness;
+    m.metal_rough_map = m.emissive_map = m.occlusion_map = m.normal_map = RT_NONE;
+    m.specular_map = m.specular_color_map = m.iridescence_map = m.iridescence_thickness_map = RT_NONE;
+    m.clearcoat_map = m.clearcoat_roughness_map = RT_NONE;
+    m.clearcoat = float4{clearcoat, clearcoat_roughness, 0, 0};
+    return m;
+}
+
+}  // namespace
+
+// KHR_materials_clearcoat: a varnish (F0 0.04) over a red metal reflects its share uncoloured and passes the rest:
+// head-on r = c 0.04 gloss_c + (1 - c 0.04) r_base, and the tint moves toward white by the coat's share.
+TEST(GltfMaterial, ClearcoatAddsAnUncolouredReflectionOverTheBase) {
+    KernelGlobals kg{};  // no maps: nothing is fetched
+    const float3 red{0.8f, 0.1f, 0.1f};
+    const float4 uv{0, 0, 0, 0};
+    SurfaceTerms bare = rt_surface_terms(kg, opaque_gltf(1.0f, 0.0f, 0.0f, 0.0f), red, uv, -1.0f);
+    EXPECT_NEAR(bare.specular.w, 1.0f, 1e-6f);
+    expect_near3(rt_xyz(bare.specular), red);
+    SurfaceTerms coated = rt_surface_terms(kg, opaque_gltf(1.0f, 0.0f, 1.0f, 0.5f), red, uv, -1.0f);
+    const float coat = 0.04f * 0.75f, base = 1.0f - 0.04f;  // coat: F0 x its gloss (1 - 0.5 / 2)
+    EXPECT_NEAR(coated.specular.w, coat + base, 1e-6f);
+    expect_near3(rt_xyz(coated.specular), (red * base + float3{coat, coat, coat}) / (coat + base), 1e-6f);
+    // A matte dielectric under a coat: mostly diffuse head-on, a mirror of the sky toward grazing.
+    SurfaceTerms matte_head_on = rt_surface_terms(kg, opaque_gltf(0.0f, 1.0f, 1.0f, 0.0f), red, uv, -1.0f);
+    SurfaceTerms matte_grazing = rt_surface_terms(kg, opaque_gltf(0.0f, 1.0f, 1.0f, 0.0f), red, uv, -0.05f);
+    EXPECT_LT(matte_head_on.specular.w, 0.1f);
+    EXPECT_GT(matte_grazing.specular.w, 0.75f);
+    EXPECT_GT(matte_grazing.specular.z, 0.9f) << "the coat's reflection is white";
+}

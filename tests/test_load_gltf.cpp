@@ -397,6 +397,33 @@ TEST(LoadGltf, PointsAndLinesGiveOneWarning) {
     EXPECT_EQ(point_warnings, 1);
 }
 
+// KHR_materials_clearcoat's factors and textures become the material's coat; a file that requires the extension
+// loads without the "not supported" warning.
+TEST(LoadGltf, ClearcoatIsRead) {
+    GltfBuilder gltf;
+    int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    gltf.document["extensionsUsed"] = {"KHR_materials_clearcoat"};
+    gltf.document["extensionsRequired"] = {"KHR_materials_clearcoat"};
+    gltf.document["materials"] =
+        json::array({{{"name", "car paint"},
+                      {"pbrMetallicRoughness", {{"baseColorFactor", {0.6, 0.0, 0.0, 1}}, {"metallicFactor", 0.5}}},
+                      {"extensions",
+                       {{"KHR_materials_clearcoat", {{"clearcoatFactor", 0.8}, {"clearcoatRoughnessFactor", 0.25}}}}}},
+                     {{"name", "over range"},
+                      {"extensions",
+                       {{"KHR_materials_clearcoat", {{"clearcoatFactor", 3.0}, {"clearcoatRoughnessFactor", -1}}}}}}});
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}}}, {"material", 0}},
+                                   {{"attributes", {{"POSITION", positions}}}, {"material", 1}}})}});
+    Scene scene = load(gltf.write("clearcoat.gltf"));
+    EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+    ASSERT_EQ(scene.materials.size(), 2u);
+    EXPECT_FLOAT_EQ(scene.materials[0].clearcoat, 0.8f);
+    EXPECT_FLOAT_EQ(scene.materials[0].clearcoat_roughness, 0.25f);
+    EXPECT_FALSE(scene.materials[0].clearcoat_map);
+    EXPECT_EQ(scene.materials[1].clearcoat, 1.0f) << "clamped to [0, 1]";
+    EXPECT_EQ(scene.materials[1].clearcoat_roughness, 0.0f);
+}
+
 TEST(LoadGltf, MaterialExtensionsMapOntoTheSeedModel) {
     GltfBuilder gltf;
     int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});

@@ -126,6 +126,9 @@ void make_unlit(Material& material, glm::vec4 base) {
     material.iridescence = 0.0f;
     material.iridescence_map.reset();
     material.iridescence_thickness_map.reset();
+    material.clearcoat = 0.0f;
+    material.clearcoat_map.reset();
+    material.clearcoat_roughness_map.reset();
     set_specular_fresnel(material, 1.5f, 0.0f);  // a Fresnel term of 0: no reflection at any angle
 }
 
@@ -335,6 +338,14 @@ Material MaterialConverter::convert(int index) {
             std::max(0.0f, static_cast<float>(number(film, "iridescenceThicknessMaximum", 400.0)));
         material.iridescence_map = extension_layer(film, "iridescenceTexture", false);
         material.iridescence_thickness_map = extension_layer(film, "iridescenceThicknessTexture", false);
+    }
+    // The coat's own normal map (clearcoatNormalTexture) is not read: the coat reflects about the base's normal.
+    if (const tinygltf::Value* coat = extension(source.extensions, "KHR_materials_clearcoat")) {
+        material.clearcoat = std::clamp(static_cast<float>(number(coat, "clearcoatFactor", 0.0)), 0.0f, 1.0f);
+        material.clearcoat_roughness =
+            std::clamp(static_cast<float>(number(coat, "clearcoatRoughnessFactor", 0.0)), 0.0f, 1.0f);
+        material.clearcoat_map = extension_layer(coat, "clearcoatTexture", false);
+        material.clearcoat_roughness_map = extension_layer(coat, "clearcoatRoughnessTexture", false);
     }
     glm::vec3 specular_color = vec3_of(specular_ext, "specularColorFactor", glm::vec3(1.0f));
     // Metals tint their reflection with the base colour, dielectrics with KHR_materials_specular's colour: the

@@ -1,6 +1,7 @@
 #include "core/loaders/load_gltf.h"
 
 #include <algorithm>
+#include <string_view>
 #include <functional>
 #include <map>
 #include <optional>
@@ -530,14 +531,24 @@ void load_gltf(const std::filesystem::path& path, Scene& scene) {
     if (padded_json) scene.warnings.push_back(file + ": the GLB's JSON chunk is not padded to 4 bytes; read anyway");
     if (had_animations)
         scene.warnings.push_back(file + ": animations are not played; the scene is drawn as its nodes place it");
+    // Required extensions Prism reads (or, for KHR_animation_pointer, whose animations are not played anyway,
+    // need not): any other gives a warning and the file loads without it.
+    static constexpr std::string_view kReadExtensions[] = {"KHR_texture_transform",
+                                                           "KHR_materials_emissive_strength",
+                                                           "KHR_lights_punctual",
+                                                           "KHR_mesh_quantization",
+                                                           "EXT_mesh_gpu_instancing",
+                                                           "KHR_animation_pointer",
+                                                           "KHR_draco_mesh_compression",
+                                                           "EXT_meshopt_compression",
+                                                           "KHR_meshopt_compression",
+                                                           "EXT_texture_webp",
+                                                           "KHR_materials_pbrSpecularGlossiness",
+                                                           "KHR_materials_unlit",
+                                                           "KHR_materials_iridescence",
+                                                           "KHR_materials_clearcoat"};
     for (const std::string& required : model.extensionsRequired)
-        if (required != "KHR_texture_transform" && required != "KHR_materials_emissive_strength" &&
-            required != "KHR_lights_punctual" && required != "KHR_mesh_quantization" &&
-            required != "EXT_mesh_gpu_instancing" && required != "KHR_animation_pointer" &&
-            required != "KHR_draco_mesh_compression" && required != "EXT_meshopt_compression" &&
-            required != "KHR_meshopt_compression" && required != "EXT_texture_webp" &&
-            required != "KHR_materials_pbrSpecularGlossiness" && required != "KHR_materials_unlit" &&
-            required != "KHR_materials_iridescence")
+        if (std::find(std::begin(kReadExtensions), std::end(kReadExtensions), required) == std::end(kReadExtensions))
             scene.warnings.push_back(file + ": required extension " + required + " is not supported");
 
     // Compressed data become plain buffers first, so the importer reads every accessor one way.

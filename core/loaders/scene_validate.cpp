@@ -100,7 +100,9 @@ private:
             {&material.specular_map, "specular map"},
             {&material.specular_color_map, "specular colour map"},
             {&material.iridescence_map, "iridescence map"},
-            {&material.iridescence_thickness_map, "iridescence thickness map"}};
+            {&material.iridescence_thickness_map, "iridescence thickness map"},
+            {&material.clearcoat_map, "clearcoat map"},
+            {&material.clearcoat_roughness_map, "clearcoat roughness map"}};
         for (const auto& [map, what] : maps)
             if (*map) check_layer(**map, name + ": " + what);
     }

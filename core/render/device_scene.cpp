@@ -206,14 +206,19 @@ void build_top_level(DeviceScene& device, const std::vector<glm::mat4>& transfor
     out.iridescence_thickness_map = map_index(m.iridescence_thickness_map);
     out.iridescence =
         float4{m.iridescence, m.iridescence_ior, m.iridescence_thickness_min, m.iridescence_thickness_max};
+    out.clearcoat_map = map_index(m.clearcoat_map);
+    out.clearcoat_roughness_map = map_index(m.clearcoat_roughness_map);
+    out.clearcoat = float4{m.clearcoat, m.clearcoat_roughness, 0.0f, 0.0f};
+    out.unused0 = out.unused1 = RT_NONE;
     return out;
 }
 
 // A material's texture stack, then its single-purpose maps in device_material's order.
 std::vector<prism::TextureLayer> material_layers(const prism::Material& m) {
     std::vector<prism::TextureLayer> layers = m.textures;
-    for (const auto* map : {&m.metal_rough_map, &m.emissive_map, &m.occlusion_map, &m.normal_map, &m.specular_map,
-                            &m.specular_color_map, &m.iridescence_map, &m.iridescence_thickness_map})
+    for (const auto* map :
+         {&m.metal_rough_map, &m.emissive_map, &m.occlusion_map, &m.normal_map, &m.specular_map, &m.specular_color_map,
+          &m.iridescence_map, &m.iridescence_thickness_map, &m.clearcoat_map, &m.clearcoat_roughness_map})
         if (*map) layers.push_back(**map);
     return layers;
 }

@@ -123,6 +123,12 @@ struct Material {
     float iridescence_thickness_max = 400.0f;               // the thickness where no thickness map is given
     std::optional<TextureLayer> iridescence_map;            // linear: R scales the factor
     std::optional<TextureLayer> iridescence_thickness_map;  // linear: G picks the thickness in [min, max]
+
+    // glTF KHR_materials_clearcoat (metal_rough materials): a varnish of IOR 1.5 over the surface. 0: none.
+    float clearcoat = 0.0f;
+    float clearcoat_roughness = 0.0f;
+    std::optional<TextureLayer> clearcoat_map;            // linear: R scales the factor
+    std::optional<TextureLayer> clearcoat_roughness_map;  // linear: G scales the roughness
 };
 
 enum class LightType : uint32_t { Point = 0, Directional = 1 };
