@@ -287,6 +287,15 @@ void expect_error_naming(const std::filesystem::path& path, const std::string& f
     EXPECT_NE(message.find(fragment), std::string::npos) << message;
 }
 
+// A body error in a file whose lines end in a CR alone names its line, counted by CRs.
+TEST(LoadPlyErrors, LinesEndedByCarriageReturnsAreCountedInMessages) {
+    expect_error_naming(test::write_file("cr_bad_number.ply",
+                                         "ply\rformat ascii 1.0\relement vertex 3\rproperty float x\rproperty float y\r"
+                                         "property float z\relement face 1\rproperty list uchar int vertex_indices\r"
+                                         "end_header\r0 0 0\r1 zero 0\r0 1 0\r3 0 1 2\r"),
+                        ":11: vertex 1 expected a number, found 'zero'");
+}
+
 TEST(LoadPlyErrors, TruncatedAsciiBunny) {
     std::string bytes = read_bytes(test::scene("stanford/bunny.ply"));
     ASSERT_GT(bytes.size(), 1000u);

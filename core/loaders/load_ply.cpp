@@ -180,6 +180,7 @@ struct Header {
     std::vector<Element> elements;
     std::vector<std::string> texture_files;  // "comment TextureFile <name>" lines (MeshLab), in order
     size_t body_offset = 0;                  // first byte after the end_header line
+    char line_end = '\n';                    // '\r' in files whose lines end in a CR alone
 };
 
 std::vector<std::string_view> split_words(std::string_view line) {
@@ -209,6 +210,7 @@ Header parse_header(const std::string& file, std::string_view bytes) {
     // Lines end in LF or CR LF, or in a CR alone where the file's first line does (Rhinoceros wrote such files:
     // Draco's testdata/Box.ply).
     const char line_end = bytes.starts_with("ply\r") && !bytes.starts_with("ply\r\n") ? '\r' : '\n';
+    header.line_end = line_end;
     for (;;) {
         const size_t newline = bytes.find(line_end, offset);
         if (newline == std::string_view::npos) {
@@ -655,9 +657,9 @@ void read_faces(Source& source, const Element& element, const FaceLayout& layout
     }
 }
 
-size_t line_of(std::string_view bytes, const char* position) {
+size_t line_of(std::string_view bytes, const char* position, char line_end) {
     const size_t offset = std::min<size_t>(static_cast<size_t>(position - bytes.data()), bytes.size());
-    return 1 + static_cast<size_t>(std::count(bytes.data(), bytes.data() + offset, '\n'));
+    return 1 + static_cast<size_t>(std::count(bytes.data(), bytes.data() + offset, line_end));
 }
 
 // What a body with the header's element counts can take at most: every ASCII value in 32 characters (a double
@@ -745,7 +747,7 @@ Mesh read_body(const std::string& file, std::string_view bytes, const Header& he
             if (failure.truncated)
                 throw file_error(file, "truncated: " + where + " of " + std::to_string(element.count));
             if (header.format == Format::Ascii)
-                throw file_error(file, line_of(bytes, failure.position), where + " " + failure.cause);
+                throw file_error(file, line_of(bytes, failure.position, header.line_end), where + " " + failure.cause);
             throw file_error(
                 file, where + " " + failure.cause + " (byte " + std::to_string(failure.position - bytes.data()) + ")");
         }
