@@ -20,7 +20,7 @@ void add_ply_model(const std::filesystem::path& path, Scene& scene) {
         scene.warnings.push_back(file + ": names texture '" + details.texture_files[0] +
                                  "' but has no texture coordinates; drawn untextured");
 
-    // The materials of the textures the faces use, in first use; a texture file is loaded once.
+    // The materials of the textures the faces use, in first use; each TextureFile line is loaded once.
     std::vector<uint32_t> material_of(textured ? details.texture_files.size() : 1, UINT32_MAX);
     for (uint32_t& slot : mesh.triangle_materials) {
         const uint32_t texture = textured ? slot : 0u;
