@@ -127,7 +127,9 @@ RT_FUNC SurfaceTerms rt_surface_terms(KernelGlobals kg, Material m, float3 color
             float mean = (dielectric.x + dielectric.y + dielectric.z) * (1.0f / 3.0f);
             terms.specular = rt_float4(mean > 0.0f ? dielectric * (1.0f / mean) : rt_xyz(terms.specular), m.specular.w);
             terms.fresnel.x = mean;
-            metal_color = rt_lerp3(color, rt_thin_film_fresnel(m.iridescence.y, cos_theta, thickness, color), film);
+            // The metal's film only where there is metal: with metallic 0 its colour is weighted by 0 below.
+            if (metallic > 0.0f)
+                metal_color = rt_lerp3(color, rt_thin_film_fresnel(m.iridescence.y, cos_theta, thickness, color), film);
         }
         if (m.ambient.w > 0.0f) {
             terms.specular = rt_float4(rt_lerp3(rt_xyz(terms.specular), metal_color, metallic), m.specular.w);

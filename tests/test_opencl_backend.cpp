@@ -4,18 +4,22 @@
 // backend keeps is in test_backend_contract.cpp. Every test skips, with the reason, when no OpenCL device answers.
 #ifdef PRISM_HAVE_OPENCL
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <optional>
 #include <regex>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
 #include "backends/backend_list.h"
 #include "backends/opencl/opencl_internal.h"
+#include "backends/opencl/opencl_register_budgets.h"
 #include "core/util/error.h"
 #include "core/render/render_engine.h"
 #include "core/loaders/scene_loader.h"
@@ -145,6 +149,84 @@ TEST(OpenclProgram, ExtraOptionsFollowTheFixedOnesAndKeyTheCache) {
         EXPECT_NE(message.find("opencl: kernel build failed on "), std::string::npos) << message;
         EXPECT_EQ(message.find('\n'), std::string::npos) << "errors are one line: " << message;
     }
+}
+
+// ---- Register budgets (opencl_register_budgets.h) ---------------------------------------------------------------
+
+namespace {
+
+// Every stage in exactly one of the programs.
+void expect_each_stage_once(const std::vector<prism::opencl::StageProgram>& programs) {
+    uint32_t seen = 0;
+    for (const prism::opencl::StageProgram& p : programs) {
+        EXPECT_EQ(seen & p.stages, 0u) << "a stage in two programs";
+        seen |= p.stages;
+    }
+    EXPECT_EQ(seen, (1u << prism::stage_count) - 1u);
+}
+
+uint32_t stage_bit(prism::Stage stage) { return 1u << static_cast<unsigned>(stage); }
+
+}  // namespace
+
+TEST(OpenclRegisterBudgets, OneProgramWhereTheDeviceCannotTakeThem) {
+    for (std::optional<std::string> setting : {std::optional<std::string>(), std::optional<std::string>("shade=96")}) {
+        std::vector<prism::opencl::StageProgram> programs = prism::opencl::stage_programs(false, setting);
+        ASSERT_EQ(programs.size(), 1u);
+        EXPECT_EQ(programs[0].options, "") << "the plain program, as before budgets";
+        expect_each_stage_once(programs);
+    }
+}
+
+TEST(OpenclRegisterBudgets, TheShadeStageGetsItsOwnProgramOnNvidia) {
+    std::vector<prism::opencl::StageProgram> programs = prism::opencl::stage_programs(true, std::nullopt);
+    ASSERT_EQ(programs.size(), 2u);
+    expect_each_stage_once(programs);
+    const uint32_t shade = stage_bit(prism::Stage::Shade);
+    const uint32_t others = ((1u << prism::stage_count) - 1u) & ~shade;
+    EXPECT_EQ(programs[0].stages, others);
+    EXPECT_EQ(programs[0].options, "-D RT_CL_STAGE_MASK=" + std::to_string(others) + "u");
+    EXPECT_EQ(programs[1].stages, shade);
+    EXPECT_EQ(programs[1].options, "-D RT_CL_STAGE_MASK=" + std::to_string(shade) + "u -cl-nv-maxrregcount=128");
+}
+
+TEST(OpenclRegisterBudgets, TheSettingReplacesTheTable) {
+    std::vector<prism::opencl::StageProgram> programs =
+        prism::opencl::stage_programs(true, "intersect=64,shadow=64,shade=160");
+    ASSERT_EQ(programs.size(), 3u);
+    expect_each_stage_once(programs);
+    EXPECT_EQ(programs[1].stages, stage_bit(prism::Stage::Intersect) | stage_bit(prism::Stage::Shadow));
+    EXPECT_NE(programs[1].options.find("-cl-nv-maxrregcount=64"), std::string::npos) << programs[1].options;
+    EXPECT_NE(programs[2].options.find("-cl-nv-maxrregcount=160"), std::string::npos) << programs[2].options;
+    for (const char* none : {"none", ""}) {
+        programs = prism::opencl::stage_programs(true, std::string(none));
+        ASSERT_EQ(programs.size(), 1u) << none;
+        EXPECT_EQ(programs[0].options, "") << none;
+    }
+}
+
+TEST(OpenclRegisterBudgets, AMalformedSettingIsOneLineNamingIt) {
+    for (const char* bad : {"shade", "light=64", "shade=8", "shade=256", "shade=12x", "shade=-1", "shade=128,"}) {
+        std::string message =
+            prism::test::error_message([&] { prism::opencl::stage_programs(true, std::string(bad)); });
+        EXPECT_NE(message.find(std::string("opencl: PRISM_OPENCL_REGISTERS='") + bad + "': "), std::string::npos)
+            << message;
+        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+}
+
+// A program built for some stages holds only their entry points (what lets each budget compile only its stages).
+TEST(OpenclRegisterBudgets, AStageMaskBuildsOnlyThoseEntryPoints) {
+    REQUIRE_POCL();
+    ScopedEnv no_cache("PRISM_CACHE_DIR", "");
+    const uint32_t mask = stage_bit(prism::Stage::Miss) | stage_bit(prism::Stage::Resolve);
+    prism::opencl_internal::BuildReport report = prism::opencl_internal::build_source(
+        kPocl, prism::opencl_internal::stages_source(), "-D RT_CL_STAGE_MASK=" + std::to_string(mask) + "u");
+    std::vector<std::string> names;
+    std::istringstream list(report.kernel_names);
+    for (std::string name; std::getline(list, name, ';');) names.push_back(name);
+    std::sort(names.begin(), names.end());
+    EXPECT_EQ(names, (std::vector<std::string>{"prism_miss", "prism_resolve"})) << report.kernel_names;
 }
 
 // ---- Device selection -------------------------------------------------------------------------------------------

@@ -9,15 +9,17 @@
 namespace prism::opencl_internal {
 
 struct BuildReport {
-    std::string device;       // the device it was built for
-    std::string options;      // the clBuildProgram options used
-    bool from_cache = false;  // the program binary came from the cache
-    std::string cache_file;   // where the binary is (or would be) cached; empty when the cache is unusable
+    std::string device;        // the device it was built for
+    std::string options;       // the clBuildProgram options used
+    bool from_cache = false;   // the program binary came from the cache
+    std::string cache_file;    // where the binary is (or would be) cached; empty when the cache is unusable
+    std::string kernel_names;  // the program's __kernel names, ';'-separated (CL_PROGRAM_KERNEL_NAMES)
 };
 
-// Builds `source` on the device `device_filter` selects (same rules as "opencl:<filter>"), through the program
-// cache. Throws prism::Error "opencl: kernel build failed on <device>: <first lines of the log>".
-BuildReport build_source(const std::string& device_filter, const std::string& source);
+// Builds `source` on the device `device_filter` selects (same rules as "opencl:<filter>") with `options` after the
+// fixed ones, through the program cache. Throws prism::Error "opencl: kernel build failed on <device>: <first
+// lines of the log>".
+BuildReport build_source(const std::string& device_filter, const std::string& source, const std::string& options = "");
 
 // Runs the layout marker kernel (layout.cl, from kernels/layout_table.h): one word per table line, in order
 // (sizes for RT_LAYOUT_STRUCT, offsets for RT_LAYOUT_MEMBER).

@@ -21,11 +21,12 @@ namespace {
 // default -prec-div=true -prec-sqrt=true.
 // NVIDIA's compiler takes inline PTX: there the queue slots are taken a warp at a time with PTX warp votes and
 // shuffles (kernels/compat/opencl.h, RT_QUEUE_RESERVE).
-std::string build_options(const DeviceEntry& device) {
+std::string build_options(const DeviceEntry& device, const std::string& extra_options) {
     std::string options = "-cl-std=CL1.2";
     if (device.fp_config & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) options += " -cl-fp32-correctly-rounded-divide-sqrt";
     if (device.platform_vendor.find("NVIDIA") != std::string::npos && (device.type & CL_DEVICE_TYPE_GPU))
         options += " -D RT_OPENCL_NVIDIA_PTX";
+    if (!extra_options.empty()) options += " " + extra_options;
     // Experiments only (docs/environment.md): the options are part of the cache key, so a binary built with them
     // is never taken for one built without.
     if (std::optional<std::string> extra = setting(Setting::OpenclOptions); extra && !extra->empty())
@@ -85,9 +86,10 @@ std::string cache_dir() {
     return "";
 }
 
-cl_program build_program(const ClDevice& dev, const std::string& source, opencl_internal::BuildReport* report) {
+cl_program build_program(const ClDevice& dev, const std::string& source, const std::string& extra_options,
+                         opencl_internal::BuildReport* report) {
     const DeviceEntry& device = dev.entry();
-    const std::string options = build_options(device);
+    const std::string options = build_options(device, extra_options);
     const std::string key = "prism-opencl-v1\n" + options + "\n" + device.platform_name + "\n" +
                             device.platform_version + "\n" + device.device_name + "\n" + device.device_version + "\n" +
                             device.driver_version + "\n" + source;

@@ -4,5 +4,9 @@
 #include "stages.h"
 
 // prism_<stage>(one __global pointer per line of kernels/data_arrays.h, uint depth) for every line of
-// kernels/stage_list.h: see opencl_entry.h and backends/opencl/CMakeLists.txt.
+// kernels/stage_list.h: see opencl_entry.h and backends/opencl/CMakeLists.txt. The host may build a program for some
+// stages only (-D RT_CL_STAGE_MASK=<bit i: line i>, opencl_backend.cpp's register budgets); by default all.
+#ifndef RT_CL_STAGE_MASK
+#define RT_CL_STAGE_MASK 0xffffffffu
+#endif
 #include "opencl_stage_entries.h"

@@ -17,6 +17,9 @@ constexpr auto kSettings = std::to_array<SettingInfo>({
     {Setting::HostMemoryLimit, "PRISM_HOST_MEMORY_LIMIT", "bytes a scene and its images may take in host memory"},
     {Setting::CudaGl, "PRISM_CUDA_GL", "register: the viewer's CUDA-GL interop maps a registered GL buffer"},
     {Setting::OpenclOptions, "PRISM_OPENCL_OPTIONS", "extra OpenCL build options, after the fixed ones (experiments)"},
+    {Setting::OpenclRegisters, "PRISM_OPENCL_REGISTERS",
+     "stage=registers,...: NVIDIA OpenCL's per-stage register budgets in place of Prism's (experiments); none: no "
+     "budgets"},
     {Setting::VulkanValidation, "PRISM_VULKAN_VALIDATION", "1: Vulkan runs under VK_LAYER_KHRONOS_validation"},
     {Setting::VulkanAddressing, "PRISM_VULKAN_ADDRESSING", "auto, descriptors or addresses: how stages reach arrays"},
     {Setting::VulkanDispatch, "PRISM_VULKAN_DISPATCH", "indirect or fixed: how Vulkan launches the queue stages"},

@@ -18,6 +18,7 @@ enum class Setting {
     HostMemoryLimit,    // PRISM_HOST_MEMORY_LIMIT
     CudaGl,             // PRISM_CUDA_GL
     OpenclOptions,      // PRISM_OPENCL_OPTIONS
+    OpenclRegisters,    // PRISM_OPENCL_REGISTERS
     VulkanValidation,   // PRISM_VULKAN_VALIDATION
     VulkanAddressing,   // PRISM_VULKAN_ADDRESSING
     VulkanDispatch,     // PRISM_VULKAN_DISPATCH
