@@ -73,12 +73,11 @@ RT_FUNC bool rt_hit_wins(float t, uint instance, uint primitive, Hit best) {
     return instance < best.instance || (instance == best.instance && primitive < best.primitive);
 }
 
-// Tests the triangles [first, first + count) and returns the winning hit (or `best` unchanged); an any-hit query
-// stops at the first hit, since it only asks whether there is one.
+// Tests the triangles [first, first + count) and returns the winning hit (or `best` unchanged).
 // The hit keeps the triangle's slot in `triangles` so shading can rebuild its geometric normal.
-RT_FUNC Hit rt_intersect_leaf(KernelGlobals kg, Hit best, TraversalRay ray, float tmax, bool any_hit, uint instance,
-                              uint first, uint count) {
-    for (uint k = 0u; k < count && !(any_hit && best.instance != RT_NONE); ++k) {
+RT_FUNC Hit rt_intersect_leaf(KernelGlobals kg, Hit best, TraversalRay ray, float tmax, uint instance, uint first,
+                              uint count) {
+    for (uint k = 0u; k < count; ++k) {
         TriangleGeometry tri = RT_FETCH(kg, triangles, first + k);
         float4 h = rt_intersect_triangle(tri, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w,
                                          rt_hit_reach(best, tmax));
@@ -98,8 +97,7 @@ RT_FUNC Hit rt_intersect_leaf(KernelGlobals kg, Hit best, TraversalRay ray, floa
 #define RT_INSTANCE_PER_LANE 0xfffffffdu
 
 // The wide layout's leaves: rt_intersect_leaf a block of four triangles at a time, with the same per-triangle
-// results and the same winner (rt_hit_wins). An any-hit query still tests the leaf's every block: a check between
-// blocks cost the cpu backend more than it saved (docs/kernels.md, "Any-hit leaves").
+// results and the same winner (rt_hit_wins).
 RT_FUNC Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, float tmax, uint instance, uint first,
                                 uint count) {
     for (uint b = 0u; b < (count + 3u) / 4u; ++b) {
@@ -200,7 +198,7 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
                     continue;
                 }
             } else {
-                best = rt_intersect_leaf(kg, best, ray, tmax, any_hit, instance, first, count);
+                best = rt_intersect_leaf(kg, best, ray, tmax, instance, first, count);
                 if (any_hit && best.instance != RT_NONE) return best;
             }
         }
@@ -264,7 +262,7 @@ RT_FUNC Hit rt_trace_escape(KernelGlobals kg, float3 origin, float3 direction, f
             index = inst.root;
             end = rt_as_uint(RT_FETCH(kg, nodes, index).lower.w);
         } else {
-            best = rt_intersect_leaf(kg, best, ray, tmax, any_hit, instance, info & RT_ESCAPE_FIRST_MASK,
+            best = rt_intersect_leaf(kg, best, ray, tmax, instance, info & RT_ESCAPE_FIRST_MASK,
                                      info >> RT_ESCAPE_COUNT_SHIFT);
             if (any_hit && best.instance != RT_NONE) return best;
             index = escape;
