@@ -13,10 +13,18 @@
 namespace prism::opencl {
 namespace {
 
-// Prism's budgets, for work-groups of 128: the shade kernel at 128 registers (4 groups per SM), where nvcc puts
-// CUDA's by itself. Left to itself, NVIDIA's OpenCL compiler gives it more, fewer groups fit, and the stage runs
-// slower (docs/kernels.md, "Register budgets on OpenCL"). Stages not named take what the compiler chooses.
-unsigned default_budget(Stage stage) { return stage == Stage::Shade ? 128u : 0u; }
+// Prism's budgets, for work-groups of 128, CUDA's: intersect and shadow at 64 registers (8 groups per SM, as
+// __launch_bounds__ holds CUDA's), shade at 128 (4 groups, where nvcc puts CUDA's by itself). Left to itself,
+// NVIDIA's OpenCL compiler gives the shade kernel more, fewer groups fit, and the stage runs slower
+// (docs/kernels.md, "Register budgets on OpenCL"). Stages not named take what the compiler chooses.
+unsigned default_budget(Stage stage) {
+    switch (stage) {
+        case Stage::Intersect:
+        case Stage::Shadow: return 64u;
+        case Stage::Shade: return 128u;
+        default: return 0u;
+    }
+}
 
 constexpr uint32_t all_stages = (1u << stage_count) - 1u;
 static_assert(stage_count < 32, "RT_CL_STAGE_MASK is a 32-bit mask");
