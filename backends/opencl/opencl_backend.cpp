@@ -51,9 +51,7 @@ public:
         const DeviceEntry& d = dev_.entry();
         try {
             // One program per register budget (opencl_register_budgets.h); one in all where budgets cannot be set.
-            const bool nv_registers =
-                (" " + device_string(d.device, CL_DEVICE_EXTENSIONS) + " ").find(" cl_nv_compiler_options ") !=
-                std::string::npos;
+            const bool nv_registers = device_has_extension(d.device, "cl_nv_compiler_options");
             for (const StageProgram& part : stage_programs(nv_registers, setting(Setting::OpenclRegisters))) {
                 programs_.push_back(build_program(dev_, prism_opencl_stages_source, part.options, nullptr));
                 for (size_t s = 0; s < stage_count; ++s) {

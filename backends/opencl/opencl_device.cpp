@@ -86,6 +86,15 @@ std::string device_string(cl_device_id device, cl_device_info what) {
     return info_string(clGetDeviceInfo, device, what);
 }
 
+bool device_has_extension(cl_device_id device, const std::string& extension) {
+    // The names are separated by spaces: padding both sides matches whole names only. Built by appending, since
+    // GCC 12 warns (-Wrestrict) on " " + string.
+    std::string listed = " ", wanted = " ";
+    listed.append(device_string(device, CL_DEVICE_EXTENSIONS)).append(" ");
+    wanted.append(extension).append(" ");
+    return listed.find(wanted) != std::string::npos;
+}
+
 std::vector<DeviceEntry> enumerate_devices(std::string& why_none) {
     ensure_pocl_cache_dir();  // before PoCL initialises: it needs a usable cache folder
     std::vector<DeviceEntry> devices;

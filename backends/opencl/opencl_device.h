@@ -19,6 +19,8 @@ const char* cl_error_name(cl_int code);
 std::string trim(std::string s);
 // A device's text property (CL_DEVICE_NAME, CL_DEVICE_EXTENSIONS, ...), trimmed; "" when the query fails.
 std::string device_string(cl_device_id device, cl_device_info what);
+// Whether CL_DEVICE_EXTENSIONS lists `extension` (a whole name, not a prefix of another).
+bool device_has_extension(cl_device_id device, const std::string& extension);
 
 struct DeviceEntry {
     cl_platform_id platform = nullptr;

@@ -5,18 +5,11 @@
 #include <algorithm>
 #include <utility>
 
+#include "backends/opencl/opencl_device.h"
 #include "core/util/error.h"
 
 namespace prism::opencl_gl {
 namespace {
-
-std::string device_extensions(cl_device_id device) {
-    size_t size = 0;
-    if (clGetDeviceInfo(device, CL_DEVICE_EXTENSIONS, 0, nullptr, &size) != CL_SUCCESS || size == 0) return "";
-    std::string text(size, '\0');
-    clGetDeviceInfo(device, CL_DEVICE_EXTENSIONS, size, text.data(), nullptr);
-    return " " + text + " ";
-}
 
 void check(cl_int err, const char* what, const std::string& device) {
     if (err != CL_SUCCESS)
@@ -76,7 +69,7 @@ private:
 ContextSharing context_properties(cl_platform_id platform, cl_device_id device, const std::string& platform_name,
                                   const std::string& device_name, const GlContextHandles& gl) {
     ContextSharing sharing;
-    if (device_extensions(device).find(" cl_khr_gl_sharing ") == std::string::npos) {
+    if (!opencl::device_has_extension(device, "cl_khr_gl_sharing")) {
         sharing.reason = platform_name + " has no cl_khr_gl_sharing";
         return sharing;
     }
