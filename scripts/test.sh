@@ -18,7 +18,8 @@ cmake --build --preset ci -j "$jobs"
 echo "== install completeness (every header and library the build used comes from install-deps.sh)"
 ./scripts/check-install-deps.sh build/ci
 echo "== tests"
-ctest --preset ci -j 1
+# One test process per core: each gtest case is its own process (gtest_discover_tests), and none asserts time.
+ctest --preset ci -j "$jobs"
 
 echo "== tests under AddressSanitizer + UndefinedBehaviorSanitizer"
 cmake --preset asan >/dev/null
@@ -26,7 +27,7 @@ cmake --build --preset asan -j "$jobs" --target prism prism_tests
 # GPU drivers (PoCL, lavapipe) are not built with ASan and keep allocations until exit: leaks are checked in our
 # code by the sanitizer build's own tests, driver-internal ones are not ours to report.
 ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  ctest --preset asan -j 1
+  ctest --preset asan -j "$jobs"
 
 # libFuzzer on every loader (clang, ASan + UBSan), seeded from ../shared/scenes; fails on any crash, hang or
 # broken error message. PRISM_FUZZ_SECONDS per target (60; two targets at a time on two cores: about 3 minutes).
