@@ -2,10 +2,14 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
+#include <optional>
 
 #include <unistd.h>
 
 #include "apps/cli_conventions.h"
+#include "core/util/environment.h"
+#include "core/util/error.h"
 
 namespace prism::app {
 namespace {
@@ -21,6 +25,19 @@ std::string seconds(double value) {
     return text;
 }
 
+// How long a step runs before its plain lines start (PRISM_PROGRESS_DELAY seconds, default 1): a step shorter
+// than that prints only its "done" line, so a small scene's log is not a screen of percentages.
+std::chrono::duration<double> plain_line_delay() {
+    std::optional<std::string> text = setting(Setting::ProgressDelay);
+    if (!text || text->empty()) return std::chrono::duration<double>(1.0);
+    char* end = nullptr;
+    double value = std::strtod(text->c_str(), &end);
+    if (end == text->c_str() || *end != '\0' || !(value >= 0.0 && value <= 3600.0))
+        throw Error(std::string(setting_name(Setting::ProgressDelay)) + "='" + shorten(*text) +
+                    "' is not a number of seconds from 0 to 3600");
+    return std::chrono::duration<double>(value);
+}
+
 }  // namespace
 
 Progress::Progress(std::string task)
@@ -28,7 +45,8 @@ Progress::Progress(std::string task)
       enabled_(!quiet()),
       terminal_(isatty(STDERR_FILENO)),
       start_(Clock::now()),
-      last_update_(start_) {
+      last_update_(start_),
+      plain_line_delay_(plain_line_delay()) {
     if (!enabled_) return;
     // Plain lines start at the first news: a step that fails at once leaves only its one-line error.
     if (!terminal_) return;
@@ -58,8 +76,9 @@ void Progress::update(double fraction, const std::string& detail) {
     last_update_ = now;
     if (terminal_) {
         if (now - last_draw_ >= std::chrono::milliseconds(100) || fraction_ >= 1.0) draw(now);
-    } else if (fraction_ >= printed_fraction_ + 0.1 || (fraction_ >= 1.0 && printed_fraction_ < 1.0)) {
-        // Plain lines for logs: about every tenth of the step, however often it reports.
+    } else if (now - start_ >= plain_line_delay_ &&
+               (fraction_ >= printed_fraction_ + 0.1 || (fraction_ >= 1.0 && printed_fraction_ < 1.0))) {
+        // Plain lines for logs: about every tenth of a long step, however often it reports.
         printed_fraction_ = fraction_;
         std::fprintf(stderr, "prism: %s\n", status_line(now).c_str());
     }

@@ -39,6 +39,7 @@ private:
     Clock::time_point last_draw_;
     double fraction_ = -1.0;  // negative until the step reports one
     double printed_fraction_ = -1.0;
+    std::chrono::duration<double> plain_line_delay_;
     std::string detail_;
     std::mutex mutex_;
     std::condition_variable stop_;

@@ -46,10 +46,12 @@ struct SplitResult {
     int exit_code = -1;
     std::string out, err;
 };
-SplitResult run_prism_split(const std::string& arguments) {
+// `environment`: assignments put before the command, e.g. "PRISM_PROGRESS_DELAY=0".
+SplitResult run_prism_split(const std::string& arguments, const std::string& environment = "") {
     fs::path err = prism::test::temp_dir("cli-split") / "stderr.txt";
     SplitResult result;
-    FILE* pipe = popen(("'" + binary() + "' " + arguments + " 2>'" + err.string() + "'").c_str(), "r");
+    std::string prefix = environment.empty() ? "" : "env " + environment + " ";
+    FILE* pipe = popen((prefix + "'" + binary() + "' " + arguments + " 2>'" + err.string() + "'").c_str(), "r");
     if (!pipe) return result;
     char buffer[4096];
     size_t n;
@@ -389,8 +391,9 @@ TEST(Cli, InstalledPrismFindsTheScenesOfItsPrefix) {
 
 TEST(Cli, ProgressIsPlainLinesWithElapsedAndEtaWhenNotATerminal) {
     fs::path out = prism::test::temp_dir("cli") / "progress.png";
-    SplitResult r =
-        run_prism_split("render --backend cpu --width 48 --height 32 --depth 3 --out '" + out.string() + "'");
+    // The delay at 0: these steps take milliseconds, and their every tenth is wanted here.
+    SplitResult r = run_prism_split(
+        "render --backend cpu --width 48 --height 32 --depth 3 --out '" + out.string() + "'", "PRISM_PROGRESS_DELAY=0");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(r.err.find('\r'), std::string::npos) << "no redrawn line on a pipe: " << r.err;
     EXPECT_NE(r.err.find("prism: loading builtin:sphere: done in "), std::string::npos) << r.err;
@@ -403,14 +406,40 @@ TEST(Cli, ProgressIsPlainLinesWithElapsedAndEtaWhenNotATerminal) {
     EXPECT_NE(r.out.find("prism render: "), std::string::npos) << r.out;
 }
 
+// A log of a small scene holds each step's "done" line, not a screen of percentages: the tenths start once a step
+// has run PRISM_PROGRESS_DELAY seconds (1 by default). A malformed delay is a one-line error naming the variable.
+TEST(Cli, ShortStepsPrintOnlyTheirDoneLineWhenNotATerminal) {
+    fs::path out = prism::test::temp_dir("cli") / "short-steps.png";
+    SplitResult r =
+        run_prism_split("render --backend cpu --width 48 --height 32 --depth 3 --out '" + out.string() + "'",
+                        "PRISM_PROGRESS_DELAY=600");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("prism: loading builtin:sphere: done in "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("prism: building the wide BVH of builtin:sphere: done in "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("prism: rendering 48x32: done in "), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("%)"), std::string::npos) << "no tenths of a step shorter than the delay: " << r.err;
+    EXPECT_EQ(r.err.find("ETA"), std::string::npos) << r.err;
+
+    for (const char* bad : {"soon", "-1", "1e9", "2s"}) {
+        SplitResult e = run_prism_split("render --backend cpu --width 8 --height 8 --out '" + out.string() + "'",
+                                        std::string("PRISM_PROGRESS_DELAY=") + bad);
+        EXPECT_NE(e.exit_code, 0) << bad;
+        EXPECT_NE(e.err.find("PRISM_PROGRESS_DELAY='" + std::string(bad) + "' is not a number of seconds"),
+                  std::string::npos)
+            << e.err;
+        EXPECT_EQ(line_count(e.err), 1u) << e.err;
+    }
+}
+
 // Loading reports how far it has read (PLY elements, gzip input), so a large model's load has an ETA too.
 TEST(Cli, LoadingAModelShowsItsFractionAndEta) {
     fs::path out = prism::test::temp_dir("cli") / "loading.png";
     const std::string dragon = prism::test::scene("stanford/dragon.ply.gz").string();
     SplitResult r = run_prism_split("render --backend cpu --scene '" + dragon +
-                                    "' --width 8 --height 8 --depth 1 "
-                                    "--out '" +
-                                    out.string() + "'");
+                                        "' --width 8 --height 8 --depth 1 "
+                                        "--out '" +
+                                        out.string() + "'",
+                                    "PRISM_PROGRESS_DELAY=0");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const size_t line = r.err.find("prism: loading " + dragon + " (");
     ASSERT_NE(line, std::string::npos) << r.err;

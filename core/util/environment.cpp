@@ -28,6 +28,8 @@ constexpr auto kSettings = std::to_array<SettingInfo>({
      "uncached, cached, host or host-4k: the host memory of prism bandwidth's Vulkan pinned copies"},
     {Setting::ViewPanel, "PRISM_VIEW_PANEL", "0: prism view starts without its panel"},
     {Setting::ViewAblate, "PRISM_VIEW_ABLATE", "copy or gl: prism view skips one half of showing a frame"},
+    {Setting::ProgressDelay, "PRISM_PROGRESS_DELAY",
+     "seconds a step runs before its progress lines start when stderr is not a terminal (default 1)"},
     {Setting::Python, "PRISM_PYTHON", "the Python with matplotlib that draws plots"},
 });
 // setting_name() indexes the table by the enum: one entry per Setting, in the enum's order.

@@ -26,6 +26,7 @@ enum class Setting {
     VulkanStaging,      // PRISM_VULKAN_STAGING
     ViewPanel,          // PRISM_VIEW_PANEL
     ViewAblate,         // PRISM_VIEW_ABLATE
+    ProgressDelay,      // PRISM_PROGRESS_DELAY
     Python,             // PRISM_PYTHON
 };
 
