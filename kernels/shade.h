@@ -127,6 +127,20 @@ RT_FUNC Ray rt_make_ray(float3 origin, float3 direction, float3 weight, uint pix
 }
 
 // The refracted ray of one channel (or of all three when the IOR does not depend on the channel).
+// The mirror direction about the shading normal, kept above the surface. Where a normal map (or a smooth normal
+// near a silhouette) tilts n far from the geometric normal, the mirror direction can point into the surface;
+// mirroring about the geometric normal instead jumped to the flat surface's reflection there, a ring around every
+// bump. The direction is laid just above the surface with its bearing kept (Keller et al. 2017, the Iray paper), so
+// it joins the mirror directions around it.
+RT_FUNC float3 rt_reflect_above(float3 d, float3 n, float3 ng) {
+    float3 dir = rt_reflect(d, n);
+    float below = dot(dir, ng);
+    if (below > 0.0f) return dir;
+    float3 along = dir - ng * below;  // the part in the surface's plane
+    if (!(dot(along, along) > 1e-12f)) return rt_reflect(d, ng);
+    return normalize(normalize(along) + ng * 0.01f);
+}
+
 RT_FUNC Ray rt_refraction_ray(Surface s, Material m, float3 d, float3 weight, uint pixel, uint mask, uint depth,
                               uint channel) {
     float3 n = rt_xyz(s.normal);
@@ -205,8 +219,7 @@ RT_FUNC ShadeResult rt_shade(KernelGlobals kg, Ray ray, Hit hit, RT_OUT_ARRAY Ra
         }
         float3 w_reflect = weight * rt_xyz(terms.specular) * (rf * reflectivity);
         if (rt_max3(w_reflect) > min_weight) {
-            float3 dir = rt_reflect(d, n);
-            if (dot(dir, ng) <= 0.0f) dir = rt_reflect(d, ng);  // shading normal pointed it into the surface
+            float3 dir = rt_reflect_above(d, n, ng);
             children[count] = rt_make_ray(rt_xyz(result.lit.origin), dir, w_reflect, pixel, mask, depth + 1u);
             count += 1u;
         }

@@ -46,6 +46,29 @@ TEST(SeedMaterial, ReflectionEquation69) {
     expect_near3(rt_reflect(float3{s, -s, 0}, float3{0, 1, 0}), {s, s, 0});
 }
 
+// A normal map's tilt can put the mirror direction under the surface: it is laid just above the surface with its
+// bearing kept, not mirrored about the geometric normal (which showed the flat surface's reflection in a ring
+// around every bump); above the surface the mirror direction is unchanged.
+TEST(SeedMaterial, ReflectionUnderTheSurfaceIsLaidJustAboveIt) {
+    float3 ng{0, 1, 0};
+    float3 d = normalize(float3{0.2f, -1.0f, -0.3f});
+    float3 gentle = normalize(float3{0.1f, 1.0f, 0.0f});
+    expect_near3(rt_reflect_above(d, gentle, ng), rt_reflect(d, gentle));
+
+    float3 steep = normalize(float3{-1.0f, 0.35f, 0.0f});  // near a bump's silhouette
+    float3 mirror = rt_reflect(d, steep);
+    ASSERT_LT(dot(mirror, ng), 0.0f) << "the case under test: the mirror direction points into the surface";
+    float3 dir = rt_reflect_above(d, steep, ng);
+    EXPECT_NEAR(length(dir), 1.0f, 1e-6f);
+    EXPECT_GT(dot(dir, ng), 0.0f);
+    EXPECT_LT(dot(dir, ng), 0.02f) << "just above the surface, not the flat surface's mirror direction";
+    // The same bearing in the surface's plane as the mirror direction.
+    float3 bearing = normalize(float3{mirror.x, 0.0f, mirror.z});
+    expect_near3(normalize(float3{dir.x, 0.0f, dir.z}), bearing, 1e-5f);
+    // Straight into the surface: no bearing to keep, the geometric mirror.
+    expect_near3(rt_reflect_above(float3{0, -1, 0}, float3{1, 0, 0}, ng), float3{0, 1, 0});
+}
+
 // Eq. 6.30 obeys Snell's law (eq. 6.10) and reports total internal reflection.
 TEST(SeedMaterial, RefractionEquation630) {
     float s = std::sqrt(0.5f);
