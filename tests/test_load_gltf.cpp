@@ -596,19 +596,6 @@ TEST(LoadGltf, AnimationsWithoutATargetNodeLoadAsTheRestPose) {
     EXPECT_NE(scene.warnings[0].find("animations are not played"), std::string::npos) << scene.warnings[0];
 }
 
-// Skins need no inverseBindMatrices (the spec's default is identity); tinygltf 2.7 asks for them.
-TEST(LoadGltf, SkinWithoutInverseBindMatricesLoadsAsTheRestPose) {
-    GltfBuilder gltf;
-    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", triangle_positions(gltf)}}}}})}, {"skin", 0}});
-    gltf.node({{"translation", {0, 1, 0}}});
-    gltf.document["skins"] = {{{"joints", {1}}}};
-    Scene scene = load(gltf.write("skin_without_ibm.gltf"));
-    EXPECT_EQ(scene.triangle_count(), 1u);
-    ASSERT_EQ(scene.warnings.size(), 1u);
-    EXPECT_NE(scene.warnings[0].find("skins and morph targets are not applied"), std::string::npos)
-        << scene.warnings[0];
-}
-
 // In a .glb the JSON chunk is rewritten and the binary chunk kept: the same triangles as the file without.
 TEST(LoadGltf, GlbWithAnimationsKeepsItsBinaryChunk) {
     GltfBuilder gltf;

@@ -87,13 +87,14 @@ const uint8_t* locate(const tinygltf::Model& model, int buffer_view_index, size_
 // Reads every component of every element as double (exact for all glTF integer types), then applies sparse
 // substitution. Doubles keep one code path for indices and attributes; the arrays are transient.
 std::vector<double> read_components(const tinygltf::Model& model, int accessor_index, const std::string& file,
-                                    int& components_out, bool normalized_allowed) {
+                                    int& components_out, bool normalized_allowed, bool matrices_allowed = false) {
     std::string what = "accessor " + std::to_string(accessor_index);
     if (accessor_index < 0 || accessor_index >= static_cast<int>(model.accessors.size()))
         throw file_error(file, what + " does not exist");
     const tinygltf::Accessor& accessor = model.accessors[accessor_index];
     int size = component_size(accessor.componentType);
     int components = component_count(accessor.type);
+    if (matrices_allowed && accessor.type == TINYGLTF_TYPE_MAT4) components = 16;
     if (size == 0) throw file_error(file, what + ": unknown componentType " + std::to_string(accessor.componentType));
     if (components == 0) throw file_error(file, what + ": unsupported type (matrix accessor used as an attribute)");
     bool normalized = accessor.normalized && normalized_allowed;
@@ -163,6 +164,17 @@ FloatArray read_floats(const tinygltf::Model& model, int accessor_index, const s
     std::vector<double> values = read_components(model, accessor_index, file, array.components, true);
     array.values.assign(values.begin(), values.end());
     array.count = array.components ? values.size() / array.components : 0;
+    return array;
+}
+
+FloatArray read_mat4s(const tinygltf::Model& model, int accessor_index, const std::string& file) {
+    FloatArray array;
+    std::vector<double> values = read_components(model, accessor_index, file, array.components, false, true);
+    const tinygltf::Accessor& accessor = model.accessors[accessor_index];
+    if (array.components != 16 || accessor.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+        throw file_error(file, "accessor " + std::to_string(accessor_index) + ": must be MAT4 of floats");
+    array.values.assign(values.begin(), values.end());
+    array.count = values.size() / 16;
     return array;
 }
 

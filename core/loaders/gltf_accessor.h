@@ -25,6 +25,9 @@ struct FloatArray {
 
 FloatArray read_floats(const tinygltf::Model& model, int accessor_index, const std::string& file);
 
+// A MAT4 accessor of floats (a skin's inverse bind matrices): 16 components per element, column by column.
+FloatArray read_mat4s(const tinygltf::Model& model, int accessor_index, const std::string& file);
+
 // A SCALAR accessor of unsigned integers read exactly (vertex indices).
 std::vector<uint32_t> read_indices(const tinygltf::Model& model, int accessor_index, const std::string& file);
 

@@ -12,7 +12,12 @@ bool mentions_animation(std::string_view json_text) {
 RestPoseEdit remove_animation(nlohmann::json& document) {
     RestPoseEdit edit;
     edit.had_animations = document.erase("animations") > 0;
-    const bool had_skins = document.erase("skins") > 0;
+    bool had_skins = false;
+    if (auto skins = document.find("skins"); skins != document.end()) {
+        edit.skins = std::move(*skins);
+        document.erase(skins);
+        had_skins = true;
+    }
     edit.changed = edit.had_animations || had_skins;
     return edit;
 }

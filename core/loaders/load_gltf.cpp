@@ -23,6 +23,7 @@
 #include "core/loaders/gltf_draco.h"
 #include "core/loaders/gltf_meshopt.h"
 #include "core/loaders/gltf_rest_pose.h"
+#include "core/loaders/gltf_skin.h"
 #include "core/util/input_file.h"
 #include "core/util/json_depth.h"
 #include "core/util/load_progress.h"
@@ -172,11 +173,13 @@ glm::mat4 local_transform(const tinygltf::Node& node) {
 
 class GltfImporter {
 public:
-    GltfImporter(const tinygltf::Model& model, std::string file, Scene& scene, bool report_progress)
+    GltfImporter(const tinygltf::Model& model, std::string file, Scene& scene, std::vector<gltf::Skin> skins,
+                 bool report_progress)
         : model_(model),
           file_(std::move(file)),
           scene_(scene),
           materials_(model, file_, scene),
+          skins_(std::move(skins)),
           report_progress_(report_progress) {}
 
     void import() {
@@ -196,10 +199,13 @@ public:
                 if (!is_child[i]) roots.push_back(static_cast<int>(i));
         }
         node_state_.assign(model_.nodes.size(), NodeState::Unseen);
+        node_world_.assign(model_.nodes.size(), glm::mat4(1.0f));
         for (size_t i = 0; i < roots.size(); ++i) {
             visit_tree(roots[i]);
             if (report_progress_) report_load_progress(double(i + 1) / double(roots.size()));
         }
+        // Skinned meshes last: their joints may be anywhere in the trees, so every node's place must be known.
+        for (const PendingSkin& pending : pending_skins_) add_skinned_instances(pending);
     }
 
 private:
@@ -208,6 +214,10 @@ private:
         int node;
         glm::mat4 world;
         size_t next_child;
+    };
+    struct PendingSkin {
+        int node;
+        int mesh;
     };
 
     // Depth-first over the node tree with an explicit stack: a file's chain of 20,000 nodes must not become
@@ -241,8 +251,19 @@ private:
         node_state_[node_index] = NodeState::OnPath;
         const tinygltf::Node& node = model_.nodes[node_index];
         glm::mat4 world = parent * local_transform(node);
+        node_world_[node_index] = world;
 
-        if (node.mesh >= 0) add_mesh_instances(node, node.mesh, world);
+        if (node.mesh >= 0 && node.skin >= 0) {
+            if (node.skin >= static_cast<int>(skins_.size()))
+                throw file_error(file_, "node " + std::to_string(node_index) + ": skin " + std::to_string(node.skin) +
+                                            " does not exist");
+            if (node.mesh >= static_cast<int>(model_.meshes.size()))
+                throw file_error(file_, "mesh " + std::to_string(node.mesh) + " does not exist");
+            warn_if_morphing(model_.meshes[node.mesh]);
+            pending_skins_.push_back({node_index, node.mesh});
+        } else if (node.mesh >= 0) {
+            add_mesh_instances(node, node.mesh, world);
+        }
         if (node.camera >= 0) add_camera(node.camera, world);
         auto light = node.extensions.find("KHR_lights_punctual");
         if (light != node.extensions.end() && light->second.Has("light"))
@@ -254,49 +275,156 @@ private:
     void add_mesh_instances(const tinygltf::Node& node, int mesh_index, const glm::mat4& node_world) {
         if (mesh_index >= static_cast<int>(model_.meshes.size()))
             throw file_error(file_, "mesh " + std::to_string(mesh_index) + " does not exist");
-        warn_if_animated(node, model_.meshes[mesh_index]);
+        warn_if_morphing(model_.meshes[mesh_index]);
         for (const glm::mat4& local : gltf::gpu_instance_transforms(model_, node, file_))
             add_primitive_instances(node, mesh_index, node_world * local);
     }
 
-    // Prism draws no animation: skinned and morphing meshes appear in their rest pose, said once per file.
-    void warn_if_animated(const tinygltf::Node& node, const tinygltf::Mesh& mesh) {
+    // Prism plays no animation and applies no morph target: morphing meshes appear in their rest pose, said once
+    // per file. (Skins are applied, in the pose the nodes give their joints: add_skinned_instances.)
+    void warn_if_morphing(const tinygltf::Mesh& mesh) {
         bool morphs = false;
         for (const tinygltf::Primitive& primitive : mesh.primitives) morphs = morphs || !primitive.targets.empty();
-        if ((node.skin < 0 && !morphs) || warned_animated_) return;
-        scene_.warnings.push_back(file_ +
-                                  ": skins and morph targets are not applied; meshes are drawn in their rest pose");
-        warned_animated_ = true;
+        if (!morphs || warned_morphing_) return;
+        scene_.warnings.push_back(file_ + ": morph targets are not applied; meshes are drawn in their rest pose");
+        warned_morphing_ = true;
     }
 
     void add_primitive_instances(const tinygltf::Node& node, int mesh_index, const glm::mat4& world) {
+        for (size_t p = 0; p < model_.meshes[mesh_index].primitives.size(); ++p)
+            add_primitive_instance(node, mesh_index, static_cast<int>(p), world);
+    }
+
+    void add_primitive_instance(const tinygltf::Node& node, int mesh_index, int p, const glm::mat4& world) {
         // A mirroring transform reverses the winding after transformation; a mirrored copy with reversed winding
         // keeps geometric normals facing the way the file meant.
         bool mirrored = glm::determinant(glm::mat3(world)) < 0.0f;
         const tinygltf::Mesh& mesh = model_.meshes[mesh_index];
+        auto key = std::make_tuple(mesh_index, p, mirrored);
+        auto found = meshes_.find(key);
+        uint32_t scene_mesh;
+        if (found != meshes_.end()) {
+            scene_mesh = found->second;
+        } else {
+            Mesh converted;
+            if (!convert_primitive(mesh, mesh_index, p, mirrored, converted)) {
+                meshes_[key] = kSkipped;
+                return;
+            }
+            scene_.meshes.push_back(std::move(converted));
+            scene_mesh = static_cast<uint32_t>(scene_.meshes.size() - 1);
+            meshes_[key] = scene_mesh;
+        }
+        if (scene_mesh == kSkipped) return;
+        add_instance(node, mesh, scene_mesh, world);
+    }
+
+    void add_instance(const tinygltf::Node& node, const tinygltf::Mesh& mesh, uint32_t scene_mesh,
+                      const glm::mat4& world) {
+        Instance instance;
+        instance.mesh = scene_mesh;
+        instance.transform = world;
+        instance.name = node.name.empty() ? mesh.name : node.name;
+        scene_.instances.push_back(std::move(instance));
+    }
+
+    // A skinned node's primitives, moved by their joints into world space (core/loaders/gltf_skin.h): one copy per
+    // (mesh, primitive, skin), shared by the nodes that pair them. A primitive without JOINTS_0 and WEIGHTS_0, or a
+    // skin whose joints are not all in the scene, is drawn where its node puts it, with a warning.
+    void add_skinned_instances(const PendingSkin& pending) {
+        const tinygltf::Node& node = model_.nodes[pending.node];
+        const tinygltf::Mesh& mesh = model_.meshes[pending.mesh];
+        const gltf::Skin& skin = skins_[node.skin];
+        const std::string skin_name = "skin " + std::to_string(node.skin);
+        for (int joint : skin.joints) {
+            if (joint >= static_cast<int>(model_.nodes.size()))
+                throw file_error(file_, skin_name + ": joint " + std::to_string(joint) + " is not a node (" +
+                                            std::to_string(model_.nodes.size()) + " nodes)");
+            if (node_state_[joint] != NodeState::Done) {
+                warn_once(warned_unplaced_joint_, skin_name + ": joint " + std::to_string(joint) +
+                                                      " is not in the scene; its meshes are drawn unskinned");
+                add_mesh_instances(node, pending.mesh, node_world_[pending.node]);
+                return;
+            }
+        }
+        auto matrices = joint_matrices_.find(node.skin);
+        if (matrices == joint_matrices_.end())
+            matrices = joint_matrices_.emplace(node.skin, gltf::joint_matrices(model_, skin, node_world_, file_)).first;
         for (size_t p = 0; p < mesh.primitives.size(); ++p) {
-            auto key = std::make_tuple(mesh_index, static_cast<int>(p), mirrored);
-            auto found = meshes_.find(key);
-            uint32_t scene_mesh;
-            if (found != meshes_.end()) {
-                scene_mesh = found->second;
-            } else {
-                Mesh converted;
-                if (!convert_primitive(mesh, mesh_index, static_cast<int>(p), mirrored, converted)) {
-                    meshes_[key] = kSkipped;
+            auto key = std::make_tuple(pending.mesh, static_cast<int>(p), node.skin);
+            auto found = skinned_meshes_.find(key);
+            if (found == skinned_meshes_.end()) {
+                std::optional<uint32_t> skinned =
+                    skinned_primitive(mesh, pending.mesh, static_cast<int>(p), matrices->second);
+                if (!skinned) {
+                    add_primitive_instance(node, pending.mesh, static_cast<int>(p), node_world_[pending.node]);
                     continue;
                 }
-                scene_.meshes.push_back(std::move(converted));
-                scene_mesh = static_cast<uint32_t>(scene_.meshes.size() - 1);
-                meshes_[key] = scene_mesh;
+                found = skinned_meshes_.emplace(key, *skinned).first;
             }
-            if (scene_mesh == kSkipped) continue;
-            Instance instance;
-            instance.mesh = scene_mesh;
-            instance.transform = world;
-            instance.name = node.name.empty() ? mesh.name : node.name;
-            scene_.instances.push_back(std::move(instance));
+            if (found->second != kSkipped) add_instance(node, mesh, found->second, glm::mat4(1.0f));
         }
+    }
+
+    // The primitive skinned into world space as a new scene mesh (kSkipped when it is not traced), or nullopt
+    // when it has no joints and weights to skin it by.
+    std::optional<uint32_t> skinned_primitive(const tinygltf::Mesh& mesh, int mesh_index, int p,
+                                              const std::vector<glm::mat4>& joints) {
+        const tinygltf::Primitive& primitive = mesh.primitives[p];
+        const std::string what = "mesh " + std::to_string(mesh_index) + " primitive " + std::to_string(p);
+        std::vector<gltf::Influences> influences;
+        for (int set = 0;; ++set) {
+            auto joint_set = primitive.attributes.find("JOINTS_" + std::to_string(set));
+            auto weight_set = primitive.attributes.find("WEIGHTS_" + std::to_string(set));
+            if (joint_set == primitive.attributes.end() || weight_set == primitive.attributes.end()) break;
+            gltf::Influences read{gltf::read_floats(model_, joint_set->second, file_),
+                                  gltf::read_floats(model_, weight_set->second, file_)};
+            if (read.joints.components != 4 || read.weights.components != 4)
+                throw file_error(file_, what + ": JOINTS_" + std::to_string(set) + " and WEIGHTS_" +
+                                            std::to_string(set) + " must be VEC4");
+            influences.push_back(std::move(read));
+        }
+        if (influences.empty()) {
+            warn_once(warned_unskinnable_, what +
+                                               " belongs to a skinned node but has no JOINTS_0 and WEIGHTS_0; "
+                                               "drawn unskinned");
+            return std::nullopt;
+        }
+        Mesh converted;
+        if (!convert_primitive(mesh, mesh_index, p, false, converted)) return kSkipped;
+        for (const gltf::Influences& set : influences)
+            if (set.joints.count != converted.positions.size() || set.weights.count != converted.positions.size())
+                throw file_error(file_, what + ": JOINTS and WEIGHTS counts differ from POSITION count");
+        // Each skinned copy is new memory: bounded, so a file cannot pair one large mesh with a thousand skins.
+        skinned_vertices_ += converted.positions.size();
+        if (skinned_vertices_ > skinned_vertex_budget())
+            throw file_error(file_,
+                             "its skins would copy more than " + std::to_string(skinned_vertex_budget()) + " vertices");
+        gltf::apply_skin(converted, joints, influences, what, file_);
+        // A mirroring skin: reversed winding and bitangent sign, as add_primitive_instance's mirrored copies.
+        if (glm::determinant(glm::mat3(joints.front())) < 0.0f) {
+            for (glm::uvec3& triangle : converted.triangles) std::swap(triangle.y, triangle.z);
+            for (glm::vec4& tangent : converted.tangents) tangent.w = -tangent.w;
+        }
+        scene_.meshes.push_back(std::move(converted));
+        return static_cast<uint32_t>(scene_.meshes.size() - 1);
+    }
+
+    // Four times the vertices of the file's own primitives, and at least 8M.
+    size_t skinned_vertex_budget() const {
+        size_t vertices = 0;
+        for (const tinygltf::Mesh& mesh : model_.meshes)
+            for (const tinygltf::Primitive& primitive : mesh.primitives)
+                if (auto position = primitive.attributes.find("POSITION"); position != primitive.attributes.end())
+                    if (position->second >= 0 && position->second < static_cast<int>(model_.accessors.size()))
+                        vertices += model_.accessors[position->second].count;
+        return std::max<size_t>(size_t(8) << 20, 4 * vertices);
+    }
+
+    void warn_once(bool& warned, const std::string& message) {
+        if (warned) return;
+        scene_.warnings.push_back(file_ + ": " + message);
+        warned = true;
     }
 
     bool convert_primitive(const tinygltf::Mesh& mesh, int mesh_index, int primitive_index, bool mirrored, Mesh& out) {
@@ -457,11 +585,19 @@ private:
     std::string file_;
     Scene& scene_;
     gltf::MaterialConverter materials_;
+    std::vector<gltf::Skin> skins_;
     bool report_progress_;
-    std::map<std::tuple<int, int, bool>, uint32_t> meshes_;  // (mesh, primitive, mirrored) -> scene mesh
-    std::vector<NodeState> node_state_;                      // per node: unseen, on the current path, done
+    std::map<std::tuple<int, int, bool>, uint32_t> meshes_;         // (mesh, primitive, mirrored) -> scene mesh
+    std::map<std::tuple<int, int, int>, uint32_t> skinned_meshes_;  // (mesh, primitive, skin) -> scene mesh
+    std::map<int, std::vector<glm::mat4>> joint_matrices_;          // per skin
+    std::vector<NodeState> node_state_;                             // per node: unseen, on the current path, done
+    std::vector<glm::mat4> node_world_;                             // per node reached: its world transform
+    std::vector<PendingSkin> pending_skins_;
+    size_t skinned_vertices_ = 0;
     bool warned_non_triangles_ = false;
-    bool warned_animated_ = false;
+    bool warned_morphing_ = false;
+    bool warned_unplaced_joint_ = false;
+    bool warned_unskinnable_ = false;
     bool warned_spot_ = false;
 };
 
@@ -483,10 +619,12 @@ void load_gltf(const std::filesystem::path& path, Scene& scene) {
         throw file_error(file, "JSON nests deeper than " + std::to_string(kMaxJsonDepth) + " levels");
     // What tinygltf 2.7 would refuse is taken out of the JSON first, in one parse and one rewrite for every edit.
     bool had_animations = false;
+    nlohmann::json skins;  // taken out for tinygltf, applied by the importer
     if (const std::string_view json = json_text(bytes, binary); mentions_animation(json) || mentions_compression(json))
         if (std::optional<std::string> rewritten = with_json_edited(bytes, binary, [&](nlohmann::json& document) {
-                const RestPoseEdit rest_pose = remove_animation(document);
+                RestPoseEdit rest_pose = remove_animation(document);
                 had_animations = rest_pose.had_animations;
+                skins = std::move(rest_pose.skins);
                 const bool prepared = prepare_for_decompression(document);
                 return rest_pose.changed || prepared;
             }))
@@ -559,7 +697,7 @@ void load_gltf(const std::filesystem::path& path, Scene& scene) {
     const bool report_progress = bytes.size() >= kBytesWorthReporting;
     if (report_progress) report_load_progress(0.3);  // parsed; the meshes and textures follow
     LoadProgressShare importing(0.3, 1.0);
-    GltfImporter(model, file, scene, report_progress).import();
+    GltfImporter(model, file, scene, gltf::parse_skins(skins, file), report_progress).import();
 }
 
 }  // namespace prism
