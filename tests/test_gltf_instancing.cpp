@@ -1,5 +1,5 @@
-// EXT_mesh_gpu_instancing becomes instances of one mesh (no copies); morph targets are drawn in their rest pose with
-// one warning naming the file (skins: test_gltf_skin.cpp).
+// EXT_mesh_gpu_instancing becomes instances of one mesh (no copies). Skins: test_gltf_skin.cpp; morph targets:
+// test_gltf_morph.cpp.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -78,29 +78,6 @@ TEST(GltfInstancing, MismatchedAttributeCountsAreAnError) {
     });
     EXPECT_NE(message.find("instancing_counts.gltf"), std::string::npos) << message;
     EXPECT_NE(message.find("attribute counts differ"), std::string::npos) << message;
-}
-
-TEST(GltfInstancing, MorphTargetsWarnOnceNamingTheFile) {
-    GltfBuilder gltf;
-    int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
-    int offsets = gltf.positions({0, 0, 1, 0, 0, 1, 0, 0, 1});
-    int morphing =
-        gltf.mesh(json::array({{{"attributes", {{"POSITION", positions}}}, {"targets", {{{"POSITION", offsets}}}}}}));
-    gltf.node({{"mesh", morphing}});
-    gltf.node({{"mesh", morphing}, {"translation", {4, 0, 0}}});
-    std::filesystem::path file = gltf.write("morphing.gltf");
-    Scene scene;
-    load_gltf(file, scene);
-    EXPECT_EQ(scene.instances.size(), 2u);  // both drawn, in their rest pose
-    ASSERT_EQ(scene.meshes.size(), 1u);
-    EXPECT_EQ(scene.meshes[0].positions[0], glm::vec3(0, 0, 0)) << "the morph target's offset is not applied";
-    int rest_pose_warnings = 0;
-    for (const std::string& warning : scene.warnings)
-        if (warning.find("morph targets are not applied") != std::string::npos) {
-            ++rest_pose_warnings;
-            EXPECT_NE(warning.find("morphing.gltf"), std::string::npos) << warning;
-        }
-    EXPECT_EQ(rest_pose_warnings, 1);
 }
 
 }  // namespace prism

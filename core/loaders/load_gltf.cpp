@@ -5,6 +5,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <span>
 #include <sstream>
 #include <tuple>
 
@@ -22,6 +23,7 @@
 #include "core/loaders/gltf_compression_json.h"
 #include "core/loaders/gltf_draco.h"
 #include "core/loaders/gltf_meshopt.h"
+#include "core/loaders/gltf_morph.h"
 #include "core/loaders/gltf_rest_pose.h"
 #include "core/loaders/gltf_skin.h"
 #include "core/util/input_file.h"
@@ -259,7 +261,6 @@ private:
                                             " does not exist");
             if (node.mesh >= static_cast<int>(model_.meshes.size()))
                 throw file_error(file_, "mesh " + std::to_string(node.mesh) + " does not exist");
-            warn_if_morphing(model_.meshes[node.mesh]);
             pending_skins_.push_back({node_index, node.mesh});
         } else if (node.mesh >= 0) {
             add_mesh_instances(node, node.mesh, world);
@@ -275,19 +276,19 @@ private:
     void add_mesh_instances(const tinygltf::Node& node, int mesh_index, const glm::mat4& node_world) {
         if (mesh_index >= static_cast<int>(model_.meshes.size()))
             throw file_error(file_, "mesh " + std::to_string(mesh_index) + " does not exist");
-        warn_if_morphing(model_.meshes[mesh_index]);
         for (const glm::mat4& local : gltf::gpu_instance_transforms(model_, node, file_))
             add_primitive_instances(node, mesh_index, node_world * local);
     }
 
-    // Prism plays no animation and applies no morph target: morphing meshes appear in their rest pose, said once
-    // per file. (Skins are applied, in the pose the nodes give their joints: add_skinned_instances.)
-    void warn_if_morphing(const tinygltf::Mesh& mesh) {
-        bool morphs = false;
-        for (const tinygltf::Primitive& primitive : mesh.primitives) morphs = morphs || !primitive.targets.empty();
-        if (!morphs || warned_morphing_) return;
-        scene_.warnings.push_back(file_ + ": morph targets are not applied; meshes are drawn in their rest pose");
-        warned_morphing_ = true;
+    // The morph weights a node draws its mesh with — its own "weights", else the mesh's defaults (Prism plays no
+    // animation) — and whose they are: -1 the mesh's (one copy for every node), else the node's index (its own).
+    struct MorphWeights {
+        std::span<const double> weights;
+        int owner = -1;
+    };
+    MorphWeights morph_weights(const tinygltf::Node& node, const tinygltf::Mesh& mesh) const {
+        if (node.weights.empty() || node.weights == mesh.weights) return {mesh.weights, -1};
+        return {node.weights, static_cast<int>(&node - model_.nodes.data())};
     }
 
     void add_primitive_instances(const tinygltf::Node& node, int mesh_index, const glm::mat4& world) {
@@ -300,17 +301,19 @@ private:
         // keeps geometric normals facing the way the file meant.
         bool mirrored = glm::determinant(glm::mat3(world)) < 0.0f;
         const tinygltf::Mesh& mesh = model_.meshes[mesh_index];
-        auto key = std::make_tuple(mesh_index, p, mirrored);
+        const MorphWeights morph = morph_weights(node, mesh);
+        auto key = std::make_tuple(mesh_index, p, mirrored, morph.owner);
         auto found = meshes_.find(key);
         uint32_t scene_mesh;
         if (found != meshes_.end()) {
             scene_mesh = found->second;
         } else {
             Mesh converted;
-            if (!convert_primitive(mesh, mesh_index, p, mirrored, converted)) {
+            if (!convert_primitive(mesh, mesh_index, p, mirrored, morph.weights, converted)) {
                 meshes_[key] = kSkipped;
                 return;
             }
+            if (morph.owner >= 0) count_copied_vertices(converted.positions.size());
             scene_.meshes.push_back(std::move(converted));
             scene_mesh = static_cast<uint32_t>(scene_.meshes.size() - 1);
             meshes_[key] = scene_mesh;
@@ -350,12 +353,13 @@ private:
         auto matrices = joint_matrices_.find(node.skin);
         if (matrices == joint_matrices_.end())
             matrices = joint_matrices_.emplace(node.skin, gltf::joint_matrices(model_, skin, node_world_, file_)).first;
+        const MorphWeights morph = morph_weights(node, mesh);
         for (size_t p = 0; p < mesh.primitives.size(); ++p) {
-            auto key = std::make_tuple(pending.mesh, static_cast<int>(p), node.skin);
+            auto key = std::make_tuple(pending.mesh, static_cast<int>(p), node.skin, morph.owner);
             auto found = skinned_meshes_.find(key);
             if (found == skinned_meshes_.end()) {
                 std::optional<uint32_t> skinned =
-                    skinned_primitive(mesh, pending.mesh, static_cast<int>(p), matrices->second);
+                    skinned_primitive(mesh, pending.mesh, static_cast<int>(p), morph.weights, matrices->second);
                 if (!skinned) {
                     add_primitive_instance(node, pending.mesh, static_cast<int>(p), node_world_[pending.node]);
                     continue;
@@ -369,6 +373,7 @@ private:
     // The primitive skinned into world space as a new scene mesh (kSkipped when it is not traced), or nullopt
     // when it has no joints and weights to skin it by.
     std::optional<uint32_t> skinned_primitive(const tinygltf::Mesh& mesh, int mesh_index, int p,
+                                              std::span<const double> morph_weights,
                                               const std::vector<glm::mat4>& joints) {
         const tinygltf::Primitive& primitive = mesh.primitives[p];
         const std::string what = "mesh " + std::to_string(mesh_index) + " primitive " + std::to_string(p);
@@ -391,15 +396,11 @@ private:
             return std::nullopt;
         }
         Mesh converted;
-        if (!convert_primitive(mesh, mesh_index, p, false, converted)) return kSkipped;
+        if (!convert_primitive(mesh, mesh_index, p, false, morph_weights, converted)) return kSkipped;
         for (const gltf::Influences& set : influences)
             if (set.joints.count != converted.positions.size() || set.weights.count != converted.positions.size())
                 throw file_error(file_, what + ": JOINTS and WEIGHTS counts differ from POSITION count");
-        // Each skinned copy is new memory: bounded, so a file cannot pair one large mesh with a thousand skins.
-        skinned_vertices_ += converted.positions.size();
-        if (skinned_vertices_ > skinned_vertex_budget())
-            throw file_error(file_,
-                             "its skins would copy more than " + std::to_string(skinned_vertex_budget()) + " vertices");
+        count_copied_vertices(converted.positions.size());
         gltf::apply_skin(converted, joints, influences, what, file_);
         // A mirroring skin: reversed winding and bitangent sign, as add_primitive_instance's mirrored copies.
         if (glm::determinant(glm::mat3(joints.front())) < 0.0f) {
@@ -410,8 +411,17 @@ private:
         return static_cast<uint32_t>(scene_.meshes.size() - 1);
     }
 
-    // Four times the vertices of the file's own primitives, and at least 8M.
-    size_t skinned_vertex_budget() const {
+    // Each skinned copy, and each copy morphed with a node's own weights, is new memory: bounded, so a file cannot
+    // pair one large mesh with a thousand skins or weight sets. The budget: four times the vertices of the file's
+    // own primitives, and at least 8M.
+    void count_copied_vertices(size_t vertices) {
+        copied_vertices_ += vertices;
+        if (copied_vertices_ > copied_vertex_budget())
+            throw file_error(file_, "its skins and morph weights would copy more than " +
+                                        std::to_string(copied_vertex_budget()) + " vertices");
+    }
+
+    size_t copied_vertex_budget() const {
         size_t vertices = 0;
         for (const tinygltf::Mesh& mesh : model_.meshes)
             for (const tinygltf::Primitive& primitive : mesh.primitives)
@@ -427,7 +437,8 @@ private:
         warned = true;
     }
 
-    bool convert_primitive(const tinygltf::Mesh& mesh, int mesh_index, int primitive_index, bool mirrored, Mesh& out) {
+    bool convert_primitive(const tinygltf::Mesh& mesh, int mesh_index, int primitive_index, bool mirrored,
+                           std::span<const double> morph_weights, Mesh& out) {
         const tinygltf::Primitive& primitive = mesh.primitives[primitive_index];
         std::string what = "mesh " + std::to_string(mesh_index) + " primitive " + std::to_string(primitive_index);
         if (primitive.mode != TINYGLTF_MODE_TRIANGLES && primitive.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
@@ -490,6 +501,10 @@ private:
             for (size_t i = 0; i < vertex_count; ++i)
                 out.tangents[i] = {tangents.at(i, 0), tangents.at(i, 1), tangents.at(i, 2), tangents.at(i, 3)};
         }
+
+        // Morph targets before the tangents are generated (they follow the moved positions) and before any skin.
+        if (gltf::morph_changes(primitive, morph_weights))
+            gltf::apply_morph_targets(model_, primitive, morph_weights, out, what, file_);
 
         std::vector<uint32_t> indices;
         if (primitive.indices >= 0) {
@@ -587,15 +602,16 @@ private:
     gltf::MaterialConverter materials_;
     std::vector<gltf::Skin> skins_;
     bool report_progress_;
-    std::map<std::tuple<int, int, bool>, uint32_t> meshes_;         // (mesh, primitive, mirrored) -> scene mesh
-    std::map<std::tuple<int, int, int>, uint32_t> skinned_meshes_;  // (mesh, primitive, skin) -> scene mesh
-    std::map<int, std::vector<glm::mat4>> joint_matrices_;          // per skin
-    std::vector<NodeState> node_state_;                             // per node: unseen, on the current path, done
-    std::vector<glm::mat4> node_world_;                             // per node reached: its world transform
+    // (mesh, primitive, mirrored, morph weights' owner) -> scene mesh
+    std::map<std::tuple<int, int, bool, int>, uint32_t> meshes_;
+    // (mesh, primitive, skin, morph weights' owner) -> scene mesh
+    std::map<std::tuple<int, int, int, int>, uint32_t> skinned_meshes_;
+    std::map<int, std::vector<glm::mat4>> joint_matrices_;  // per skin
+    std::vector<NodeState> node_state_;                     // per node: unseen, on the current path, done
+    std::vector<glm::mat4> node_world_;                     // per node reached: its world transform
     std::vector<PendingSkin> pending_skins_;
-    size_t skinned_vertices_ = 0;
+    size_t copied_vertices_ = 0;
     bool warned_non_triangles_ = false;
-    bool warned_morphing_ = false;
     bool warned_unplaced_joint_ = false;
     bool warned_unskinnable_ = false;
     bool warned_spot_ = false;
