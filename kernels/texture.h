@@ -10,6 +10,25 @@ RT_FUNC float rt_srgb_to_linear(float c) {
     return c <= 0.04045f ? c * (1.0f / 12.92f) : rt_pow((c + 0.055f) * (1.0f / 1.055f), 2.4f);
 }
 
+// An 8-bit sRGB value (0-255) in linear terms: rt_srgb_to_linear of value / 255. The cpu backends read the same
+// values from a table built once per stage build: a pow per channel per texel took about half of their miss and
+// shade stages' time on a textured glTF under a cube map (docs/kernels.md). The GPUs keep the pow.
+#if defined(RT_CPU)
+struct RtSrgb8Table {
+    float linear[256];
+};
+RT_FUNC RtSrgb8Table rt_make_srgb8_table() {
+    RtSrgb8Table table{};
+    for (uint v = 0u; v < 256u; ++v) table.linear[v] = rt_srgb_to_linear(rt_float(v) * (1.0f / 255.0f));
+    return table;
+}
+// Built when the program starts (one per stage build), so a read pays no initialization check.
+static const RtSrgb8Table rt_srgb8_table = rt_make_srgb8_table();
+RT_FUNC float rt_srgb8_to_linear(uint value) { return rt_srgb8_table.linear[value & 255u]; }
+#else
+RT_FUNC float rt_srgb8_to_linear(uint value) { return rt_srgb_to_linear(rt_float(value) * (1.0f / 255.0f)); }
+#endif
+
 RT_FUNC float rt_linear_to_srgb(float c) {
     c = rt_clamp01(c);
     return c <= 0.0031308f ? c * 12.92f : 1.055f * rt_pow(c, 1.0f / 2.4f) - 0.055f;
@@ -27,13 +46,10 @@ RT_FUNC float4 rt_decode_texel(uint texel, uint encoding) {
         return make_float4((r + 0.5f) * scale, (g + 0.5f) * scale, (b + 0.5f) * scale, 1.0f);
     }
     float inv = 1.0f / 255.0f;
-    float4 c = make_float4(r * inv, g * inv, b * inv, rt_float(e) * inv);
-    if (encoding == RT_TEXENC_SRGB8) {
-        c.x = rt_srgb_to_linear(c.x);
-        c.y = rt_srgb_to_linear(c.y);
-        c.z = rt_srgb_to_linear(c.z);
-    }
-    return c;
+    if (encoding == RT_TEXENC_SRGB8)
+        return make_float4(rt_srgb8_to_linear(texel & 255u), rt_srgb8_to_linear((texel >> 8u) & 255u),
+                           rt_srgb8_to_linear((texel >> 16u) & 255u), rt_float(e) * inv);
+    return make_float4(r * inv, g * inv, b * inv, rt_float(e) * inv);
 }
 
 // i modulo size in [0, size). GLSL leaves % undefined when an operand is negative (drivers may answer as C does,

@@ -1,5 +1,6 @@
 // The seed's material formulas (thesis 6.3) in kernels/, against values computed by hand from the equations.
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <complex>
 
@@ -83,6 +84,16 @@ TEST(SeedMaterial, RefractionEquation630) {
     // Head-on rays pass straight.
     float4 straight = rt_refract(float3{0, -1, 0}, float3{0, 1, 0}, 1.0f / 1.5f);
     EXPECT_NEAR(straight.y, -1.0f, 1e-6f);
+}
+
+// The cpu backends read 8-bit sRGB texels through a table: the same bits as the formula the GPUs evaluate.
+TEST(SeedMaterial, Srgb8TableHoldsTheFormulasValues) {
+    for (uint v = 0; v < 256; ++v)
+        EXPECT_EQ(std::bit_cast<uint32_t>(rt_srgb8_to_linear(v)),
+                  std::bit_cast<uint32_t>(rt_srgb_to_linear(float(v) * (1.0f / 255.0f))))
+            << v;
+    EXPECT_EQ(rt_srgb8_to_linear(0), 0.0f);
+    EXPECT_EQ(rt_srgb8_to_linear(255), 1.0f);
 }
 
 TEST(SeedMaterial, SrgbTransferIsExactAtKnownPoints) {
