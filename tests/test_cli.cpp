@@ -12,6 +12,7 @@
 #include <random>
 
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -48,7 +49,11 @@ struct SplitResult {
 };
 // `environment`: assignments put before the command, e.g. "PRISM_PROGRESS_DELAY=0".
 SplitResult run_prism_split(const std::string& arguments, const std::string& environment = "") {
-    fs::path err = prism::test::temp_dir("cli-split") / "stderr.txt";
+    // One file per test process: ctest runs them side by side (a shared name had one test read another's stderr).
+    std::string name = "stderr-";  // appended, not "literal" + string: GCC 12 warns falsely (-Wrestrict) on that
+    name += std::to_string(::getpid());
+    name += ".txt";
+    fs::path err = prism::test::temp_dir("cli-split") / name;
     SplitResult result;
     std::string prefix = environment.empty() ? "" : "env " + environment + " ";
     FILE* pipe = popen((prefix + "'" + binary() + "' " + arguments + " 2>'" + err.string() + "'").c_str(), "r");
@@ -59,6 +64,7 @@ SplitResult run_prism_split(const std::string& arguments, const std::string& env
     int status = pclose(pipe);
     result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     result.err = read_bytes(err);
+    fs::remove(err);
     return result;
 }
 

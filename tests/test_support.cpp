@@ -215,7 +215,11 @@ size_t count_lines(const std::string& text) {
 }  // namespace
 
 void expect_clean_failure(const std::string& scene_file, const std::string& must_mention) {
-    std::filesystem::path out = temp_dir("cli") / (std::filesystem::path(scene_file).filename().string() + ".png");
+    // A folder of this process's own: the check below for half-written files must not see another test's,
+    // written at the same time by a process ctest runs beside this one.
+    std::string folder = "clean-failure-";  // appended: GCC 12 warns falsely (-Wrestrict) on "literal" + string
+    folder += std::to_string(::getpid());
+    std::filesystem::path out = temp_dir(folder) / (std::filesystem::path(scene_file).filename().string() + ".png");
     std::filesystem::remove(out);
     CommandResult r = run_prism("render --scene '" + scene_file + "' --backend cpu --width 32 --height 24 --out '" +
                                 out.string() + "'");
@@ -227,6 +231,7 @@ void expect_clean_failure(const std::string& scene_file, const std::string& must
     EXPECT_FALSE(std::filesystem::exists(out));
     for (const auto& entry : std::filesystem::directory_iterator(out.parent_path()))
         EXPECT_EQ(entry.path().string().find(".tmp-"), std::string::npos) << entry.path();
+    std::filesystem::remove_all(out.parent_path());
 }
 
 }  // namespace prism::test
