@@ -396,17 +396,14 @@ private:
             return std::nullopt;
         }
         Mesh converted;
-        if (!convert_primitive(mesh, mesh_index, p, false, morph_weights, converted)) return kSkipped;
+        // A mirroring skin: convert_primitive reverses the winding and bitangent sign, as for a mirroring node.
+        const bool mirrored = glm::determinant(glm::mat3(joints.front())) < 0.0f;
+        if (!convert_primitive(mesh, mesh_index, p, mirrored, morph_weights, converted)) return kSkipped;
         for (const gltf::Influences& set : influences)
             if (set.joints.count != converted.positions.size() || set.weights.count != converted.positions.size())
                 throw file_error(file_, what + ": JOINTS and WEIGHTS counts differ from POSITION count");
         count_copied_vertices(converted.positions.size());
         gltf::apply_skin(converted, joints, influences, what, file_);
-        // A mirroring skin: reversed winding and bitangent sign, as add_primitive_instance's mirrored copies.
-        if (glm::determinant(glm::mat3(joints.front())) < 0.0f) {
-            for (glm::uvec3& triangle : converted.triangles) std::swap(triangle.y, triangle.z);
-            for (glm::vec4& tangent : converted.tangents) tangent.w = -tangent.w;
-        }
         scene_.meshes.push_back(std::move(converted));
         return static_cast<uint32_t>(scene_.meshes.size() - 1);
     }
