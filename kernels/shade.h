@@ -263,7 +263,12 @@ RT_FUNC ShadowRay rt_shadow_ray(KernelGlobals kg, LitPoint lit, uint index, uint
         float d2 = dot(l, l);
         distance = rt_sqrt(d2);
         to_light = l * (1.0f / distance);
-        falloff = 1.0f / d2;
+        // glTF's window at the light's range, 1 - (d / range)^4 (exactly 1 with no range), and a spot's cone
+        // (exactly 1 for a point light): the inverse square's bits are kept wherever neither applies.
+        float x2 = d2 * (light.color.w * light.color.w);
+        float window = rt_clamp01(1.0f - x2 * x2);
+        float cone = rt_clamp01(dot(rt_xyz(light.cone), -to_light) + light.cone.w);
+        falloff = window * (cone * cone) / d2;
     }
     // A light below the geometric surface is hidden by the surface itself, whatever the shading normal says;
     // tracing that ray would only find the surface's own neighbours at distances each API rounds differently.

@@ -215,13 +215,17 @@ RT_STRUCT_END(TextureInfo)
 // ---- Lights and frame ----------------------------------------------------------------------------------------
 #define RT_LIGHT_POINT_CODE 0.0f
 #define RT_LIGHT_DIRECTIONAL_CODE 1.0f
+#define RT_LIGHT_SPOT_CODE 2.0f
 
-// position.xyz (point) or direction.xyz (directional, the way light travels), position.w = the type as a float
-// (RT_LIGHT_*_CODE: a plain number, so no bit pattern has to survive a float load);
-// color.xyz = colour * intensity
+// position.xyz (point, spot) or direction.xyz (directional, the way light travels), position.w = the type as a
+// float (RT_LIGHT_*_CODE: a plain number, so no bit pattern has to survive a float load);
+// color.xyz = colour * intensity, color.w = 1 / range (glTF's distance cutoff; 0: none);
+// cone: a spot's falloff as glTF's reference code computes it, clamp(dot(axis, -to_light) * scale + offset)^2, with
+// xyz = axis * scale (the axis the way the light travels) and w = offset; (0, 0, 0, 1) for point lights (no cone).
 RT_STRUCT_BEGIN(Light)
     float4 position;
     float4 color;
+    float4 cone;
 RT_STRUCT_END(Light)
 
 #define RT_ENV_CONSTANT 0u

@@ -29,9 +29,7 @@ class CpuAgreement : public ::testing::TestWithParam<Case> {};
 prism::DeviceScene load(const std::string& spec, prism::BvhLayout layout = prism::BvhLayout::Stack,
                         prism::BvhMethod method = prism::BvhMethod::BinnedSah, prism::Scene* out = nullptr,
                         bool flatten = false) {
-    prism::LoadOptions options;
-    options.data_dir = prism::test::scenes_dir();
-    prism::Scene scene = prism::load_scene(spec, options);
+    prism::Scene scene = prism::test::load_test_scene(spec);
     prism::BvhBuildOptions bvh;
     bvh.layout = layout;
     bvh.method = method;
@@ -41,16 +39,12 @@ prism::DeviceScene load(const std::string& spec, prism::BvhLayout layout = prism
     return device;
 }
 
-std::string resolve(const std::string& spec) {
-    return spec.rfind("builtin:", 0) == 0 ? spec : prism::test::scene(spec).string();
-}
-
 }  // namespace
 
 TEST_P(CpuAgreement, WavefrontMatchesRecursiveReference) {
     const Case& c = GetParam();
     prism::Scene scene;
-    prism::DeviceScene device = load(resolve(c.scene), c.layout, prism::BvhMethod::BinnedSah, &scene, c.flatten);
+    prism::DeviceScene device = load(c.scene, c.layout, prism::BvhMethod::BinnedSah, &scene, c.flatten);
     prism::RenderSettings settings = prism::test::small_settings(c.width, c.height, c.depth);
     prism::RenderEngine reference("cpu-ref", device);
     prism::RenderEngine wavefront("cpu", device);
@@ -74,6 +68,7 @@ const Case kCases[] = {Case{"builtin:sphere", 160, 120, 8},
                        Case{"gltf/OrientationTest/OrientationTest.glb", 128, 96, 4},
                        Case{"gltf/DamagedHelmet/DamagedHelmet.glb", 96, 96, 4},
                        Case{"gltf/IridescenceSuzanne/IridescenceSuzanne.glb", 128, 48, 5},
+                       Case{"examples/spot-lights.json", 128, 96, 5},
                        Case{"gltf/MetalRoughSpheresNoTextures/MetalRoughSpheresNoTextures.glb", 128, 96, 4}};
 
 std::vector<Case> with_layout(prism::BvhLayout layout, bool flatten = false) {

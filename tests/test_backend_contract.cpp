@@ -409,6 +409,8 @@ INSTANTIATE_TEST_SUITE_P(
                           AgreementCase{"gltf/IridescenceSuzanne/IridescenceSuzanne.glb", 128, 48, 5},
                           // Coplanar overlapping trim: the tie rule of kernels/traverse.h.
                           AgreementCase{"mcguire/conference/conference.obj", 160, 120, 4},
+                          // Spot lights' cones and a point light's range (rt_shadow_ray, kernels/shade.h).
+                          AgreementCase{"examples/spot-lights.json", 96, 72, 5},
                           // Small spheres far from the camera: the edge slack of kernels/intersect.h.
                           AgreementCase{"gltf/MetalRoughSpheresNoTextures/MetalRoughSpheresNoTextures.glb", 160, 120,
                                         6})),

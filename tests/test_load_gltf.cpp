@@ -520,11 +520,13 @@ TEST(LoadGltf, PunctualLightsAndSecondCameraIgnored) {
     GltfBuilder gltf;
     int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
     gltf.document["extensionsUsed"] = {"KHR_lights_punctual"};
-    gltf.document["extensions"] = {{"KHR_lights_punctual",
-                                    {{"lights",
-                                      {{{"type", "point"}, {"color", {1, 0.5, 0.25}}, {"intensity", 20}},
-                                       {{"type", "directional"}, {"intensity", 3}},
-                                       {{"type", "spot"}, {"spot", json::object()}}}}}}};
+    gltf.document["extensions"] = {
+        {"KHR_lights_punctual",
+         {{"lights",
+           {{{"type", "point"}, {"color", {1, 0.5, 0.25}}, {"intensity", 20}, {"range", 7.5}},
+            {{"type", "directional"}, {"intensity", 3}},
+            {{"type", "spot"}, {"spot", json::object()}},
+            {{"type", "spot"}, {"spot", {{"innerConeAngle", 0.25}, {"outerConeAngle", 0.5}}}}}}}}};
     gltf.document["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}},
                                 {{"type", "perspective"}, {"perspective", {{"yfov", 1.0}, {"znear", 0.1}}}}};
     gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}}}}})}});
@@ -533,18 +535,34 @@ TEST(LoadGltf, PunctualLightsAndSecondCameraIgnored) {
     float h = std::sqrt(0.5f);
     gltf.node({{"rotation", {-h, 0, 0, h}}, {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
     gltf.node({{"extensions", {{"KHR_lights_punctual", {{"light", 2}}}}}});
+    // A spot at (0, 1, 0) turned 90 degrees about Y: its -Z becomes -X.
+    gltf.node({{"translation", {0, 1, 0}},
+               {"rotation", {0, h, 0, h}},
+               {"extensions", {{"KHR_lights_punctual", {{"light", 3}}}}}});
     gltf.node({{"camera", 0}, {"translation", {0, 0, 10}}});
     gltf.node({{"camera", 1}});
     Scene scene = load(gltf.write("lights.gltf"));
-    ASSERT_EQ(scene.lights.size(), 3u);
+    ASSERT_EQ(scene.lights.size(), 4u);
     EXPECT_EQ(scene.lights[0].type, LightType::Point);
     EXPECT_EQ(scene.lights[0].position, glm::vec3(1, 2, 3));
     EXPECT_EQ(scene.lights[0].color, glm::vec3(1, 0.5, 0.25));
     EXPECT_EQ(scene.lights[0].intensity, 20.0f);
+    EXPECT_EQ(scene.lights[0].range, 7.5f);
     EXPECT_EQ(scene.lights[1].type, LightType::Directional);
     EXPECT_NEAR(scene.lights[1].direction.y, -1.0f, 1e-5f);
-    EXPECT_EQ(scene.lights[2].type, LightType::Point);  // spot traced as a point light, with a warning
-    EXPECT_FALSE(scene.warnings.empty());
+    EXPECT_EQ(scene.lights[1].range, 0.0f);
+    // A spot without angles gets the extension's defaults, 0 and pi/4, and no range.
+    EXPECT_EQ(scene.lights[2].type, LightType::Spot);
+    EXPECT_EQ(scene.lights[2].inner_cone, 0.0f);
+    EXPECT_FLOAT_EQ(scene.lights[2].outer_cone, 0.78539816f);
+    EXPECT_NEAR(scene.lights[2].direction.z, -1.0f, 1e-6f);
+    EXPECT_EQ(scene.lights[2].range, 0.0f);
+    EXPECT_EQ(scene.lights[3].type, LightType::Spot);
+    EXPECT_EQ(scene.lights[3].inner_cone, 0.25f);
+    EXPECT_EQ(scene.lights[3].outer_cone, 0.5f);
+    EXPECT_EQ(scene.lights[3].position, glm::vec3(0, 1, 0));
+    EXPECT_NEAR(scene.lights[3].direction.x, -1.0f, 1e-6f);
+    EXPECT_NEAR(glm::length(scene.lights[3].direction), 1.0f, 1e-6f);
     ASSERT_TRUE(scene.has_camera);
     EXPECT_NEAR(scene.camera.vertical_fov_degrees, glm::degrees(0.5f), 1e-4f);
     EXPECT_EQ(scene.camera.position, glm::vec3(0, 0, 10));

@@ -163,6 +163,24 @@ TEST(SceneJson, ExampleSceneInDocsLoads) {
     EXPECT_TRUE(scene.has_camera);
 }
 
+TEST(SceneJson, SpotLightsExampleLoads) {
+    std::filesystem::path example = std::filesystem::path(PRISM_SOURCE_DIR) / "docs/examples/spot-lights.json";
+    LoadOptions options;
+    options.allow_any_path = true;
+    Scene scene = load_scene(example.string(), options);
+    ASSERT_EQ(scene.lights.size(), 4u);
+    const Light& red = scene.lights[0];
+    EXPECT_EQ(red.type, LightType::Spot);
+    EXPECT_EQ(red.position, glm::vec3(-2.5f, 3.0f, 1.5f));
+    EXPECT_NEAR(glm::length(red.direction), 1.0f, 1e-6f);
+    EXPECT_NEAR(red.direction.x, 1.5f / std::sqrt(1.5f * 1.5f + 2.7f * 2.7f + 1.5f * 1.5f), 1e-6f);
+    EXPECT_FLOAT_EQ(red.inner_cone, glm::radians(14.0f));
+    EXPECT_FLOAT_EQ(red.outer_cone, glm::radians(22.0f));
+    EXPECT_EQ(red.range, 0.0f);
+    EXPECT_EQ(scene.lights[3].type, LightType::Point);
+    EXPECT_EQ(scene.lights[3].range, 1.0f);
+}
+
 // Each case: a change to the valid document and the exact message it must produce after "<file>: ".
 struct BrokenCase {
     const char* name;
@@ -200,8 +218,24 @@ const BrokenCase kBrokenCases[] = {
     {"both_transforms", [](json& d) { d["objects"][2]["transform"] = json::object(); },
      "objects[2]: give either transform or matrix"},
     {"camera_fov", [](json& d) { d["camera"]["fov"] = "wide"; }, "camera.fov: expected a number"},
-    {"light_type", [](json& d) { d["lights"][0]["type"] = "spot"; },
-     "lights[0].type: expected \"point\" or \"directional\""},
+    {"light_type", [](json& d) { d["lights"][0]["type"] = "area"; },
+     "lights[0].type: expected \"point\", \"spot\" or \"directional\""},
+    {"spot_direction", [](json& d) { d["lights"][0]["type"] = "spot"; },
+     "lights[0].direction: a spot light needs a direction"},
+    {"point_cone", [](json& d) { d["lights"][0]["outer_cone_degrees"] = 30; },
+     "lights[0].outer_cone_degrees: a point light has no outer_cone_degrees"},
+    {"directional_range", [](json& d) { d["lights"][1]["range"] = 5; },
+     "lights[1].range: a directional light has no range"},
+    {"range_zero", [](json& d) { d["lights"][0]["range"] = 0; }, "lights[0].range: must be a distance > 0"},
+    {"spot_cone_order",
+     [](json& d) {
+         d["lights"][0] = {{"type", "spot"},
+                           {"position", {0, 2, 0}},
+                           {"direction", {0, -1, 0}},
+                           {"inner_cone_degrees", 30},
+                           {"outer_cone_degrees", 20}};
+     },
+     "lights[0]: a spot's cone needs 0 <= inner_cone_degrees <= outer_cone_degrees <= 90"},
     {"reflectivity_range", [](json& d) { d["materials"]["chrome"]["reflectivity"] = 2; },
      "materials.chrome.reflectivity: expected a number in [0, 1]"},
     {"texture_mode", [](json& d) { d["materials"]["logo"]["textures"][0]["mode"] = "multiply"; },

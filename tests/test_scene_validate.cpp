@@ -118,6 +118,41 @@ TEST(SceneValidate, Instances) {
     EXPECT_EQ(validation_error(scene), "quad.json: instance 0 has a non-finite transform");
 }
 
+// A light the shade stage could not use (non-finite numbers, negative light, a cone glTF's bounds exclude) is
+// refused in one line; the loosened bounds exporters need (equal angles, pi/2 rounded up) pass.
+TEST(SceneValidate, Lights) {
+    auto with = [](const std::function<void(Light&)>& edit) {
+        Scene scene = quad_scene();
+        Light light;
+        light.type = LightType::Spot;
+        light.position = {0, 2, 0};
+        edit(light);
+        scene.lights = {Light{}, light};
+        return scene;
+    };
+    EXPECT_NO_THROW(validate_scene(with([](Light&) {})));
+    EXPECT_NO_THROW(validate_scene(with([](Light& l) { l.inner_cone = l.outer_cone = 0.3f; })));
+    EXPECT_NO_THROW(validate_scene(with([](Light& l) { l.outer_cone = 1.5708f; })));
+    EXPECT_NO_THROW(validate_scene(with([](Light& l) {
+        l.type = LightType::Point;
+        l.direction = glm::vec3(NAN);  // a point light has no direction to check
+    })));
+    EXPECT_EQ(validation_error(with([](Light& l) { l.position.y = INFINITY; })),
+              "quad.json: light 1 has a non-finite position (0, inf, 0)");
+    EXPECT_EQ(validation_error(with([](Light& l) { l.direction = glm::vec3(0.0f); })),
+              "quad.json: light 1 has no usable direction (0, 0, 0)");
+    EXPECT_EQ(validation_error(with([](Light& l) { l.intensity = -2.0f; })),
+              "quad.json: light 1: colour x intensity (-2, -2, -2) is not a finite, non-negative light");
+    EXPECT_EQ(validation_error(with([](Light& l) { l.color.y = NAN; })),
+              "quad.json: light 1: colour x intensity (1, nan, 1) is not a finite, non-negative light");
+    EXPECT_EQ(validation_error(with([](Light& l) { l.range = -1.0f; })),
+              "quad.json: light 1: range -1 is not a finite distance >= 0");
+    EXPECT_EQ(validation_error(with([](Light& l) { l.inner_cone = 0.5f, l.outer_cone = 0.25f; })),
+              "quad.json: light 1: spot cone angles 0.5 and 0.25 (radians) are not 0 <= inner <= outer <= pi/2");
+    EXPECT_EQ(validation_error(with([](Light& l) { l.outer_cone = 2.0f; })),
+              "quad.json: light 1: spot cone angles 0 and 2 (radians) are not 0 <= inner <= outer <= pi/2");
+}
+
 TEST(SceneValidate, EmptyScene) {
     Scene scene = quad_scene();
     scene.instances.clear();

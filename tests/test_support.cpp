@@ -95,11 +95,19 @@ bool device_present(const std::string& api, const std::string& filter, std::stri
     return false;
 }
 
-prism::DeviceScene load_device_scene(const std::string& spec, prism::Scene* out, prism::BvhLayout layout) {
+prism::Scene load_test_scene(const std::string& spec) {
     prism::LoadOptions options;
     options.data_dir = scenes_dir();
-    prism::Scene loaded =
-        prism::load_scene(spec.rfind("builtin:", 0) == 0 ? spec : prism::test::scene(spec).string(), options);
+    const bool example = spec.rfind("examples/", 0) == 0;
+    options.allow_any_path = example;  // the examples name ../shared/scenes from docs/examples
+    const std::string path = spec.rfind("builtin:", 0) == 0 ? spec
+                             : example ? (std::filesystem::path(PRISM_SOURCE_DIR) / "docs" / spec).string()
+                                       : prism::test::scene(spec).string();
+    return prism::load_scene(path, options);
+}
+
+prism::DeviceScene load_device_scene(const std::string& spec, prism::Scene* out, prism::BvhLayout layout) {
+    prism::Scene loaded = load_test_scene(spec);
     prism::BvhBuildOptions bvh;
     bvh.layout = layout;
     prism::DeviceScene device = prism::build_device_scene(loaded, bvh);

@@ -37,8 +37,11 @@ std::string test_device(const std::string& api);
 // Whether `api`'s probe lists a device whose name contains `filter` (case-insensitive); `reason` says why not.
 bool device_present(const std::string& api, const std::string& filter, std::string* reason = nullptr);
 
-// A scene ("builtin:x" or a path under scenes_dir()) loaded and built with `layout` (resolve_bvh_layout("auto",
-// backend) for the layout a backend renders with); the camera and the rest of the scene in `*scene` when given.
+// A scene: "builtin:x", a path under scenes_dir(), or "examples/<file>.json", one of docs/examples' scene files
+// (which read the shared scenes beside the repository).
+prism::Scene load_test_scene(const std::string& spec);
+// The same, built with `layout` (resolve_bvh_layout("auto", backend) for the layout a backend renders with); the
+// camera and the rest of the scene in `*scene` when given.
 prism::DeviceScene load_device_scene(const std::string& spec, prism::Scene* scene, prism::BvhLayout layout);
 
 // A gtest name from a backend spec or a scene's file name: every character but letters and digits made '_'.

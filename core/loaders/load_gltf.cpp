@@ -578,16 +578,16 @@ private:
             light.color = {static_cast<float>(source.color[0]), static_cast<float>(source.color[1]),
                            static_cast<float>(source.color[2])};
         light.intensity = static_cast<float>(source.intensity);
+        // Directional and spot lights shine along the node's -z; point and spot lights sit at its origin.
+        light.direction = glm::normalize(glm::vec3(world * glm::vec4(0, 0, -1, 0)));
+        light.position = glm::vec3(world * glm::vec4(0, 0, 0, 1));
         if (source.type == "directional") {
             light.type = LightType::Directional;
-            light.direction = glm::normalize(glm::vec3(world * glm::vec4(0, 0, -1, 0)));
         } else {
-            if (source.type == "spot" && !warned_spot_) {
-                scene_.warnings.push_back(file_ + ": spot lights are traced as point lights");
-                warned_spot_ = true;
-            }
-            light.type = LightType::Point;
-            light.position = glm::vec3(world * glm::vec4(0, 0, 0, 1));
+            light.type = source.type == "spot" ? LightType::Spot : LightType::Point;
+            light.range = static_cast<float>(source.range);  // tinygltf: 0 when the file gives none
+            light.inner_cone = static_cast<float>(source.spot.innerConeAngle);
+            light.outer_cone = static_cast<float>(source.spot.outerConeAngle);
         }
         scene_.lights.push_back(light);
     }
@@ -611,7 +611,6 @@ private:
     bool warned_non_triangles_ = false;
     bool warned_unplaced_joint_ = false;
     bool warned_unskinnable_ = false;
-    bool warned_spot_ = false;
 };
 
 bool has_extension(const std::filesystem::path& path, const char* extension) {

@@ -180,34 +180,54 @@ private:
 
     void read_lights(const json& lights, Scene& scene) const {
         if (!lights.is_array()) fail("lights", "expected an array");
-        for (size_t i = 0; i < lights.size(); ++i) {
-            std::string key_path = element("lights", i);
-            const json& source = lights[i];
-            expect_keys(source, key_path, {"type", "position", "direction", "color", "intensity"});
-            Light light;
-            std::string type = source.contains("type") ? string(source["type"], join(key_path, "type")) : "point";
-            if (type == "point") {
-                light.type = LightType::Point;
-                if (!source.contains("position")) fail(join(key_path, "position"), "a point light needs a position");
-                if (source.contains("direction")) fail(join(key_path, "direction"), "a point light has no direction");
-                light.position = vec3(source["position"], join(key_path, "position"));
-            } else if (type == "directional") {
-                light.type = LightType::Directional;
-                if (!source.contains("direction"))
-                    fail(join(key_path, "direction"), "a directional light needs a direction");
-                if (source.contains("position"))
-                    fail(join(key_path, "position"), "a directional light has no position");
-                glm::vec3 direction = vec3(source["direction"], join(key_path, "direction"));
-                if (glm::length(direction) == 0.0f) fail(join(key_path, "direction"), "must not be zero");
-                light.direction = glm::normalize(direction);
-            } else {
-                fail(join(key_path, "type"), "expected \"point\" or \"directional\"");
-            }
-            if (source.contains("color")) light.color = number_or_vec3(source["color"], join(key_path, "color"));
-            if (source.contains("intensity"))
-                light.intensity = number(source["intensity"], join(key_path, "intensity"));
-            scene.lights.push_back(light);
+        for (size_t i = 0; i < lights.size(); ++i) scene.lights.push_back(read_light(lights[i], element("lights", i)));
+    }
+
+    // A light's keys, by type: point (position, range), spot (position, direction, range, cone), directional
+    // (direction). A key its type does not use is refused, not ignored.
+    Light read_light(const json& source, const std::string& key_path) const {
+        expect_keys(source, key_path,
+                    {"type", "position", "direction", "color", "intensity", "range", "inner_cone_degrees",
+                     "outer_cone_degrees"});
+        Light light;
+        std::string type = source.contains("type") ? string(source["type"], join(key_path, "type")) : "point";
+        // Whether the light has key `name`, which its type uses (or refuses) and may require.
+        auto key = [&](const std::string& name, bool used, bool required = false) {
+            if (required && !source.contains(name)) fail(join(key_path, name), "a " + type + " light needs a " + name);
+            if (!used && source.contains(name)) fail(join(key_path, name), "a " + type + " light has no " + name);
+            return used && source.contains(name);
+        };
+        if (type == "point") {
+            light.type = LightType::Point;
+        } else if (type == "spot") {
+            light.type = LightType::Spot;
+        } else if (type == "directional") {
+            light.type = LightType::Directional;
+        } else {
+            fail(join(key_path, "type"), "expected \"point\", \"spot\" or \"directional\"");
         }
+        const bool placed = light.type != LightType::Directional, aimed = light.type != LightType::Point;
+        const bool spot = light.type == LightType::Spot;
+        if (key("position", placed, placed)) light.position = vec3(source["position"], join(key_path, "position"));
+        if (key("direction", aimed, aimed)) {
+            glm::vec3 direction = vec3(source["direction"], join(key_path, "direction"));
+            if (glm::length(direction) == 0.0f) fail(join(key_path, "direction"), "must not be zero");
+            light.direction = glm::normalize(direction);
+        }
+        if (key("range", placed)) {
+            light.range = number(source["range"], join(key_path, "range"));
+            if (!(light.range > 0.0f)) fail(join(key_path, "range"), "must be a distance > 0");
+        }
+        if (key("inner_cone_degrees", spot))
+            light.inner_cone = glm::radians(number(source["inner_cone_degrees"], join(key_path, "inner_cone_degrees")));
+        if (key("outer_cone_degrees", spot))
+            light.outer_cone = glm::radians(number(source["outer_cone_degrees"], join(key_path, "outer_cone_degrees")));
+        if (spot && !(light.inner_cone >= 0.0f && light.inner_cone <= light.outer_cone &&
+                      light.outer_cone <= glm::radians(90.0f)))
+            fail(key_path, "a spot's cone needs 0 <= inner_cone_degrees <= outer_cone_degrees <= 90");
+        if (source.contains("color")) light.color = number_or_vec3(source["color"], join(key_path, "color"));
+        if (source.contains("intensity")) light.intensity = number(source["intensity"], join(key_path, "intensity"));
+        return light;
     }
 
     void read_materials(const json& materials, Scene& scene) {

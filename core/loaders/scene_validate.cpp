@@ -31,6 +31,12 @@ std::string describe(const glm::vec<N, float>& v) {
     return out.str();
 }
 
+std::string describe(float v) {
+    std::ostringstream out;
+    out << v;
+    return out.str();
+}
+
 class Validator {
 public:
     explicit Validator(const Scene& scene) : scene_(scene), source_(scene.source.empty() ? "scene" : scene.source) {}
@@ -41,6 +47,7 @@ public:
         for (size_t i = 0; i < scene_.textures.size(); ++i) check_texture(i);
         check_environment();
         for (size_t i = 0; i < scene_.instances.size(); ++i) check_instance(i);
+        for (size_t i = 0; i < scene_.lights.size(); ++i) check_light(i);
         if (scene_.triangle_count() == 0) fail("scene has no triangles");
     }
 
@@ -151,6 +158,28 @@ private:
         if (instance.material_override != kNoMaterialOverride && instance.material_override >= scene_.materials.size())
             fail(name + " overrides its material with " + std::to_string(instance.material_override) +
                  " but there are " + std::to_string(scene_.materials.size()) + " materials");
+    }
+
+    // What the shade stage needs of a light: finite numbers, a direction where one is used, light that adds (a
+    // negative one would darken), and a cone within glTF's bounds, 0 <= inner < outer <= pi / 2, loosened to what
+    // exporters write: Blender gives a spot without blend equal angles, and pi / 2 is often rounded up to 1.5708.
+    void check_light(size_t i) const {
+        const Light& light = scene_.lights[i];
+        const std::string name = "light " + std::to_string(i);
+        if (light.type != LightType::Directional && !finite(light.position))
+            fail(name + " has a non-finite position " + describe(light.position));
+        if (light.type != LightType::Point &&
+            (!finite(light.direction) || glm::dot(light.direction, light.direction) == 0.0f))
+            fail(name + " has no usable direction " + describe(light.direction));
+        const glm::vec3 emitted = light.color * light.intensity;
+        if (!finite(emitted) || glm::any(glm::lessThan(emitted, glm::vec3(0.0f))))
+            fail(name + ": colour x intensity " + describe(emitted) + " is not a finite, non-negative light");
+        if (!std::isfinite(light.range) || light.range < 0.0f)
+            fail(name + ": range " + describe(light.range) + " is not a finite distance >= 0");
+        if (light.type == LightType::Spot &&
+            !(light.inner_cone >= 0.0f && light.inner_cone <= light.outer_cone && light.outer_cone <= 1.5718f))
+            fail(name + ": spot cone angles " + describe(light.inner_cone) + " and " + describe(light.outer_cone) +
+                 " (radians) are not 0 <= inner <= outer <= pi/2");
     }
 
     const Scene& scene_;

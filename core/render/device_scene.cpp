@@ -156,6 +156,26 @@ Aabb transformed_bounds(const Aabb& box, const glm::mat4& m) {
     return out;
 }
 
+// A light as the shade stage reads it (kernels/types.h, Light). The spot's two numbers are glTF's reference code's
+// (KHR_lights_punctual): a cone whose angles are equal gets a hard edge, not a division by zero.
+::Light device_light(const Light& light) {
+    ::Light out{};
+    out.color = to_float4(light.color * light.intensity, light.range > 0.0f ? 1.0f / light.range : 0.0f);
+    out.cone = float4{0.0f, 0.0f, 0.0f, 1.0f};
+    if (light.type == LightType::Directional) {
+        out.position = to_float4(glm::normalize(light.direction), RT_LIGHT_DIRECTIONAL_CODE);
+        out.color.w = 0.0f;
+    } else if (light.type == LightType::Spot) {
+        out.position = to_float4(light.position, RT_LIGHT_SPOT_CODE);
+        float cos_outer = std::cos(light.outer_cone);
+        float scale = 1.0f / std::max(0.001f, std::cos(light.inner_cone) - cos_outer);
+        out.cone = to_float4(glm::normalize(light.direction) * scale, -cos_outer * scale);
+    } else {
+        out.position = to_float4(light.position, RT_LIGHT_POINT_CODE);
+    }
+    return out;
+}
+
 void build_top_level(DeviceScene& device, const std::vector<glm::mat4>& transforms, bool rebuild) {
     std::vector<Aabb> bounds(transforms.size());
     for (size_t i = 0; i < transforms.size(); ++i)
@@ -468,12 +488,7 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
     if (device.texels.empty()) device.texels.push_back(0xffffffffu);
     if (device.texture_layers.empty()) device.texture_layers.push_back(::TextureLayer{});
 
-    for (const prism::Light& light : scene.lights) {
-        bool directional = light.type == LightType::Directional;
-        glm::vec3 where = directional ? glm::normalize(light.direction) : light.position;
-        device.lights.push_back(::Light{to_float4(where, directional ? RT_LIGHT_DIRECTIONAL_CODE : RT_LIGHT_POINT_CODE),
-                                        to_float4(light.color * light.intensity, 0.0f)});
-    }
+    for (const prism::Light& light : scene.lights) device.lights.push_back(device_light(light));
     device.light_count = static_cast<uint32_t>(device.lights.size());
     if (device.lights.empty()) device.lights.push_back(::Light{});  // placeholder; the frame says 0 lights
     device.ambient_light = scene.ambient_light;

@@ -131,14 +131,21 @@ struct Material {
     std::optional<TextureLayer> clearcoat_roughness_map;  // linear: G scales the roughness
 };
 
-enum class LightType : uint32_t { Point = 0, Directional = 1 };
+enum class LightType : uint32_t { Point = 0, Directional = 1, Spot = 2 };
 
 struct Light {
     LightType type = LightType::Point;
-    glm::vec3 position{0.0f};                // point lights
-    glm::vec3 direction{0.0f, -1.0f, 0.0f};  // directional: the direction light travels
+    glm::vec3 position{0.0f};                // point and spot lights
+    glm::vec3 direction{0.0f, -1.0f, 0.0f};  // directional: the direction light travels; spot: the cone's axis
     glm::vec3 color{1.0f};
-    float intensity = 1.0f;  // point: candela-like (inverse-square falloff); directional: lux-like
+    float intensity = 1.0f;  // point, spot: candela-like (inverse-square falloff); directional: lux-like
+    // Point and spot: the distance where the light has faded to nothing (glTF's window, 1 - (d / range)^4, on
+    // top of the inverse square); 0: no range.
+    float range = 0.0f;
+    // Spot: full light inside the inner angle, none outside the outer one (radians from the axis; glTF's
+    // defaults), a smooth falloff between (kernels/types.h, Light.cone).
+    float inner_cone = 0.0f;
+    float outer_cone = 0.78539816f;
 };
 
 struct Camera {
