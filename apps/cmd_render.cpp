@@ -8,6 +8,7 @@
 
 #include "apps/cli_conventions.h"
 #include "apps/commands.h"
+#include "apps/display_options.h"
 #include "apps/frame_report.h"
 #include "apps/mpi_session.h"
 #include "apps/option_checks.h"
@@ -125,6 +126,7 @@ void add_render_command(CLI::App& app) {
         ->capture_default_str();
     command->add_option("--min-weight", options->settings.min_weight, "smallest ray weight still traced")
         ->capture_default_str();
+    add_display_options(command, options->settings);
     add_output_option(command, options->out, "output image: .png (sRGB), .exr (half float) or .hdr (RGBE)")->required();
     command->add_option("--png-depth", options->png_depth, "bits per channel of .png output: 8 or 16")
         ->check(CLI::IsMember({8, 16}))

@@ -11,6 +11,7 @@
 
 #include "apps/cli_conventions.h"
 #include "apps/commands.h"
+#include "apps/display_options.h"
 #include "apps/frame_report.h"
 #include "apps/option_checks.h"
 #include "apps/scene_options.h"
@@ -794,6 +795,7 @@ void add_view_command(CLI::App& app) {
     command->add_option("--height", options->settings.height, "window and frame height")->capture_default_str();
     command->add_option("--depth", options->settings.max_depth, "ray generations traced (+/- change it)")
         ->capture_default_str();
+    add_display_options(command, options->settings);
     command
         ->add_option("--frames", options->frames,
                      "render this many frames, one on every pass, and exit (0: until Esc, rendering only when "

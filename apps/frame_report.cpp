@@ -68,6 +68,8 @@ nlohmann::json frame_json(const FrameResult& frame, const RenderSettings& settin
             {"width", frame.width},
             {"height", frame.height},
             {"max_depth", settings.max_depth},
+            {"exposure", settings.exposure},
+            {"tone_map", settings.tone_map == ToneMap::Neutral ? "neutral" : "none"},
             {"frame_ms", s.frame_ms},
             {"host_ms", {{"enqueue", s.enqueue_ms}, {"device_wait", s.device_wait_ms}, {"readback", s.readback_ms}}},
             {"rays_per_depth", s.rays_per_depth},

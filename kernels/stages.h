@@ -6,6 +6,7 @@
 #define RT_STAGES_H
 
 #include "accumulate.h"
+#include "display.h"
 #include "environment.h"
 #include "shade.h"
 #include "traverse.h"
@@ -189,8 +190,13 @@ RT_FUNC void rt_stage_shadow_layers(KernelGlobals kg, uint index, uint depth) {
 
 // Fixed point to linear radiance (for .hdr output) and to 8-bit sRGB (PNG, display). No tone curve: values
 // above 1 clip, as in the seed.
+// The pixel's light times the exposure, through the tone map if the frame has one, is the frame's radiance (what
+// .exr, .hdr and 16-bit PNG files are written from: linear, and unclamped without a tone map) and, in sRGB, its
+// image: every output shows the same picture.
 RT_FUNC void rt_stage_resolve(KernelGlobals kg, uint index) {
-    float3 c = rt_accumulated(kg, index);
+    FrameParams frame = RT_FETCH(kg, frame, 0u);
+    float3 c =
+        rt_display_color(rt_accumulated(kg, index) * frame.exposure, (frame.flags & RT_FLAG_TONE_MAP_NEUTRAL) != 0u);
     RT_STORE(kg, radiance, index, rt_float4(c, 1.0f));
     uint r = rt_uint(rt_linear_to_srgb(c.x) * 255.0f + 0.5f);
     uint g = rt_uint(rt_linear_to_srgb(c.y) * 255.0f + 0.5f);

@@ -252,6 +252,8 @@ RT_STRUCT_END(Light)
 // Some material is cut out or blended (glTF alphaMode MASK/BLEND): the shadow_layers stage traces the shadow rays,
 // looking at what they hit (rt_light_through_layers), instead of the shadow stage's one any-hit query.
 #define RT_FLAG_ALPHA_SHADOWS 16u
+// The resolve stage tone-maps the image with Khronos PBR Neutral (kernels/display.h); without it, values clip at 1.
+#define RT_FLAG_TONE_MAP_NEUTRAL 32u
 
 // One per frame (array of one element). The camera basis is precomputed on the host (xyz; w unused).
 RT_STRUCT_BEGIN(FrameParams)
@@ -276,7 +278,7 @@ RT_STRUCT_BEGIN(FrameParams)
     uint instance_count;
     uint bvh_layout;  // RT_BVH_LAYOUT_*
     uint flags;       // RT_FLAG_*
-    uint unused;
+    float exposure;   // the resolve stage's scale of the frame's light, 2^EV (1: none)
     // The pixel rectangle this launch renders: its top-left pixel and size (the whole image unless a frame is split
     // into tiles over devices or ranks). Queues, accumulation and the image are sized for the rectangle; the camera
     // still spans width x height, so a tile's pixels are bit-identical to the whole frame's.

@@ -375,6 +375,8 @@ INSTANTIATE_TEST_SUITE_P(Backends, GpuBackend,
 struct AgreementCase {
     std::string scene;
     uint32_t width, height, depth;
+    float exposure = 0.0f;  // the resolve stage's display transform (kernels/display.h)
+    prism::ToneMap tone_map = prism::ToneMap::None;
 };
 void PrintTo(const AgreementCase& c, std::ostream* os) { *os << c.scene; }
 
@@ -387,6 +389,8 @@ TEST_P(Agreement, ImageMatchesReference) {
     const AgreementCase& c = std::get<1>(GetParam());
     const LoadedScene& s = scene(c.scene);
     prism::RenderSettings settings = prism::test::small_settings(c.width, c.height, c.depth);
+    settings.exposure = c.exposure;
+    settings.tone_map = c.tone_map;
     prism::FrameResult expected = prism::RenderEngine("cpu-ref", s.device).render(s.scene.camera, settings);
     prism::FrameResult actual = prism::RenderEngine(backend(), s.device).render(s.scene.camera, settings);
     EXPECT_GE(prism::test::psnr_rgba8(expected.image, actual.image), 50.0);
@@ -400,8 +404,10 @@ INSTANTIATE_TEST_SUITE_P(
     Scenes, Agreement,
     ::testing::Combine(
         ::testing::ValuesIn(backend_specs()),
-        ::testing::Values(AgreementCase{"builtin:sphere", 96, 72, 6}, AgreementCase{"builtin:bunny", 96, 72, 5},
-                          AgreementCase{"builtin:dragon", 96, 72, 4},
+        ::testing::Values(AgreementCase{"builtin:sphere", 96, 72, 6},
+                          // Two stops brighter through the tone map: the resolve stage's display transform.
+                          AgreementCase{"builtin:sphere", 96, 72, 6, 2.0f, prism::ToneMap::Neutral},
+                          AgreementCase{"builtin:bunny", 96, 72, 5}, AgreementCase{"builtin:dragon", 96, 72, 4},
                           AgreementCase{"gltf/GlassVaseFlowers/GlassVaseFlowers.glb", 96, 96, 6},
                           AgreementCase{"gltf/TransmissionTest/TransmissionTest.glb", 96, 72, 6},
                           AgreementCase{"gltf/BoxTextured/BoxTextured.glb", 64, 64, 4},
@@ -415,8 +421,10 @@ INSTANTIATE_TEST_SUITE_P(
                           AgreementCase{"gltf/MetalRoughSpheresNoTextures/MetalRoughSpheresNoTextures.glb", 160, 120,
                                         6})),
     [](const auto& info) {
-        const std::string& scene = std::get<1>(info.param).scene;
-        return prism::test::test_name_of(std::get<0>(info.param) + "_" + scene.substr(scene.find_last_of(":/") + 1));
+        const AgreementCase& c = std::get<1>(info.param);
+        const std::string tone_mapped = c.tone_map == prism::ToneMap::Neutral ? "_tone_mapped" : "";
+        return prism::test::test_name_of(std::get<0>(info.param) + "_" +
+                                         c.scene.substr(c.scene.find_last_of(":/") + 1) + tone_mapped);
     });
 
 }  // namespace

@@ -505,6 +505,26 @@ TEST(Cli, RenderWritesExrAndSixteenBitPngOfTheSameFrame) {
     EXPECT_GT(sum, 0.0) << "the frame is not black";
 }
 
+// --exposure and --tone-map: recorded in the stats, and out-of-range or unknown values are usage errors (exit 2,
+// one line naming the option) before any work.
+TEST(Cli, ExposureAndToneMapOptions) {
+    fs::path dir = prism::test::temp_dir("cli-display");
+    std::string common = "render --backend cpu --width 32 --height 16 --depth 2 -o '" + (dir / "d.png").string() + "' ";
+    prism::test::CommandResult ok =
+        run_prism(common + "--exposure -1.5 --tone-map NEUTRAL --stats '" + (dir / "d.json").string() + "'");
+    ASSERT_EQ(ok.exit_code, 0) << ok.output;
+    nlohmann::json stats = parse_json_file(dir / "d.json");
+    EXPECT_EQ(stats["exposure"], -1.5);
+    EXPECT_EQ(stats["tone_map"], "neutral");
+    for (const char* bad : {"--exposure 65", "--exposure nan", "--tone-map aces", "--exposure"}) {
+        SCOPED_TRACE(bad);
+        prism::test::CommandResult r = run_prism(common + bad);
+        EXPECT_EQ(r.exit_code, 2) << r.output;
+        EXPECT_EQ(line_count(r.output), 1u) << r.output;
+        EXPECT_NE(r.output.find(std::string(bad).substr(0, 10)), std::string::npos) << r.output;
+    }
+}
+
 // A sky brighter than 1 seen directly: the EXR and .hdr keep it, the 8-bit PNG clips it.
 TEST(Cli, ExrAndHdrKeepRadianceAboveOne) {
     prism::test::write_file(

@@ -36,6 +36,8 @@ void check_render_settings(const RenderSettings& settings) {
     if (settings.width == 0 || settings.height == 0 || uint64_t(settings.width) * settings.height > (1u << 28))
         throw Error("image size " + std::to_string(settings.width) + "x" + std::to_string(settings.height) +
                     " is out of range (1 to 2^28 pixels)");
+    if (!(std::fabs(settings.exposure) <= 64.0f))  // NaN fails too
+        throw Error("exposure " + std::to_string(settings.exposure) + " is out of range (-64 to 64 stops)");
     if (settings.max_depth < 1 || settings.max_depth > RT_MAX_DEPTH)
         throw Error("depth " + std::to_string(settings.max_depth) + " is out of range (1 to " +
                     std::to_string(RT_MAX_DEPTH) + ")");
@@ -86,8 +88,9 @@ FrameParams make_frame_params(const DeviceScene& scene, const Camera& camera, co
         flags |= RT_FLAG_ALPHA_SHADOWS;
     p.instance_count = static_cast<uint32_t>(scene.instances.size());
     p.bvh_layout = static_cast<uint32_t>(scene.bvh_options.layout);
+    if (settings.tone_map == ToneMap::Neutral) flags |= RT_FLAG_TONE_MAP_NEUTRAL;
     p.flags = flags;
-    p.unused = 0;
+    p.exposure = std::exp2(settings.exposure);
     PixelRect region = render_region(settings);
     p.tile_x = region.x;
     p.tile_y = region.y;

@@ -19,12 +19,18 @@ struct PixelRect {
     uint32_t pixels() const { return width * height; }
 };
 
+// How the frame's light becomes the image (kernels/display.h): none clips at 1, as the seed did.
+enum class ToneMap : uint32_t { None = 0, Neutral = 1 };
+
 struct RenderSettings {
     uint32_t width = 1280;
     uint32_t height = 720;
     uint32_t max_depth = 8;     // ray generations traced: 1 = primary rays only
     float min_weight = 1e-4f;   // rays whose RGB weight is below this everywhere are not spawned
     float queue_factor = 2.0f;  // ray queue capacity per pixel; grown automatically when a frame overflows
+    // The light is scaled by 2^exposure (photographic stops) for every output, then tone-mapped for the image.
+    float exposure = 0.0f;
+    ToneMap tone_map = ToneMap::None;
     // What render() copies back into FrameResult. The viewer needs only the image for its host copy, and nothing
     // when the display copies the device's image array itself (GL interop). The linear radiance (16 bytes a pixel:
     // 33 MB at 1080p) only .hdr output and the bit-exactness tests need, so frames and benchmarks skip it.
