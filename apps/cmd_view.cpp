@@ -498,6 +498,11 @@ private:
         switch (action) {
             case Action::DepthUp: set_depth(std::min(settings_.max_depth + 1, 32u)); break;
             case Action::DepthDown: set_depth(std::max(settings_.max_depth - 1, 1u)); break;
+            case Action::ExposureDown: set_exposure(settings_.exposure - 0.5f); break;
+            case Action::ExposureUp: set_exposure(settings_.exposure + 0.5f); break;
+            case Action::ToggleToneMap:
+                set_tone_map(settings_.tone_map == ToneMap::None ? ToneMap::Neutral : ToneMap::None);
+                break;
             case Action::ResetCamera: controls_.reset(); break;
             case Action::FrameScene:
                 controls_.frame_scene(float(full_width_) / float(std::max(full_height_, 1u)));
@@ -523,15 +528,28 @@ private:
     // What the panel asked for: applied before the next frame (the loop polls again at once).
     void apply(const viewer::PanelRequest& request) {
         if (request.depth) set_depth(*request.depth);
+        if (request.exposure) set_exposure(*request.exposure);
+        if (request.tone_map) set_tone_map(*request.tone_map ? ToneMap::Neutral : ToneMap::None);
         if (request.backend) switch_backend(*request.backend);
         if (request.reload) reload();
         if (request.toggle_help) help_ = !help_;
-        if (request.depth || request.backend || request.reload) need_render_ = true;
+        if (request.depth || request.exposure || request.tone_map || request.backend || request.reload)
+            need_render_ = true;
     }
 
     void set_depth(uint32_t depth) {
         settings_.max_depth = std::clamp(depth, 1u, 32u);
         std::printf("  depth %u\n", settings_.max_depth);
+    }
+
+    void set_exposure(float stops) {
+        settings_.exposure = std::clamp(stops, -64.0f, 64.0f);
+        std::printf("  exposure %+.1f EV\n", double(settings_.exposure));
+    }
+
+    void set_tone_map(ToneMap tone_map) {
+        settings_.tone_map = tone_map;
+        std::printf("  tone map %s\n", tone_map == ToneMap::Neutral ? "neutral" : "none");
     }
 
     // Keeps the device the user named on the command line when the key selects the same API (4 after
@@ -682,6 +700,8 @@ private:
         view.window_width = full_width_;
         view.window_height = full_height_;
         view.depth = settings_.max_depth;
+        view.exposure = settings_.exposure;
+        view.tone_map = settings_.tone_map == ToneMap::Neutral;
         char activity[96];
         if (moving)
             std::snprintf(activity, sizeof activity, "moving (%.3g of full resolution)",

@@ -93,6 +93,28 @@ TEST(ViewerHeadless, ScriptedKeysStillApply) {
     EXPECT_LT(prism::test::psnr_rgba8(a, b), 40.0);  // the object moved
 }
 
+// ] twice and T (a stop brighter, tone-mapped) show what --exposure 1 --tone-map neutral shows from the start.
+TEST(ViewerHeadless, ExposureKeysMatchTheOptions) {
+    auto dir = prism::test::temp_dir("viewer-headless-exposure");
+    std::filesystem::path plain = dir / "plain.png", keys = dir / "keys.png", options = dir / "options.png";
+    ASSERT_EQ(headless("--backend cpu --frames 2 --screenshot '" + plain.string() + "'").exit_code, 0);
+    prism::test::CommandResult by_keys =
+        headless("--backend cpu --frames 2 --keys 0:],0:],0:T --screenshot '" + keys.string() + "'");
+    ASSERT_EQ(by_keys.exit_code, 0) << by_keys.output;
+    EXPECT_NE(by_keys.output.find("  exposure +1.0 EV\n"), std::string::npos) << by_keys.output;
+    EXPECT_NE(by_keys.output.find("  tone map neutral\n"), std::string::npos) << by_keys.output;
+    ASSERT_EQ(
+        headless("--backend cpu --frames 2 --exposure 1 --tone-map neutral --screenshot '" + options.string() + "'")
+            .exit_code,
+        0);
+    int w = 0, h = 0;
+    auto a = prism::test::read_png(plain, &w, &h), b = prism::test::read_png(keys, &w, &h),
+         c = prism::test::read_png(options, &w, &h);
+    ASSERT_EQ(a.size(), b.size());
+    EXPECT_EQ(b, c);
+    EXPECT_LT(prism::test::psnr_rgba8(a, b), 30.0);  // visibly brighter
+}
+
 // PRISM_VIEW_ABLATE (bench/view_gpu.sh's split of the interop cost) is refused in one line where it cannot apply.
 TEST(ViewerHeadless, AblationNeedsAnInteropWithoutSemaphores) {
     prism::test::CommandResult host = prism::test::run_prism("view " + kScene + " --headless --backend cpu --frames 1",

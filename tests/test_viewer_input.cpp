@@ -90,6 +90,14 @@ TEST(ViewerKeys, FlyKeysTakeAHoldTime) {
     }
 }
 
+TEST(ViewerKeys, ExposureAndToneMapKeys) {
+    auto script = prism::viewer::parse_key_script("0:[,1:],2:t");
+    ASSERT_EQ(script.size(), 3u);
+    EXPECT_EQ(script[0].action, prism::viewer::Action::ExposureDown);
+    EXPECT_EQ(script[1].action, prism::viewer::Action::ExposureUp);
+    EXPECT_EQ(script[2].action, prism::viewer::Action::ToggleToneMap);
+}
+
 prism::Camera camera_at(glm::vec3 position, glm::vec3 target) {
     prism::Camera camera;
     camera.position = position;

@@ -12,6 +12,8 @@ std::span<const ControlHelp> controls_help() {
         {"R", "reset the camera to the scene's"},
         {"1 2 3 4 5", "backend: cpu-ref, cpu, cuda, opencl, vulkan"},
         {"+ / -", "ray depth up / down"},
+        {"[ / ]", "exposure half a stop down / up"},
+        {"T", "tone map (Khronos PBR Neutral) on / off"},
         {"M", "start / stop the moving object"},
         {"P", "screenshot (prism-view-NNNN.png, never overwritten)"},
         {"L", "reload the current scene file"},

@@ -167,6 +167,11 @@ void GlfwWindow::on_key(GLFWwindow* window, int key, int scancode, int action, i
         case GLFW_KEY_EQUAL: push(Action::DepthUp); break;  // '+' is shift+'=' on US layouts; take both
         case GLFW_KEY_KP_SUBTRACT: push(Action::DepthDown); break;
         case GLFW_KEY_MINUS: push(Action::DepthDown); break;
+        case GLFW_KEY_LEFT_BRACKET: push(Action::ExposureDown); break;
+        case GLFW_KEY_RIGHT_BRACKET: push(Action::ExposureUp); break;
+        case GLFW_KEY_T:
+            if (!repeat) push(Action::ToggleToneMap);
+            break;
         case GLFW_KEY_P:
             if (!repeat) push(Action::Screenshot);
             break;

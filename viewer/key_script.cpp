@@ -37,16 +37,18 @@ Action parse_key(const std::string& name) {
     std::string key;
     for (char c : name) key += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     static const std::pair<const char*, Action> table[] = {
-        {"1", Action::Backend1},    {"2", Action::Backend2},     {"3", Action::Backend3},  {"4", Action::Backend4},
-        {"5", Action::Backend5},    {"+", Action::DepthUp},      {"-", Action::DepthDown}, {"P", Action::Screenshot},
-        {"R", Action::ResetCamera}, {"M", Action::ToggleMoving}, {"ESC", Action::Quit},    {"F", Action::FrameScene},
-        {"H", Action::ToggleHelp},  {"F1", Action::ToggleHelp},  {"L", Action::Reload},    {"W", Action::FlyForward},
-        {"S", Action::FlyBack},     {"A", Action::FlyLeft},      {"D", Action::FlyRight},  {"Q", Action::FlyDown},
-        {"E", Action::FlyUp},
+        {"1", Action::Backend1},     {"2", Action::Backend2},    {"3", Action::Backend3},
+        {"4", Action::Backend4},     {"5", Action::Backend5},    {"+", Action::DepthUp},
+        {"-", Action::DepthDown},    {"P", Action::Screenshot},  {"R", Action::ResetCamera},
+        {"M", Action::ToggleMoving}, {"ESC", Action::Quit},      {"F", Action::FrameScene},
+        {"H", Action::ToggleHelp},   {"F1", Action::ToggleHelp}, {"L", Action::Reload},
+        {"W", Action::FlyForward},   {"S", Action::FlyBack},     {"A", Action::FlyLeft},
+        {"D", Action::FlyRight},     {"Q", Action::FlyDown},     {"E", Action::FlyUp},
+        {"[", Action::ExposureDown}, {"]", Action::ExposureUp},  {"T", Action::ToggleToneMap},
     };
     for (const auto& [text, action] : table)
         if (key == text) return action;
-    throw Error("--keys: unknown key '" + name + "' (use 1-5, +, -, P, R, M, F, H, L, Esc, W, A, S, D, Q, E)");
+    throw Error("--keys: unknown key '" + name + "' (use 1-5, +, -, [, ], T, P, R, M, F, H, L, Esc, W, A, S, D, Q, E)");
 }
 
 std::vector<ScriptedKey> parse_key_script(const std::string& text) {

@@ -23,9 +23,12 @@ enum class Action {
     ResetCamera,
     ToggleMoving,
     Quit,
-    FrameScene,  // F: the whole scene in view
-    ToggleHelp,  // H or F1: the help overlay listing every control
-    Reload,      // L: load the current scene file again
+    FrameScene,     // F: the whole scene in view
+    ToggleHelp,     // H or F1: the help overlay listing every control
+    Reload,         // L: load the current scene file again
+    ExposureDown,   // [: half a stop darker
+    ExposureUp,     // ]: half a stop brighter
+    ToggleToneMap,  // T: the Khronos PBR Neutral tone map on / off
     // Fly keys in a script (the window reports them as held keys instead: Input::fly_keys).
     FlyForward,
     FlyBack,
@@ -42,7 +45,7 @@ bool fly_key_for(Action action, FlyKey* key);
 const char* backend_for_key(Action action);  // nullptr for other actions
 bool is_backend_key(Action action);
 
-// Key names as written in --keys and the docs: 1-5, +, -, P, R, M, F, H, L, Esc, W, A, S, D, Q, E
+// Key names as written in --keys and the docs: 1-5, +, -, [, ], T, P, R, M, F, H, L, Esc, W, A, S, D, Q, E
 // (case-insensitive).
 // Throws prism::Error naming the unknown key.
 Action parse_key(const std::string& name);

@@ -116,6 +116,11 @@ PanelRequest Panel::build(const PanelView& view, bool help) {
 
     int depth = int(view.depth);
     if (ImGui::SliderInt("depth", &depth, 1, 32) && depth != int(view.depth)) request.depth = uint32_t(depth);
+    float exposure = view.exposure;
+    if (ImGui::SliderFloat("exposure (EV)", &exposure, -10.0f, 10.0f, "%+.1f") && exposure != view.exposure)
+        request.exposure = exposure;
+    bool tone_map = view.tone_map;
+    if (ImGui::Checkbox("tone map (T)", &tone_map) && tone_map != view.tone_map) request.tone_map = tone_map;
     int current = -1;
     for (size_t i = 0; i < view.backends.size(); ++i)
         if (view.backends[i] == view.backend) current = int(i);

@@ -26,7 +26,9 @@ struct PanelView {
     uint32_t render_width = 0, render_height = 0;  // the last frame rendered (smaller while moving)
     uint32_t window_width = 0, window_height = 0;
     uint32_t depth = 0;
-    std::string activity;  // "idle", "moving (1/2 resolution)", "refining"
+    float exposure = 0.0f;  // stops
+    bool tone_map = false;  // Khronos PBR Neutral
+    std::string activity;   // "idle", "moving (1/2 resolution)", "refining"
     uint64_t frames_rendered = 0, frames_shown = 0;
     std::string message;  // the last error or notice ("" none)
     bool message_is_error = false;
@@ -37,6 +39,8 @@ struct PanelView {
 struct PanelRequest {
     std::optional<std::string> backend;
     std::optional<uint32_t> depth;
+    std::optional<float> exposure;
+    std::optional<bool> tone_map;
     bool reload = false;
     bool toggle_help = false;
 };
