@@ -188,11 +188,9 @@ RT_FUNC void rt_stage_shadow_layers(KernelGlobals kg, uint index, uint depth) {
     if (rt_max3(reaching) > 0.0f) rt_accumulate(kg, sr.pixel, reaching);
 }
 
-// Fixed point to linear radiance (for .hdr output) and to 8-bit sRGB (PNG, display). No tone curve: values
-// above 1 clip, as in the seed.
-// The pixel's light times the exposure, through the tone map if the frame has one, is the frame's radiance (what
-// .exr, .hdr and 16-bit PNG files are written from: linear, and unclamped without a tone map) and, in sRGB, its
-// image: every output shows the same picture.
+// Fixed point to linear radiance and 8-bit sRGB. The pixel's light times the exposure, through the tone map if the
+// frame has one, is the frame's radiance (what .exr, .hdr and 16-bit PNG files are written from: linear, and
+// unclamped without a tone map) and, in sRGB, its image: every output shows the same picture.
 RT_FUNC void rt_stage_resolve(KernelGlobals kg, uint index) {
     FrameParams frame = RT_FETCH(kg, frame, 0u);
     float3 c =
