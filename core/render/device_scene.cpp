@@ -164,7 +164,6 @@ Aabb transformed_bounds(const Aabb& box, const glm::mat4& m) {
     out.cone = float4{0.0f, 0.0f, 0.0f, 1.0f};
     if (light.type == LightType::Directional) {
         out.position = to_float4(glm::normalize(light.direction), RT_LIGHT_DIRECTIONAL_CODE);
-        out.color.w = 0.0f;
     } else if (light.type == LightType::Spot) {
         out.position = to_float4(light.position, RT_LIGHT_SPOT_CODE);
         float cos_outer = std::cos(light.outer_cone);
