@@ -1,6 +1,7 @@
 // Regression tests for what the fuzzers (fuzz/, scripts/fuzz.sh) found. Each input in tests/data/fuzz is the
 // finding cut down to its cause (not a copy of a shared asset); each test holds the loader to the project rule:
 // one prism::Error naming the file and the cause, and from the command line one line, exit 1..127, no image.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -115,6 +116,48 @@ TEST(FuzzFindings, JpegScanWithAnUndefinedHuffmanTableIsRefused) {
     EXPECT_EQ(texture_error(file),
               file.string() + ": corrupt JPEG (a scan decodes with a Huffman table no DHT segment defined)");
     prism::test::expect_clean_failure(scene_with_texture(file).string(), "no DHT segment defined");
+}
+
+// fuzz_image (CI's 60 s run): a baseline JPEG whose scan ends (a marker) while a coefficient still needs 8 more bits
+// than the buffer holds. stb_image 2.27 consumes them anyway, its bit count goes to -8, and the next top-up shifts
+// by 32 (UBSan: stbi__grow_buffer_unsafe, shift exponent 32). Past the marker stb shifts in only zero bytes, so the
+// shift's value is 0 whatever the CPU makes of the count: the file decodes exactly as the same scan followed by
+// zero bytes does, which is what this test holds stb to. fuzz/stb_image.ignorelist lifts that one check there.
+TEST(FuzzFindings, JpegScanEndingInsideACoefficientDecodesAsZeroBits) {
+    const fs::path file = finding("jpeg-scan-ends-inside-a-coefficient.jpg");
+    std::ifstream in(file, std::ios::binary);
+    std::vector<uint8_t> bytes{std::istreambuf_iterator<char>(in), {}};
+    const prism::Texture texture = prism::load_texture_from_memory(bytes, file.string());
+    ASSERT_EQ(texture.width, 8);
+    ASSERT_EQ(texture.height, 8);
+    // The scan's four bytes end just before the EOI marker; give the decoder the zero bits it read as real bytes.
+    const uint8_t eoi[] = {0xff, 0xd9};
+    const auto end_of_image = std::search(bytes.begin(), bytes.end(), std::begin(eoi), std::end(eoi));
+    ASSERT_NE(end_of_image, bytes.end());
+    std::vector<uint8_t> padded(bytes.begin(), end_of_image);
+    padded.insert(padded.end(), 16, 0);
+    padded.insert(padded.end(), end_of_image, bytes.end());
+    const prism::Texture zero_padded = prism::load_texture_from_memory(padded, "zero-padded");
+    EXPECT_EQ(texture.texels, zero_padded.texels);
+    EXPECT_NE(texture.texels, std::vector<uint32_t>(64, texture.texels[0]));  // the coefficients did decode
+}
+
+// (reading stb 2.28's fixes) A JPEG's DC coefficient is the running sum of its blocks' differences times the
+// quantiser, in int, stored as a short: two blocks of +32767 with a 16-bit quantiser of 65535 overflow int (UBSan:
+// stbi__jpeg_decode_block, 65534 * 65535). The short keeps the product's low 16 bits, which wrapping gives exactly:
+// the first block's DC is -32767 (black), the second's 2 (mid grey). The fuzz build lifts that check there.
+TEST(FuzzFindings, JpegDcCoefficientOverflowKeepsTheLow16Bits) {
+    const prism::Texture texture = prism::load_texture(finding("jpeg-dc-coefficient-overflows-int.jpg"));
+    ASSERT_EQ(texture.width, 16);
+    ASSERT_EQ(texture.height, 8);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 16; ++x) {
+            const int red = int(texture.texels[size_t(y * 16 + x)] & 0xff);
+            if (x < 8)
+                EXPECT_EQ(red, 0) << x << "," << y;
+            else
+                EXPECT_NEAR(red, 128, 1) << x << "," << y;
+        }
 }
 
 // fuzz_image: stb_image names an unknown critical PNG chunk by its type; a type of four NUL bytes made the
