@@ -72,6 +72,11 @@ void run_info(const InfoOptions& options) {
                          {"load_ms", loaded.load_ms},
                          {"device_bytes", d.byte_size()},
                          {"warnings", loaded.scene.warnings}};
+        if (const NodeAnimation& animation = loaded.scene.animation; animation.plays())
+            info["scene"]["animation"] = {{"name", animation.name},
+                                          {"seconds", animation.duration},
+                                          {"channels", animation.channels.size()},
+                                          {"moving_instances", animation.instances.size()}};
     }
     if (!options.json.empty()) {
         bench::write_result(options.json, info);
@@ -95,6 +100,14 @@ void run_info(const InfoOptions& options) {
             options.scene.bvh.c_str(), s["bvh_layout"].get<std::string>().c_str(), s["bvh_nodes"].get<size_t>(),
             s["top_level_nodes"].get<size_t>(), s["sah_cost"].get<double>(), s["bvh_build_ms"].get<double>(),
             s["load_ms"].get<double>(), double(s["device_bytes"].get<size_t>()) / (1024.0 * 1024.0));
+        if (s.contains("animation")) {
+            const auto& a = s["animation"];
+            std::printf(
+                "  animation '%s': %.2f s, %zu channels moving %zu instances (played by --frames and the "
+                "viewer's M)\n",
+                a["name"].get<std::string>().c_str(), a["seconds"].get<double>(), a["channels"].get<size_t>(),
+                a["moving_instances"].get<size_t>());
+        }
         for (const auto& w : s["warnings"]) std::printf("  warning: %s\n", w.get<std::string>().c_str());
     }
 }

@@ -21,6 +21,7 @@
 #include "core/image/image_io.h"
 #include "core/util/output_file.h"
 #include "core/render/render_engine.h"
+#include "core/scene/scene_motion.h"
 
 #ifdef PRISM_HAVE_VIEWER
 #include <algorithm>
@@ -71,13 +72,25 @@ struct ViewOptions {
 
 using viewer::Action;
 
-// One instance turning about its own vertical axis and swinging left and right, advanced per frame (not per
-// second) so a scripted run is reproducible. Only the top level changes: RenderEngine refits it.
+// What M sets moving. A scene with motion of its own (a glTF animation, a scene file's spins) plays it
+// (core/scene/scene_motion.h); any other scene gets one instance turning about its own vertical axis and swinging
+// left and right. The swing is advanced per frame (not per second) and a headless run plays the scene's motion at
+// a fixed step, so scripted runs are reproducible. Only the top level changes: RenderEngine refits it.
 class MovingObject {
 public:
+    static constexpr double kScriptedStep = 1.0 / 30.0;  // seconds of the scene's motion per headless frame
+
     explicit MovingObject(const LoadedScene& loaded) {
         for (const Instance& instance : loaded.scene.instances) base_.push_back(instance.transform);
         if (base_.empty()) return;
+        if (scene_moves(loaded.scene)) {  // the placements, the animation and the spins: what the motion needs
+            motion_.instances = loaded.scene.instances;
+            motion_.animation = loaded.scene.animation;
+            motion_.spins = loaded.scene.spins;
+            name_ = motion_.animation.plays() ? "animation '" + motion_.animation.name + "'" : "spinning objects";
+            plays_scene_ = true;
+            return;
+        }
         index_ = base_.size() - 1;  // the loaders and builtin scenes add the floor first and the model last
         const Aabb& bounds = loaded.device.mesh_bounds.at(loaded.device.instance_meshes.at(index_));
         Aabb world;
@@ -93,10 +106,19 @@ public:
     }
 
     bool empty() const { return base_.empty(); }
-    const std::string& name() const { return name_; }
+    // What M just did, for the terminal: "moving object 'NAME': on", "animation 'NAME': playing", ...
+    std::string status(bool on) const {
+        if (plays_scene_) return name_ + (on ? ": playing" : ": paused");
+        return "moving object '" + name_ + (on ? "': on" : "': off");
+    }
 
-    std::vector<glm::mat4> advance() {
+    // The transforms `seconds` of the scene's motion later (the swing ignores it: one step per call).
+    std::vector<glm::mat4> advance(double seconds) {
         ++step_;
+        if (plays_scene_) {
+            played_ += seconds;
+            return instance_transforms_at(motion_, played_);
+        }
         float angle = 0.15f * float(step_);
         glm::vec3 offset{amplitude_ * std::sin(angle), 0.0f, 0.0f};
         std::vector<glm::mat4> transforms = base_;
@@ -108,6 +130,9 @@ public:
 
 private:
     std::vector<glm::mat4> base_;
+    Scene motion_;  // a scene with motion of its own: its instances (no meshes), animation and spins
+    bool plays_scene_ = false;
+    double played_ = 0.0;
     size_t index_ = 0;
     glm::vec3 centre_{0.0f};
     float amplitude_ = 0.0f;
@@ -286,9 +311,13 @@ public:
                 moving = true;
             }
             if (moving_on_) {
-                engine_->update_instances(*device_, moving_.advance(), false);
+                // Real time in a window (a stalled frame counts at most a tenth of a second), a fixed step headless.
+                double step =
+                    options_.headless ? MovingObject::kScriptedStep : std::clamp(now - motion_clock_, 0.0, 0.1);
+                engine_->update_instances(*device_, moving_.advance(step), false);
                 moving = true;
             }
+            motion_clock_ = now;
             moving |= held_keys_.any_down();
 
             bool render = continuous || moving || need_render_ || last_render_scaled_;
@@ -515,7 +544,7 @@ private:
             case Action::ToggleMoving:
                 if (moving_.empty()) break;
                 moving_on_ = !moving_on_;
-                std::printf("  moving object '%s': %s\n", moving_.name().c_str(), moving_on_ ? "on" : "off");
+                std::printf("  %s\n", moving_.status(moving_on_).c_str());
                 break;
             default:
                 if (viewer::is_backend_key(action)) changed = switch_backend(viewer::backend_for_key(action));
@@ -752,6 +781,7 @@ private:
     viewer::CameraControls controls_;
     MovingObject moving_;
     bool moving_on_ = false;
+    double motion_clock_ = 0.0;     // input_clock() at the last frame: how far the scene's motion advances
     std::string scene_file_;        // what L reloads
     std::string environment_file_;  // a dropped environment map, kept on reload
     std::string backend_spec_;      // the current engine's, as created

@@ -24,7 +24,7 @@ WorkMessage render_item(const WorkerJob& job, RenderEngine& engine, LoadedScene&
     if (job.sequence) {
         uint32_t frame = job.frames.first + uint32_t(item);
         frame_camera = turntable_camera(camera, frame, job.options.turntable_seconds, job.options.fps);
-        if (!loaded.scene.spins.empty())  // a refit of the top level: every worker's frame N is the same
+        if (scene_moves(loaded.scene))  // a refit of the top level: every worker's frame N is the same
             engine.update_instances(loaded.device, instance_transforms_at(loaded.scene, frame / job.options.fps),
                                     false);
         frame_path = numbered_output_path(job.out, frame);
@@ -64,8 +64,8 @@ void run_worker(const WorkerJob& job, const std::string& backend, int worker,
     std::string cause;
     try {
         LoadedScene loaded = load_and_build(job.scene, backend);
-        if (job.sequence && !loaded.scene.spins.empty() && loaded.device.bvh_options.flatten_instances) {
-            // Spinning instances move: the wide layout must keep its top level over them (BvhBuildOptions).
+        if (job.sequence && scene_moves(loaded.scene) && loaded.device.bvh_options.flatten_instances) {
+            // Spinning or animated instances move: the wide layout must keep its top level over them (BvhBuildOptions).
             SceneOptions moving = job.scene;
             moving.moving_instances = true;
             loaded.device = build_device_scene_for(loaded.scene, moving, loaded.device.bvh_options.layout);

@@ -568,7 +568,7 @@ TEST(LoadGltf, PunctualLightsAndSecondCameraIgnored) {
     EXPECT_EQ(scene.camera.position, glm::vec3(0, 0, 10));
 }
 
-// ---- The rest pose: animations and skins are not read ------------------------------------------------------------
+// ---- The rest pose: what animations do not play, skins -----------------------------------------------------------
 
 // A .glb of `document` and `bin` (the GLB container written here, independently of the loader's own repacking);
 // `pad_json` false leaves the JSON chunk unpadded, as some exporters did.
@@ -585,7 +585,7 @@ std::string glb(const json& document, const std::string& bin, bool pad_json = tr
 }
 
 // An animation that targets a property through KHR_animation_pointer, with no node: valid glTF that tinygltf 2.7
-// refuses. Prism does not play animations, so the file loads, drawn as its nodes place it, with a warning.
+// refuses. Prism does not play such channels, so the file loads, drawn as its nodes place it, with a warning.
 json pointer_animation(int input, int output) {
     return {{{"channels",
               {{{"sampler", 0},
@@ -611,7 +611,8 @@ TEST(LoadGltf, AnimationsWithoutATargetNodeLoadAsTheRestPose) {
     ASSERT_EQ(scene.instances.size(), 1u);
     EXPECT_EQ(scene.instances[0].transform, glm::mat4(1.0f));
     ASSERT_EQ(scene.warnings.size(), 1u);
-    EXPECT_NE(scene.warnings[0].find("animations are not played"), std::string::npos) << scene.warnings[0];
+    EXPECT_NE(scene.warnings[0].find("animation 'animation 0' is not played"), std::string::npos) << scene.warnings[0];
+    EXPECT_FALSE(scene.animation.plays());
 }
 
 // In a .glb the JSON chunk is rewritten and the binary chunk kept: the same triangles as the file without.

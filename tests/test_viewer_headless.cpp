@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "tests/gltf_builder.h"
 #include "tests/test_support.h"
 #include "tests/viewer_test_support.h"
 
@@ -91,6 +92,45 @@ TEST(ViewerHeadless, ScriptedKeysStillApply) {
     auto b = prism::test::read_png(moved, &w2, &h2);
     ASSERT_EQ(a.size(), b.size());
     EXPECT_LT(prism::test::psnr_rgba8(a, b), 40.0);  // the object moved
+}
+
+// M plays a glTF file's animation; headless, each frame advances it by MovingObject::kScriptedStep (1/30 s), so the
+// 15th frame shows what `prism render --frames 15 --fps 30` shows: the animation half a second in.
+TEST(ViewerHeadless, MPlaysTheScenesAnimation) {
+    prism::test::GltfBuilder gltf;
+    const int positions = gltf.positions({-1, -1, 0, 1, -1, 0, 0, 1, 0});
+    const int mesh = gltf.mesh({{{"attributes", {{"POSITION", positions}}}}});
+    gltf.node({{"mesh", mesh}, {"name", "triangle"}});
+    const int times = gltf.view(std::vector<float>{0, 1});
+    const int input = gltf.accessor({{"bufferView", times}, {"componentType", 5126}, {"count", 2}, {"type", "SCALAR"}});
+    const int keys = gltf.view(std::vector<float>{0, 0, 0, 0.6f, 0.3f, 0});
+    const int output = gltf.accessor({{"bufferView", keys}, {"componentType", 5126}, {"count", 2}, {"type", "VEC3"}});
+    gltf.document["animations"] = {
+        {{"name", "slide"},
+         {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}}}},
+         {"samplers", {{{"input", input}, {"output", output}}}}}};
+    const std::filesystem::path file = gltf.write("viewer-animated.gltf");
+    auto dir = prism::test::temp_dir("viewer-headless-animation");
+    const std::string scene = "--scene '" + file.string() + "' --allow-any-path --width 320 --height 180 ";
+    const std::filesystem::path played = dir / "played.png", still = dir / "still.png";
+    prism::test::CommandResult view = prism::test::run_prism(
+        "view " + scene + "--headless --no-panel --backend cpu --frames 15 --keys 0:M --screenshot '" +
+            played.string() + "'",
+        "env -u DISPLAY -u WAYLAND_DISPLAY");
+    ASSERT_EQ(view.exit_code, 0) << view.output;
+    EXPECT_NE(view.output.find("  animation 'slide': playing\n"), std::string::npos) << view.output;
+    ASSERT_EQ(prism::test::run_prism("render " + scene + "--backend cpu --frames 15 --fps 30 --out '" +
+                                     (dir / "render_%d.png").string() + "'")
+                  .exit_code,
+              0);
+    ASSERT_EQ(prism::test::run_prism("render " + scene + "--backend cpu --out '" + still.string() + "'").exit_code, 0);
+    int w = 0, h = 0;
+    auto shown = prism::test::read_png(played, &w, &h);
+    auto rendered = prism::test::read_png(dir / "render_15.png", &w, &h);
+    auto at_rest = prism::test::read_png(still, &w, &h);
+    ASSERT_EQ(shown.size(), rendered.size());
+    EXPECT_GE(prism::test::psnr_rgba8(shown, rendered), 45.0);
+    EXPECT_LT(prism::test::psnr_rgba8(shown, at_rest), 30.0);  // it did move
 }
 
 // ] twice and T (a stop brighter, tone-mapped) show what --exposure 1 --tone-map neutral shows from the start.

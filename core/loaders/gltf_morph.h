@@ -1,5 +1,5 @@
 // glTF morph targets, applied once when a file loads with the weights the file gives them (the node's "weights",
-// else the mesh's defaults; Prism plays no animation): each target's POSITION, NORMAL and TANGENT displacements,
+// else the mesh's defaults; animations do not key weights): each target's POSITION, NORMAL and TANGENT displacements,
 // scaled by its weight, added to the primitive's attributes (glTF 2.0, "Morph Targets"), before any skin.
 #pragma once
 

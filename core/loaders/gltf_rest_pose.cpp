@@ -11,14 +11,19 @@ bool mentions_animation(std::string_view json_text) {
 
 RestPoseEdit remove_animation(nlohmann::json& document) {
     RestPoseEdit edit;
-    edit.had_animations = document.erase("animations") > 0;
+    bool had_animations = false;
+    if (auto animations = document.find("animations"); animations != document.end()) {
+        edit.animations = std::move(*animations);
+        document.erase(animations);
+        had_animations = true;
+    }
     bool had_skins = false;
     if (auto skins = document.find("skins"); skins != document.end()) {
         edit.skins = std::move(*skins);
         document.erase(skins);
         had_skins = true;
     }
-    edit.changed = edit.had_animations || had_skins;
+    edit.changed = had_animations || had_skins;
     return edit;
 }
 

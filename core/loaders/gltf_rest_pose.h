@@ -1,8 +1,8 @@
-// Prism draws a glTF scene as its nodes place it: animations are never played, and skins are applied in that pose
-// (gltf_skin.h). tinygltf 2.7 refuses files that are valid glTF in those parts — an animation channel whose target
-// names no node (KHR_animation_pointer), a skin without inverseBindMatrices (the spec's default: identity matrices)
-// — so both are taken out of the JSON before tinygltf parses it (load_gltf.cpp rewrites the JSON once for every
-// edit), and the skins are handed to the importer as JSON.
+// Prism draws a still glTF scene as its nodes place it, and skins are applied in that pose (gltf_skin.h); sequences
+// and the viewer play the first animation's node transforms (gltf_animation.h). tinygltf 2.7 refuses files that are
+// valid glTF in those parts — an animation channel whose target names no node (KHR_animation_pointer), a skin without
+// inverseBindMatrices (the spec's default: identity matrices) — so both are taken out of the JSON before tinygltf
+// parses it (load_gltf.cpp rewrites the JSON once for every edit), and handed to the importer as JSON.
 #pragma once
 
 #include <string_view>
@@ -15,12 +15,12 @@ namespace prism {
 bool mentions_animation(std::string_view json_text);
 
 struct RestPoseEdit {
-    bool changed = false;         // "animations" or "skins" were taken out (nodes keep their "skin" index)
-    bool had_animations = false;  // for the warning that they are not played
-    nlohmann::json skins;         // the "skins" array taken out (null when there was none)
+    bool changed = false;       // "animations" or "skins" were taken out (nodes keep their "skin" index)
+    nlohmann::json animations;  // the "animations" array taken out (null when there was none)
+    nlohmann::json skins;       // the "skins" array taken out (null when there was none)
 };
 
-// Takes the top-level "animations" and "skins" out of `document`; the skins come back in the edit.
+// Takes the top-level "animations" and "skins" out of `document`; both come back in the edit.
 RestPoseEdit remove_animation(nlohmann::json& document);
 
 }  // namespace prism

@@ -1,5 +1,5 @@
-// glTF skins, applied once when a file loads: the joints stand where the file's nodes put them (Prism plays no
-// animation), and each vertex moves by linear blend skinning (glTF 2.0, "Skins"): the weighted sum of its joints'
+// glTF skins, applied once when a file loads: the joints stand where the file's nodes put them (an animation does
+// not move them), and each vertex moves by linear blend skinning (glTF 2.0, "Skins"): the weighted sum of its joints'
 // matrices, each the joint's world transform times its inverse bind matrix. The skinned mesh node's own transform
 // is ignored, as the spec says; the result is in world space.
 #pragma once

@@ -18,6 +18,7 @@
 #include "core/util/error.h"
 #include "core/loaders/glb_container.h"
 #include "core/loaders/gltf_accessor.h"
+#include "core/loaders/gltf_animation.h"
 #include "core/loaders/gltf_instancing.h"
 #include "core/loaders/gltf_material.h"
 #include "core/loaders/gltf_compression_json.h"
@@ -176,12 +177,13 @@ glm::mat4 local_transform(const tinygltf::Node& node) {
 class GltfImporter {
 public:
     GltfImporter(const tinygltf::Model& model, std::string file, Scene& scene, std::vector<gltf::Skin> skins,
-                 bool report_progress)
+                 gltf::FileAnimation animation, bool report_progress)
         : model_(model),
           file_(std::move(file)),
           scene_(scene),
           materials_(model, file_, scene),
           skins_(std::move(skins)),
+          rig_(std::move(animation), model, file_),
           report_progress_(report_progress) {}
 
     void import() {
@@ -208,6 +210,7 @@ public:
         }
         // Skinned meshes last: their joints may be anywhere in the trees, so every node's place must be known.
         for (const PendingSkin& pending : pending_skins_) add_skinned_instances(pending);
+        scene_.animation = rig_.finish(scene_.warnings);
     }
 
 private:
@@ -216,6 +219,7 @@ private:
         int node;
         glm::mat4 world;
         size_t next_child;
+        gltf::AnimationRig::Place place;  // where an animation finds the node
     };
     struct PendingSkin {
         int node;
@@ -226,14 +230,14 @@ private:
     // 20,000 native stack frames. Nodes are handled in the same order as a recursive walk would.
     void visit_tree(int root) {
         std::vector<PendingNode> stack;
-        enter(root, glm::mat4(1.0f), stack);
+        enter(root, glm::mat4(1.0f), {}, stack);
         while (!stack.empty()) {
             PendingNode& top = stack.back();
             const std::vector<int>& children = model_.nodes[top.node].children;
             if (top.next_child < children.size()) {
                 const int child = children[top.next_child++];
                 const glm::mat4 parent = top.world;  // `top` dangles once enter() grows the stack
-                enter(child, parent, stack);
+                enter(child, parent, top.place, stack);
                 continue;
             }
             node_state_[top.node] = NodeState::Done;
@@ -241,7 +245,8 @@ private:
         }
     }
 
-    void enter(int node_index, const glm::mat4& parent, std::vector<PendingNode>& stack) {
+    void enter(int node_index, const glm::mat4& parent, gltf::AnimationRig::Place parent_place,
+               std::vector<PendingNode>& stack) {
         if (node_index < 0 || node_index >= static_cast<int>(model_.nodes.size()))
             throw file_error(file_, "node " + std::to_string(node_index) + " does not exist");
         // glTF nodes form disjoint trees; a node reached twice would be instanced once per path, and a few
@@ -252,8 +257,10 @@ private:
             throw file_error(file_, "node " + std::to_string(node_index) + " has more than one parent");
         node_state_[node_index] = NodeState::OnPath;
         const tinygltf::Node& node = model_.nodes[node_index];
-        glm::mat4 world = parent * local_transform(node);
+        const glm::mat4 local = local_transform(node);
+        glm::mat4 world = parent * local;
         node_world_[node_index] = world;
+        const gltf::AnimationRig::Place place = rig_.enter(node_index, local, parent_place);
 
         if (node.mesh >= 0 && node.skin >= 0) {
             if (node.skin >= static_cast<int>(skins_.size()))
@@ -263,25 +270,30 @@ private:
                 throw file_error(file_, "mesh " + std::to_string(node.mesh) + " does not exist");
             pending_skins_.push_back({node_index, node.mesh});
         } else if (node.mesh >= 0) {
-            add_mesh_instances(node, node.mesh, world);
+            add_mesh_instances(node, node.mesh, world, place);
         }
         if (node.camera >= 0) add_camera(node.camera, world);
         auto light = node.extensions.find("KHR_lights_punctual");
         if (light != node.extensions.end() && light->second.Has("light"))
             add_light(light->second.Get("light").GetNumberAsInt(), world);
-        stack.push_back({node_index, world, 0});
+        stack.push_back({node_index, world, 0, place});
     }
 
     // One Instance per primitive, times EXT_mesh_gpu_instancing's instances when the node has them.
-    void add_mesh_instances(const tinygltf::Node& node, int mesh_index, const glm::mat4& node_world) {
+    // `place`: where an animation finds the node (a skinned mesh's fallback passes none: it does not move).
+    void add_mesh_instances(const tinygltf::Node& node, int mesh_index, const glm::mat4& node_world,
+                            gltf::AnimationRig::Place place = {}) {
         if (mesh_index >= static_cast<int>(model_.meshes.size()))
             throw file_error(file_, "mesh " + std::to_string(mesh_index) + " does not exist");
-        for (const glm::mat4& local : gltf::gpu_instance_transforms(model_, node, file_))
+        for (const glm::mat4& local : gltf::gpu_instance_transforms(model_, node, file_)) {
+            const size_t first = scene_.instances.size();
             add_primitive_instances(node, mesh_index, node_world * local);
+            for (size_t i = first; i < scene_.instances.size(); ++i) rig_.add_instance(uint32_t(i), place, local);
+        }
     }
 
-    // The morph weights a node draws its mesh with — its own "weights", else the mesh's defaults (Prism plays no
-    // animation) — and whose they are: -1 the mesh's (one copy for every node), else the node's index (its own).
+    // The morph weights a node draws its mesh with — its own "weights", else the mesh's defaults (animations do not
+    // key weights) — and whose they are: -1 the mesh's (one copy for every node), else the node's index (its own).
     struct MorphWeights {
         std::span<const double> weights;
         int owner = -1;
@@ -598,6 +610,7 @@ private:
     Scene& scene_;
     gltf::MaterialConverter materials_;
     std::vector<gltf::Skin> skins_;
+    gltf::AnimationRig rig_;
     bool report_progress_;
     // (mesh, primitive, mirrored, morph weights' owner) -> scene mesh
     std::map<std::tuple<int, int, bool, int>, uint32_t> meshes_;
@@ -630,12 +643,11 @@ void load_gltf(const std::filesystem::path& path, Scene& scene) {
     if (json_nesting_depth(json_text(bytes, binary)) > kMaxJsonDepth)
         throw file_error(file, "JSON nests deeper than " + std::to_string(kMaxJsonDepth) + " levels");
     // What tinygltf 2.7 would refuse is taken out of the JSON first, in one parse and one rewrite for every edit.
-    bool had_animations = false;
-    nlohmann::json skins;  // taken out for tinygltf, applied by the importer
+    nlohmann::json animations, skins;  // taken out for tinygltf, read by the importer
     if (const std::string_view json = json_text(bytes, binary); mentions_animation(json) || mentions_compression(json))
         if (std::optional<std::string> rewritten = with_json_edited(bytes, binary, [&](nlohmann::json& document) {
                 RestPoseEdit rest_pose = remove_animation(document);
-                had_animations = rest_pose.had_animations;
+                animations = std::move(rest_pose.animations);
                 skins = std::move(rest_pose.skins);
                 const bool prepared = prepare_for_decompression(document);
                 return rest_pose.changed || prepared;
@@ -679,9 +691,7 @@ void load_gltf(const std::filesystem::path& path, Scene& scene) {
         if (!line.empty()) scene.warnings.push_back(file + ": " + library_message(line, line));
 
     if (padded_json) scene.warnings.push_back(file + ": the GLB's JSON chunk is not padded to 4 bytes; read anyway");
-    if (had_animations)
-        scene.warnings.push_back(file + ": animations are not played; the scene is drawn as its nodes place it");
-    // Required extensions Prism reads (or, for KHR_animation_pointer, whose animations are not played anyway,
+    // Required extensions Prism reads (or, for KHR_animation_pointer, whose channels are not played anyway,
     // need not): any other gives a warning and the file loads without it.
     static constexpr std::string_view kReadExtensions[] = {"KHR_texture_transform",
                                                            "KHR_materials_emissive_strength",
@@ -709,7 +719,9 @@ void load_gltf(const std::filesystem::path& path, Scene& scene) {
     const bool report_progress = bytes.size() >= kBytesWorthReporting;
     if (report_progress) report_load_progress(0.3);  // parsed; the meshes and textures follow
     LoadProgressShare importing(0.3, 1.0);
-    GltfImporter(model, file, scene, gltf::parse_skins(skins, file), report_progress).import();
+    GltfImporter(model, file, scene, gltf::parse_skins(skins, file),
+                 gltf::read_first_animation(animations, model, file), report_progress)
+        .import();
 }
 
 }  // namespace prism

@@ -10,6 +10,8 @@
 
 #include <glm/glm.hpp>
 
+#include "core/scene/node_animation.h"
+
 namespace prism {
 
 // A triangle mesh in object space. Attribute arrays are either empty or as long as `positions`.
@@ -188,6 +190,7 @@ struct Scene {
     glm::vec3 ambient_light{0.1f};  // light that needs no shadow ray (the seed's ambient term)
     std::vector<std::string> warnings;
     std::vector<InstanceSpin> spins;  // instances that move over a sequence (core/scene/scene_motion.h)
+    NodeAnimation animation;          // a glTF animation's node transforms, played over a sequence or in the viewer
 
     size_t triangle_count() const;  // over instances (what is traced)
 };

@@ -10,6 +10,7 @@ std::vector<glm::mat4> instance_transforms_at(const Scene& scene, double seconds
     std::vector<glm::mat4> transforms;
     transforms.reserve(scene.instances.size());
     for (const Instance& instance : scene.instances) transforms.push_back(instance.transform);
+    apply_node_animation(scene.animation, seconds, transforms);
     for (const InstanceSpin& spin : scene.spins) {
         // The turn is reduced to [0, 1) in double first, so a whole turn gives the loaded placement exactly.
         double turns = std::fmod(seconds / double(spin.seconds), 1.0);
@@ -22,5 +23,7 @@ std::vector<glm::mat4> instance_transforms_at(const Scene& scene, double seconds
     }
     return transforms;
 }
+
+bool scene_moves(const Scene& scene) { return !scene.spins.empty() || scene.animation.plays(); }
 
 }  // namespace prism

@@ -1,0 +1,206 @@
+#include "core/loaders/gltf_animation.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+#include <tiny_gltf.h>
+
+#include "core/loaders/gltf_accessor.h"
+#include "core/util/error.h"
+
+namespace prism::gltf {
+namespace {
+
+// The string at `key`, or `fallback` when there is none or it is not a string.
+std::string string_of(const nlohmann::json& object, const char* key, const std::string& fallback = {}) {
+    auto found = object.find(key);
+    return found != object.end() && found->is_string() ? found->get<std::string>() : fallback;
+}
+
+// A non-negative index that fits an int, else -1.
+int index_of(const nlohmann::json& object, const char* key) {
+    auto found = object.find(key);
+    if (found == object.end() || !found->is_number_integer()) return -1;
+    const int64_t value = found->get<int64_t>();
+    return value >= 0 && value <= INT32_MAX ? static_cast<int>(value) : -1;
+}
+
+// The channel's keys, or the reason it cannot be played.
+std::string read_keys(const tinygltf::Model& model, const nlohmann::json& sampler, AnimationChannel& channel,
+                      const std::string& file) {
+    if (!sampler.is_object()) return "its sampler is not an object";
+    const int input = index_of(sampler, "input"), output = index_of(sampler, "output");
+    if (input < 0 || output < 0) return "its sampler has no input or output accessor";
+    const std::string interpolation = string_of(sampler, "interpolation", "LINEAR");
+    if (interpolation == "STEP")
+        channel.interpolation = AnimationInterpolation::Step;
+    else if (interpolation == "LINEAR")
+        channel.interpolation = AnimationInterpolation::Linear;
+    else if (interpolation == "CUBICSPLINE")
+        channel.interpolation = AnimationInterpolation::CubicSpline;
+    else
+        return "interpolation '" + interpolation + "' is not STEP, LINEAR or CUBICSPLINE";
+    const FloatArray times = read_floats(model, input, file);
+    const FloatArray values = read_floats(model, output, file);
+    const int components = channel.path == AnimationPath::Rotation ? 4 : 3;
+    const size_t per_key = channel.interpolation == AnimationInterpolation::CubicSpline ? 3 : 1;
+    if (times.components != 1 || times.count == 0) return "its input is not a non-empty SCALAR accessor";
+    if (values.components != components)
+        return "its output has " + std::to_string(values.components) + " components; " + std::to_string(components) +
+               " expected";
+    if (values.count != times.count * per_key)
+        return "its output has " + std::to_string(values.count) + " values for " + std::to_string(times.count) +
+               " keys";
+    for (size_t k = 0; k < times.count; ++k) {
+        const float t = times.at(k, 0);
+        if (!std::isfinite(t)) return "a key time is not finite";
+        if (k > 0 && !(t >= times.at(k - 1, 0))) return "its key times decrease";
+        channel.times.push_back(t);
+    }
+    for (float v : values.values)
+        if (!std::isfinite(v)) return "a key value is not finite";
+    channel.values.reserve(values.count);
+    for (size_t k = 0; k < values.count; ++k)
+        channel.values.emplace_back(values.at(k, 0), values.at(k, 1), values.at(k, 2),
+                                    components == 4 ? values.at(k, 3) : 0.0f);
+    return {};
+}
+
+}  // namespace
+
+FileAnimation read_first_animation(const nlohmann::json& animations, const tinygltf::Model& model,
+                                   const std::string& file) {
+    FileAnimation out;
+    if (!animations.is_array() || animations.empty() || !animations[0].is_object()) return out;
+    out.animation_count = animations.size();
+    const nlohmann::json& animation = animations[0];
+    out.name = string_of(animation, "name");
+    if (out.name.empty()) out.name = "animation 0";
+    auto channels = animation.find("channels");
+    auto samplers = animation.find("samplers");
+    if (channels == animation.end() || !channels->is_array()) return out;
+    for (size_t c = 0; c < channels->size(); ++c) {
+        const nlohmann::json& entry = (*channels)[c];
+        const std::string what = "animation '" + out.name + "', channel " + std::to_string(c);
+        auto target = entry.is_object() ? entry.find("target") : entry.end();
+        if (!entry.is_object() || target == entry.end() || !target->is_object()) {
+            out.warnings.push_back(file_error(file, what + " has no target; left out").what());
+            continue;
+        }
+        const std::string path = string_of(*target, "path");
+        const int node = index_of(*target, "node");
+        FileChannel channel;
+        channel.node = node;
+        if (path == "translation")
+            channel.channel.path = AnimationPath::Translation;
+        else if (path == "rotation")
+            channel.channel.path = AnimationPath::Rotation;
+        else if (path == "scale")
+            channel.channel.path = AnimationPath::Scale;
+        if ((path != "translation" && path != "rotation" && path != "scale") || node < 0) {
+            ++out.unplayable;  // morph weights, or KHR_animation_pointer's targets
+            continue;
+        }
+        std::string cause;
+        if (node >= static_cast<int>(model.nodes.size())) cause = "node " + std::to_string(node) + " does not exist";
+        const int sampler = index_of(entry, "sampler");
+        if (cause.empty() && (samplers == animation.end() || !samplers->is_array() || sampler < 0 ||
+                              size_t(sampler) >= samplers->size()))
+            cause = "its sampler does not exist";
+        if (cause.empty()) {
+            try {
+                cause = read_keys(model, (*samplers)[size_t(sampler)], channel.channel, file);
+            } catch (const Error& error) {  // an accessor's bytes: "<file>: accessor N: ..."
+                out.warnings.push_back(std::string(error.what()) + " (" + what + "; left out)");
+                continue;
+            }
+        }
+        if (!cause.empty()) {
+            out.warnings.push_back(file_error(file, what + ": " + cause + "; left out").what());
+            continue;
+        }
+        out.channels.push_back(std::move(channel));
+    }
+    return out;
+}
+
+}  // namespace prism::gltf
+
+namespace prism::gltf {
+
+AnimationRig::AnimationRig(FileAnimation animation, const tinygltf::Model& model, std::string file)
+    : file_animation_(std::move(animation)), model_(model), file_(std::move(file)) {
+    animation_.name = file_animation_.name;
+    if (file_animation_.channels.empty()) return;
+    keyed_.assign(model_.nodes.size(), false);
+    slot_of_.assign(model_.nodes.size(), -1);
+    for (const FileChannel& channel : file_animation_.channels) {
+        // glTF animates nodes given by translation, rotation and scale; a node with a matrix is drawn as given.
+        if (model_.nodes[size_t(channel.node)].matrix.size() != 16) keyed_[size_t(channel.node)] = true;
+    }
+}
+
+AnimationRig::Place AnimationRig::enter(int node_index, const glm::mat4& local, Place parent) {
+    if (keyed_.empty()) return {};
+    const tinygltf::Node& node = model_.nodes[size_t(node_index)];
+    AnimationNode placed;
+    placed.parent = parent.slot;
+    placed.matrix = local;
+    placed.keyed = keyed_[size_t(node_index)];
+    if (node.translation.size() == 3)
+        placed.translation = glm::vec3(node.translation[0], node.translation[1], node.translation[2]);
+    if (node.rotation.size() == 4)
+        placed.rotation = glm::normalize(glm::quat(float(node.rotation[3]), float(node.rotation[0]),
+                                                   float(node.rotation[1]), float(node.rotation[2])));
+    if (node.scale.size() == 3) placed.scale = glm::vec3(node.scale[0], node.scale[1], node.scale[2]);
+    const int32_t slot = int32_t(animation_.nodes.size());
+    animation_.nodes.push_back(placed);
+    slot_of_[size_t(node_index)] = slot;
+    return {slot, parent.moves || placed.keyed};
+}
+
+void AnimationRig::add_instance(uint32_t instance, Place place, const glm::mat4& local) {
+    if (place.moves) animation_.instances.push_back({instance, uint32_t(place.slot), local});
+}
+
+NodeAnimation AnimationRig::finish(std::vector<std::string>& warnings) {
+    for (const std::string& warning : file_animation_.warnings) warnings.push_back(warning);
+    const size_t total = file_animation_.channels.size() + file_animation_.unplayable + file_animation_.warnings.size();
+    if (file_animation_.animation_count == 0) return {};
+    // The nodes some recorded instance hangs from or below: a channel elsewhere moves nothing Prism draws (skinned
+    // joints, whose meshes are posed once at load, cameras, lights, empty nodes).
+    std::vector<bool> carries(animation_.nodes.size(), false);
+    for (const AnimatedInstance& instance : animation_.instances)
+        for (int32_t slot = int32_t(instance.node); slot >= 0 && !carries[size_t(slot)];
+             slot = animation_.nodes[size_t(slot)].parent)
+            carries[size_t(slot)] = true;
+    for (FileChannel& channel : file_animation_.channels) {
+        const int32_t slot = slot_of_.empty() ? -1 : slot_of_[size_t(channel.node)];
+        if (slot < 0 || !carries[size_t(slot)] || !animation_.nodes[size_t(slot)].keyed) continue;
+        channel.channel.node = uint32_t(slot);
+        animation_.duration = std::max(animation_.duration, double(channel.channel.times.back()));
+        animation_.channels.push_back(std::move(channel.channel));
+    }
+    const std::string named = "animation '" + animation_.name + "'";
+    if (file_animation_.animation_count > 1)
+        warnings.push_back(file_error(file_, "has " + std::to_string(file_animation_.animation_count) +
+                                                 " animations; sequences and the viewer play the first, " + named)
+                               .what());
+    if (!animation_.plays()) {
+        warnings.push_back(file_error(file_, named + " is not played: it moves no mesh Prism draws (only morph "
+                                                     "weights, skinned joints, cameras, lights or animation pointers); "
+                                                     "the scene is drawn as its nodes place it")
+                               .what());
+        return {};
+    }
+    if (animation_.channels.size() < total)
+        warnings.push_back(file_error(file_, named + ": " + std::to_string(total - animation_.channels.size()) +
+                                                 " of its " + std::to_string(total) +
+                                                 " channels are not played (morph weights, skinned joints, cameras, "
+                                                 "lights, animation pointers, nodes given by a matrix)")
+                               .what());
+    return std::move(animation_);
+}
+
+}  // namespace prism::gltf

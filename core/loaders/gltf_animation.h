@@ -1,0 +1,70 @@
+// glTF animations (glTF 2.0, "Animations"): the file's first animation, its channels that key a node's
+// translation, rotation or scale read into samplers Prism can play (core/scene/node_animation.h). The "animations"
+// array is taken out of the JSON before tinygltf parses it (gltf_rest_pose.h), so it is read here from the JSON,
+// its keys through the accessors tinygltf did read.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <nlohmann/json_fwd.hpp>
+
+#include "core/scene/node_animation.h"
+
+namespace tinygltf {
+class Model;
+class Node;
+}  // namespace tinygltf
+
+namespace prism::gltf {
+
+// A channel as the file gives it: `node` is the file's node index.
+struct FileChannel {
+    int node = -1;
+    AnimationChannel channel;  // its `node` field is set once the node has a place in NodeAnimation::nodes
+};
+
+struct FileAnimation {
+    std::string name;            // the file's name for it, else "animation 0"
+    size_t animation_count = 0;  // how many the file has (only the first is played)
+    std::vector<FileChannel> channels;
+    size_t unplayable = 0;              // channels left out: morph weights, KHR_animation_pointer targets
+    std::vector<std::string> warnings;  // "<file>: ..." for each channel left out because it is malformed
+};
+
+// The first animation of the document's "animations" array (null: the file has none). A malformed channel is left
+// out with a warning naming `file` and the cause, so the scene still draws as its nodes place it.
+FileAnimation read_first_animation(const nlohmann::json& animations, const tinygltf::Model& model,
+                                   const std::string& file);
+
+// Builds the scene's NodeAnimation while the importer walks the node trees: every node it enters gets a place
+// (parents before children), every instance below a keyed node is recorded with the node it hangs from.
+class AnimationRig {
+public:
+    AnimationRig(FileAnimation animation, const tinygltf::Model& model, std::string file);
+
+    // Where a node sits in NodeAnimation::nodes and whether a keyed node is on its path (itself included).
+    struct Place {
+        int32_t slot = -1;
+        bool moves = false;
+    };
+    // The node the importer enters below `parent` (a root's parent is Place{}), with its local transform.
+    Place enter(int node_index, const glm::mat4& local, Place parent);
+    // An instance the importer added for a node at `place`: its transform is the node's world times `local`.
+    void add_instance(uint32_t instance, Place place, const glm::mat4& local);
+
+    // The animation to play (channels that move no recorded instance left out), and the warnings: what is not
+    // played, and the malformed channels read_first_animation left out.
+    NodeAnimation finish(std::vector<std::string>& warnings);
+
+private:
+    FileAnimation file_animation_;
+    const tinygltf::Model& model_;
+    std::string file_;
+    std::vector<bool> keyed_;       // per file node: a playable channel keys it
+    std::vector<int32_t> slot_of_;  // per file node: its place, -1 before it is entered
+    NodeAnimation animation_;
+};
+
+}  // namespace prism::gltf

@@ -1,0 +1,63 @@
+// A glTF animation's node transforms, kept so a sequence or the viewer can play them: the nodes above every moving
+// instance, the channels that key their translation, rotation and scale, and which instance hangs from which node.
+// Sampling follows the glTF 2.0 spec (Appendix C): STEP, LINEAR (rotations by spherical interpolation) and
+// CUBICSPLINE (Hermite, tangents scaled by the key interval), clamped to the first and last key.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+namespace prism {
+
+// A node as the file places it when nothing animates it: its local matrix, or its TRS when a channel may key it.
+struct AnimationNode {
+    int32_t parent = -1;  // index into NodeAnimation::nodes, always below this node's own
+    glm::vec3 translation{0.0f};
+    glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};
+    glm::vec3 scale{1.0f};
+    glm::mat4 matrix{1.0f};  // the local transform as loaded (used as it is unless a channel keys this node)
+    bool keyed = false;      // some channel keys this node: its local transform is built from TRS
+};
+
+enum class AnimationPath : uint8_t { Translation, Rotation, Scale };
+enum class AnimationInterpolation : uint8_t { Step, Linear, CubicSpline };
+
+struct AnimationChannel {
+    uint32_t node = 0;  // index into NodeAnimation::nodes
+    AnimationPath path = AnimationPath::Translation;
+    AnimationInterpolation interpolation = AnimationInterpolation::Linear;
+    std::vector<float> times;       // seconds, increasing
+    std::vector<glm::vec4> values;  // xyz (w for rotations); CUBICSPLINE: in-tangent, value, out-tangent per key
+};
+
+// An instance of Scene::instances that hangs from an animated node: its transform is the node's world transform
+// times `local` (EXT_mesh_gpu_instancing's per-instance transform, else identity).
+struct AnimatedInstance {
+    uint32_t instance = 0;
+    uint32_t node = 0;  // index into NodeAnimation::nodes
+    glm::mat4 local{1.0f};
+};
+
+struct NodeAnimation {
+    std::string name;       // for messages and `prism info`
+    double duration = 0.0;  // seconds: the last key of any channel (the sequence loops over it)
+    std::vector<AnimationNode> nodes;
+    std::vector<AnimationChannel> channels;
+    std::vector<AnimatedInstance> instances;
+
+    bool plays() const { return !channels.empty() && !instances.empty(); }
+};
+
+// A channel's value at `seconds` (xyz, or a normalized quaternion as xyzw for rotations).
+glm::vec4 sample_channel(const AnimationChannel& channel, float seconds);
+
+// The local transform of every node at `seconds` into the animation (looped over its duration), composed down to
+// each animated instance; writes those instances' transforms into `transforms` (one per scene instance). An instance
+// whose transform would not be finite keeps the one `transforms` holds.
+void apply_node_animation(const NodeAnimation& animation, double seconds, std::vector<glm::mat4>& transforms);
+
+}  // namespace prism

@@ -1,0 +1,283 @@
+// glTF animations of node transforms (core/scene/node_animation.h, core/loaders/gltf_animation.h): the spec's
+// samplers, the loader's channels and nodes, and what a sequence of frames shows.
+#include <cmath>
+#include <fstream>
+#include <iterator>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+
+#include "core/loaders/load_gltf.h"
+#include "core/scene/node_animation.h"
+#include "core/scene/scene_motion.h"
+#include "tests/gltf_builder.h"
+#include "tests/test_support.h"
+
+namespace prism {
+namespace {
+
+using nlohmann::json;
+using test::GltfBuilder;
+
+AnimationChannel channel(AnimationPath path, AnimationInterpolation interpolation, std::vector<float> times,
+                         std::vector<glm::vec4> values) {
+    AnimationChannel c;
+    c.path = path;
+    c.interpolation = interpolation;
+    c.times = std::move(times);
+    c.values = std::move(values);
+    return c;
+}
+
+void expect_near(const glm::vec4& actual, const glm::vec4& expected, float tolerance = 1e-5f) {
+    for (int i = 0; i < 4; ++i) EXPECT_NEAR(actual[i], expected[i], tolerance) << "component " << i;
+}
+
+TEST(NodeAnimation, LinearAndStepSamplersHoldTheirEndsAndInterpolateBetween) {
+    const AnimationChannel linear = channel(AnimationPath::Translation, AnimationInterpolation::Linear, {1.0f, 3.0f},
+                                            {{0, 0, 0, 0}, {4, -2, 8, 0}});
+    expect_near(sample_channel(linear, 0.0f), {0, 0, 0, 0});  // before the first key: the first value
+    expect_near(sample_channel(linear, 1.5f), {1, -0.5f, 2, 0});
+    expect_near(sample_channel(linear, 3.0f), {4, -2, 8, 0});
+    expect_near(sample_channel(linear, 9.0f), {4, -2, 8, 0});  // after the last: the last value
+    AnimationChannel step = linear;
+    step.interpolation = AnimationInterpolation::Step;
+    expect_near(sample_channel(step, 2.99f), {0, 0, 0, 0});
+    expect_near(sample_channel(step, 3.0f), {4, -2, 8, 0});
+}
+
+// Rotations interpolate on the sphere (a quarter turn halfway through a half turn), the short way round, and come
+// back normalized.
+TEST(NodeAnimation, RotationsInterpolateSphericallyTheShortWay) {
+    const float h = std::sqrt(0.5f);
+    const AnimationChannel half_turn =
+        channel(AnimationPath::Rotation, AnimationInterpolation::Linear, {0.0f, 1.0f}, {{0, 0, 0, 1}, {0, 1, 0, 0}});
+    expect_near(sample_channel(half_turn, 0.5f), {0, h, 0, h});
+    // -q is the same rotation as q: the path from identity to -(quarter turn) is the quarter turn's, not 3/4 of one.
+    const AnimationChannel negated =
+        channel(AnimationPath::Rotation, AnimationInterpolation::Linear, {0.0f, 1.0f}, {{0, 0, 0, 1}, {0, -h, 0, -h}});
+    const glm::vec4 mid = sample_channel(negated, 0.5f);
+    const float angle = 2.0f * std::acos(std::min(1.0f, std::abs(mid.w)));
+    EXPECT_NEAR(angle, glm::radians(45.0f), 1e-4f);
+    EXPECT_NEAR(glm::length(mid), 1.0f, 1e-6f);
+    const AnimationChannel unnormalized =
+        channel(AnimationPath::Rotation, AnimationInterpolation::Step, {0.0f}, {{0, 0, 0, 3}});
+    expect_near(sample_channel(unnormalized, 0.0f), {0, 0, 0, 1});
+}
+
+// CUBICSPLINE (glTF 2.0, Appendix C): three values per key (in-tangent, value, out-tangent); tangents are per
+// second, so they are scaled by the key interval. With zero tangents the curve is smoothstep; with tangents, the
+// Hermite polynomial at a quarter of a 2-second interval.
+TEST(NodeAnimation, CubicSplineIsTheSpecsHermiteCurve) {
+    const AnimationChannel flat = channel(AnimationPath::Translation, AnimationInterpolation::CubicSpline, {0.0f, 2.0f},
+                                          {{0, 0, 0, 0},
+                                           {0, 0, 0, 0},
+                                           {0, 0, 0, 0},  // key 0: a, v, b
+                                           {0, 0, 0, 0},
+                                           {10, 0, 0, 0},
+                                           {0, 0, 0, 0}});
+    expect_near(sample_channel(flat, 0.5f), {10 * (3 * 0.0625f - 2 * 0.015625f), 0, 0, 0});
+    expect_near(sample_channel(flat, 1.0f), {5, 0, 0, 0});
+    const AnimationChannel sloped = channel(AnimationPath::Scale, AnimationInterpolation::CubicSpline, {1.0f, 3.0f},
+                                            {{9, 9, 9, 0},
+                                             {1, 1, 1, 0},
+                                             {2, 0, -1, 0},  // key 0's in-tangent unused
+                                             {0, 4, 0, 0},
+                                             {3, 3, 3, 0},
+                                             {9, 9, 9, 0}});  // key 1's out-tangent unused
+    const float u = 0.25f, u2 = u * u, u3 = u2 * u, interval = 2.0f;
+    const glm::vec4 v0{1, 1, 1, 0}, b0{2, 0, -1, 0}, v1{3, 3, 3, 0}, a1{0, 4, 0, 0};
+    const glm::vec4 expected = (2 * u3 - 3 * u2 + 1) * v0 + interval * (u3 - 2 * u2 + u) * b0 +
+                               (-2 * u3 + 3 * u2) * v1 + interval * (u3 - u2) * a1;
+    expect_near(sample_channel(sloped, 1.5f), expected);
+    expect_near(sample_channel(sloped, 0.0f), v0);
+    expect_near(sample_channel(sloped, 3.0f), v1);
+}
+
+// Finite keys that compose to inf (a scale of 1e30 on two nested nodes) leave the instance where it was.
+TEST(NodeAnimation, TransformsThatOverflowKeepTheInstancesPlacement) {
+    NodeAnimation animation;
+    animation.nodes.resize(2);
+    animation.nodes[0].keyed = animation.nodes[1].keyed = true;
+    animation.nodes[1].parent = 0;
+    for (uint32_t node : {0u, 1u}) {
+        AnimationChannel huge = channel(AnimationPath::Scale, AnimationInterpolation::Step, {0.0f}, {{1e30f, 1, 1, 0}});
+        huge.node = node;
+        animation.channels.push_back(huge);
+    }
+    animation.instances.push_back({0, 1, glm::mat4(1.0f)});
+    animation.duration = 1.0;
+    const glm::mat4 placed = glm::translate(glm::mat4(1.0f), glm::vec3(1, 2, 3));
+    std::vector<glm::mat4> transforms{placed};
+    apply_node_animation(animation, 0.5, transforms);
+    EXPECT_EQ(transforms[0], placed);
+    animation.channels[1].values[0].x = 2.0f;  // 2e30: finite
+    apply_node_animation(animation, 0.5, transforms);
+    EXPECT_EQ(transforms[0][0][0], 2e30f);
+}
+
+// A triangle on a child node of an animated parent: the parent slides 2 m along x over a second (LINEAR) while the
+// child keeps its own offset, its own rotation and scale.
+struct SlidingTriangle {
+    GltfBuilder gltf;
+    std::filesystem::path file;
+
+    explicit SlidingTriangle(const std::string& name, const std::string& interpolation = "LINEAR") {
+        const int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+        const int mesh = gltf.mesh({{{"attributes", {{"POSITION", positions}}}}});
+        const int child = gltf.node({{"mesh", mesh}, {"translation", {0, 0, -3}}, {"scale", {2, 2, 2}}});
+        gltf.node({{"children", {child}}, {"name", "parent"}, {"translation", {0.5, 0, 0}}});
+        const int times = gltf.view(std::vector<float>{0, 1});
+        const int input = gltf.accessor({{"bufferView", times},
+                                         {"componentType", 5126},
+                                         {"count", 2},
+                                         {"type", "SCALAR"},
+                                         {"min", {0}},
+                                         {"max", {1}}});
+        const int keys = gltf.view(std::vector<float>{0, 0, 0, 2, 0, 0});
+        const int output =
+            gltf.accessor({{"bufferView", keys}, {"componentType", 5126}, {"count", 2}, {"type", "VEC3"}});
+        gltf.document["animations"] = {
+            {{"name", "slide"},
+             {"channels", {{{"sampler", 0}, {"target", {{"node", 1}, {"path", "translation"}}}}}},
+             {"samplers", {{{"input", input}, {"output", output}, {"interpolation", interpolation}}}}}};
+        file = gltf.write(name);
+    }
+};
+
+Scene load(const std::filesystem::path& path) {
+    Scene scene;
+    load_gltf(path, scene);
+    return scene;
+}
+
+glm::vec3 translation_of(const glm::mat4& m) { return glm::vec3(m[3]); }
+
+TEST(NodeAnimation, AParentsChannelMovesTheMeshBelowIt) {
+    SlidingTriangle sliding("sliding-triangle.gltf");
+    const Scene scene = load(sliding.file);
+    EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+    ASSERT_TRUE(scene.animation.plays());
+    EXPECT_EQ(scene.animation.name, "slide");
+    EXPECT_DOUBLE_EQ(scene.animation.duration, 1.0);
+    ASSERT_EQ(scene.instances.size(), 1u);
+    // A still render shows the nodes as the file places them.
+    EXPECT_EQ(translation_of(scene.instances[0].transform), glm::vec3(0.5f, 0, -3));
+    const std::vector<glm::mat4> half = instance_transforms_at(scene, 0.5);
+    EXPECT_EQ(translation_of(half[0]), glm::vec3(1, 0, -3));
+    EXPECT_EQ(glm::vec3(half[0][0]), glm::vec3(2, 0, 0));  // the child's scale stays
+    EXPECT_EQ(translation_of(instance_transforms_at(scene, 0.0)[0]), glm::vec3(0, 0, -3));
+    EXPECT_EQ(instance_transforms_at(scene, 2.5)[0], half[0]);  // the sequence loops over the duration
+    EXPECT_TRUE(scene_moves(scene));
+}
+
+TEST(NodeAnimation, StepChannelsJumpAtTheirKeys) {
+    SlidingTriangle sliding("stepping-triangle.gltf", "STEP");
+    const Scene scene = load(sliding.file);
+    EXPECT_EQ(translation_of(instance_transforms_at(scene, 0.75)[0]), glm::vec3(0, 0, -3));
+    EXPECT_EQ(translation_of(instance_transforms_at(scene, 0.999)[0]), glm::vec3(0, 0, -3));
+    EXPECT_EQ(translation_of(instance_transforms_at(scene, 1.0 + 1e-3)[0]), glm::vec3(0, 0, -3));  // looped
+}
+
+// What cannot play is said in one warning and the file loads as before: channels on morph weights, on a node with
+// nothing below it, a malformed channel (named, with its cause), and more than one animation.
+TEST(NodeAnimation, ChannelsThatCannotPlayAreLeftOutWithAWarning) {
+    SlidingTriangle sliding("partly-playable.gltf");
+    json& animations = sliding.gltf.document["animations"];
+    const int empty = sliding.gltf.node({{"name", "empty"}});
+    json& channels = animations[0]["channels"];
+    channels.push_back({{"sampler", 0}, {"target", {{"node", empty}, {"path", "translation"}}}});
+    channels.push_back({{"sampler", 0}, {"target", {{"node", 0}, {"path", "weights"}}}});
+    channels.push_back({{"sampler", 1}, {"target", {{"node", 1}, {"path", "rotation"}}}});  // VEC3 output: malformed
+    animations[0]["samplers"].push_back(animations[0]["samplers"][0]);
+    animations.push_back(animations[0]);
+    animations[1]["name"] = "second";
+    const Scene scene = load(sliding.gltf.write("partly-playable.gltf"));
+    ASSERT_TRUE(scene.animation.plays());
+    EXPECT_EQ(scene.animation.channels.size(), 1u);
+    ASSERT_EQ(scene.warnings.size(), 3u) << ::testing::PrintToString(scene.warnings);
+    EXPECT_NE(scene.warnings[0].find("channel 3: its output has 3 components; 4 expected; left out"), std::string::npos)
+        << scene.warnings[0];
+    EXPECT_NE(scene.warnings[1].find("has 2 animations; sequences and the viewer play the first, animation 'slide'"),
+              std::string::npos)
+        << scene.warnings[1];
+    EXPECT_NE(scene.warnings[2].find("animation 'slide': 3 of its 4 channels are not played"), std::string::npos)
+        << scene.warnings[2];
+}
+
+TEST(NodeAnimation, AnAnimationThatMovesNoMeshIsNotPlayed) {
+    GltfBuilder gltf;
+    const int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}}}}})}});
+    const int camera_node = gltf.node({{"name", "camera rig"}});
+    const int times = gltf.view(std::vector<float>{0, 1});
+    const int input = gltf.accessor({{"bufferView", times}, {"componentType", 5126}, {"count", 2}, {"type", "SCALAR"}});
+    const int keys = gltf.view(std::vector<float>{0, 0, 0, 1, 0, 0});
+    const int output = gltf.accessor({{"bufferView", keys}, {"componentType", 5126}, {"count", 2}, {"type", "VEC3"}});
+    gltf.document["animations"] = {
+        {{"channels", {{{"sampler", 0}, {"target", {{"node", camera_node}, {"path", "translation"}}}}}},
+         {"samplers", {{{"input", input}, {"output", output}}}}}};
+    const Scene scene = load(gltf.write("moves-nothing.gltf"));
+    EXPECT_FALSE(scene.animation.plays());
+    EXPECT_FALSE(scene_moves(scene));
+    ASSERT_EQ(scene.warnings.size(), 1u);
+    EXPECT_NE(scene.warnings[0].find("animation 'animation 0' is not played"), std::string::npos) << scene.warnings[0];
+}
+
+// Hostile keys are left out, not played: a NaN key value, times that go back, a time accessor that is not SCALAR.
+TEST(NodeAnimation, HostileKeysAreRefusedPerChannel) {
+    struct Case {
+        std::vector<float> times, values;
+        const char* cause;
+    };
+    const Case cases[] = {{{0, 1}, {0, 0, 0, NAN, 0, 0}, "a key value is not finite"},
+                          {{1, 0}, {0, 0, 0, 1, 0, 0}, "its key times decrease"},
+                          {{0, INFINITY}, {0, 0, 0, 1, 0, 0}, "a key time is not finite"}};
+    for (const Case& c : cases) {
+        SlidingTriangle sliding("hostile-keys.gltf");
+        GltfBuilder& gltf = sliding.gltf;
+        const int times = gltf.view(c.times);
+        const int keys = gltf.view(c.values);
+        gltf.document["accessors"][gltf.document["animations"][0]["samplers"][0]["input"].get<int>()]["bufferView"] =
+            times;
+        gltf.document["accessors"][gltf.document["animations"][0]["samplers"][0]["output"].get<int>()]["bufferView"] =
+            keys;
+        const Scene scene = load(gltf.write("hostile-keys.gltf"));
+        EXPECT_FALSE(scene.animation.plays()) << c.cause;
+        ASSERT_FALSE(scene.warnings.empty()) << c.cause;
+        EXPECT_NE(scene.warnings[0].find(std::string("channel 0: ") + c.cause + "; left out"), std::string::npos)
+            << scene.warnings[0];
+    }
+}
+
+// `prism render --frames`: frame N shows the animation at N / fps seconds, and a frame a whole loop later is the
+// same image.
+TEST(NodeAnimation, ASequenceOfFramesPlaysTheAnimation) {
+    SlidingTriangle sliding("sequence-triangle.gltf");
+    const std::filesystem::path dir = test::temp_dir("animation-sequence");
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const test::CommandResult r = test::run_prism(
+        "render -q --backend cpu --allow-any-path --scene '" + sliding.file.string() +
+        "' --width 48 --height 32 --depth 1 --frames 0-4 --fps 4 --out '" + (dir / "f_%d.png").string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    auto bytes = [&](int frame) {
+        std::ifstream file(dir / ("f_" + std::to_string(frame) + ".png"), std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(file), {});
+    };
+    EXPECT_NE(bytes(1), bytes(0));
+    EXPECT_NE(bytes(2), bytes(1));
+    EXPECT_EQ(bytes(4), bytes(0));
+    // `prism info` says what will play.
+    const test::CommandResult info =
+        test::run_prism("info --allow-any-path --scene '" + sliding.file.string() + "' --json -");
+    ASSERT_EQ(info.exit_code, 0) << info.output;
+    const json animation = json::parse(info.output.substr(info.output.find('{'))).at("scene").at("animation");
+    EXPECT_EQ(animation.at("name"), "slide");
+    EXPECT_EQ(animation.at("seconds"), 1.0);
+    EXPECT_EQ(animation.at("channels"), 1);
+    EXPECT_EQ(animation.at("moving_instances"), 1);
+}
+
+}  // namespace
+}  // namespace prism
