@@ -317,6 +317,39 @@ void compressed_gltf_seeds(const fs::path& scenes, SeedWriter& seeds) {
     }
 }
 
+// A triangle below a parent node, both animated: LINEAR translation, CUBICSPLINE rotation, STEP scale, the keys in
+// an embedded buffer (the animation reader and the samplers, core/loaders/gltf_animation.h).
+std::string animated_triangle_gltf() {
+    prism::test::GltfBuilder gltf;
+    const int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    const int child = gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}}}}})}});
+    gltf.node({{"children", {child}}, {"translation", {0, 0, -2}}});
+    auto floats = [&](const std::vector<float>& values, int count, const char* type) {
+        return gltf.accessor(
+            {{"bufferView", gltf.view(values)}, {"componentType", 5126}, {"count", count}, {"type", type}});
+    };
+    const int times = floats({0, 0.5f, 2}, 3, "SCALAR");
+    const int moves = floats({0, 0, 0, 1, 2, 0, -1, 0, 3}, 3, "VEC3");
+    const int turns = floats({0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 1, 0, 0.7f, 0, 0.7f, 0, 0, 0,
+                              0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0,    0, 1,    0, 0, 0},
+                             9, "VEC4");
+    const int scales = floats({1, 1, 1, 2, 2, 2, 0.5f, 1, 3}, 3, "VEC3");
+    gltf.document["animations"] = {{{"name", "fuzz"},
+                                    {"channels",
+                                     {{{"sampler", 0}, {"target", {{"node", 1}, {"path", "translation"}}}},
+                                      {{"sampler", 1}, {"target", {{"node", 1}, {"path", "rotation"}}}},
+                                      {{"sampler", 2}, {"target", {{"node", child}, {"path", "scale"}}}}}},
+                                    {"samplers",
+                                     {{{"input", times}, {"output", moves}},
+                                      {{"input", times}, {"output", turns}, {"interpolation", "CUBICSPLINE"}},
+                                      {{"input", times}, {"output", scales}, {"interpolation", "STEP"}}}}}};
+    json document = gltf.document;
+    document["buffers"] = {
+        {{"byteLength", gltf.buffer.size()}, {"uri", "data:application/octet-stream;base64," + base64(gltf.buffer)}}};
+    document["scenes"] = {{{"nodes", {1}}}};
+    return document.dump();
+}
+
 void gltf_seeds(const fs::path& scenes, SeedWriter& seeds, const fs::path& scratch) {
     compressed_gltf_seeds(scenes, seeds);
     for (const fs::path& gltf : files_with(scenes, {".gltf"})) {
@@ -338,6 +371,9 @@ void gltf_seeds(const fs::path& scenes, SeedWriter& seeds, const fs::path& scrat
     json triangle = json::parse(read_file(scratch / "tri.gltf"));
     triangle["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64(read_file(scratch / "tri.bin"));
     seeds.add("gltf", "triangle-embedded.txt", triangle.dump());
+    const std::string animated = animated_triangle_gltf();
+    seeds.add("gltf", "animated-triangle.txt", animated);
+    seeds.add("glb", "animated-triangle.glb", glb_of(animated, ""));
     for (const fs::path& glb : files_with(scenes, {".glb"}))
         if (fs::file_size(glb) <= kMaxSeedBytes) seeds.add("glb", glb.filename().string(), read_file(glb));
 }

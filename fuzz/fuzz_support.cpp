@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "core/render/device_scene.h"
+#include "core/scene/scene_motion.h"
 #include "core/image/image_io.h"
 #include "core/loaders/scene_loader.h"
 
@@ -123,6 +124,10 @@ void load_and_build_or_throw(const std::filesystem::path& scene_file) {
     options.data_dir = scratch_dir() / "no-data";  // bare models get the constant sky, not a cube map from disk
     const Scene scene = load_scene(scene_file.string(), options);
     (void)build_device_scene(scene);
+    // An animation's samplers at its start, inside it and past its end (looped), as a sequence would take them.
+    if (scene.animation.plays())
+        for (double seconds : {0.0, scene.animation.duration / 3.0, scene.animation.duration * 2.5})
+            (void)instance_transforms_at(scene, seconds);
 }
 
 void load_and_build(const std::filesystem::path& scene_file) {
