@@ -23,7 +23,8 @@ WorkMessage render_item(const WorkerJob& job, RenderEngine& engine, LoadedScene&
     std::string frame_path;
     if (job.sequence) {
         uint32_t frame = job.frames.first + uint32_t(item);
-        frame_camera = turntable_camera(camera, frame, job.options.turntable_seconds, job.options.fps);
+        frame_camera = turntable_camera(camera_at(loaded.scene, frame / job.options.fps), frame,
+                                        job.options.turntable_seconds, job.options.fps);
         if (scene_moves(loaded.scene))  // a refit of the top level: every worker's frame N is the same
             engine.update_instances(loaded.device, instance_transforms_at(loaded.scene, frame / job.options.fps),
                                     false);

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "core/loaders/load_gltf.h"
+#include "core/loaders/scene_loader.h"
 #include "core/scene/node_animation.h"
 #include "core/scene/scene_motion.h"
 #include "tests/gltf_builder.h"
@@ -248,6 +249,52 @@ TEST(NodeAnimation, HostileKeysAreRefusedPerChannel) {
         EXPECT_NE(scene.warnings[0].find(std::string("channel 0: ") + c.cause + "; left out"), std::string::npos)
             << scene.warnings[0];
     }
+}
+
+// A camera below an animated node moves over a sequence (a still keeps the file's pose); other cameras do not.
+TEST(NodeAnimation, TheScenesCameraFollowsItsNode) {
+    SlidingTriangle sliding("camera-rig.gltf");
+    GltfBuilder& gltf = sliding.gltf;
+    gltf.document["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.1}}}}};
+    const int camera = gltf.node({{"camera", 0}, {"translation", {0, 0, 4}}});
+    gltf.document["nodes"][1]["children"].push_back(camera);  // beside the triangle, below the sliding parent
+    const Scene scene = load(gltf.write("camera-rig.gltf"));
+    ASSERT_TRUE(scene.has_camera);
+    EXPECT_EQ(scene.camera.position, glm::vec3(0.5f, 0, 4));
+    EXPECT_EQ(scene.animation.camera_node, 2);  // the parent, the triangle's node, the camera's node
+    EXPECT_EQ(camera_at(scene, 0.5).position, glm::vec3(1, 0, 4));
+    EXPECT_EQ(camera_at(scene, 0.5).target, glm::vec3(1, 0, 3));
+    EXPECT_NEAR(camera_at(scene, 0.5).vertical_fov_degrees, glm::degrees(0.8f), 1e-4f);
+    // Only the camera moves: still an animation that plays.
+    gltf.document["nodes"][1]["children"] = {camera};
+    const Scene camera_only = load(gltf.write("camera-only.gltf"));
+    EXPECT_TRUE(camera_only.animation.plays());
+    EXPECT_TRUE(camera_only.animation.instances.empty());
+    EXPECT_EQ(camera_at(camera_only, 0.75).position, glm::vec3(1.5f, 0, 4));
+}
+
+// A scene file places an animated model twice: each copy plays below its own placement.
+TEST(NodeAnimation, ASceneFilePlaysEachPlacedCopy) {
+    SlidingTriangle sliding("placed-twice.gltf");
+    const std::filesystem::path scene_file =
+        test::write_file("placed-twice.json", R"({"objects": [{"file": "placed-twice.gltf"},
+            {"file": "placed-twice.gltf", "transform": {"translate": [0, 10, 0], "scale": 2}}]})");
+    ASSERT_EQ(scene_file.parent_path(), sliding.file.parent_path());
+    Scene scene;
+    {
+        LoadOptions options;
+        options.allow_any_path = true;
+        scene = load_scene(scene_file.string(), options);
+    }
+    ASSERT_EQ(scene.instances.size(), 2u);
+    ASSERT_TRUE(scene.animation.plays());
+    EXPECT_EQ(scene.animation.instances.size(), 2u);
+    const std::vector<glm::mat4> half = instance_transforms_at(scene, 0.5);
+    EXPECT_EQ(translation_of(half[0]), glm::vec3(1, 0, -3));
+    EXPECT_EQ(translation_of(half[1]), glm::vec3(2, 10, -6));
+    EXPECT_EQ(glm::vec3(half[1][0]), glm::vec3(4, 0, 0));  // the child's scale 2 times the placement's 2
+    // At rest, the scene file's placements as loaded.
+    EXPECT_EQ(translation_of(scene.instances[1].transform), glm::vec3(1, 10, -6));
 }
 
 // `prism render --frames`: frame N shows the animation at N / fps seconds, and a frame a whole loop later is the

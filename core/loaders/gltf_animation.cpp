@@ -164,17 +164,23 @@ void AnimationRig::add_instance(uint32_t instance, Place place, const glm::mat4&
     if (place.moves) animation_.instances.push_back({instance, uint32_t(place.slot), local});
 }
 
+void AnimationRig::set_camera(Place place) {
+    if (place.moves) animation_.camera_node = place.slot;
+}
+
 NodeAnimation AnimationRig::finish(std::vector<std::string>& warnings) {
     for (const std::string& warning : file_animation_.warnings) warnings.push_back(warning);
     const size_t total = file_animation_.channels.size() + file_animation_.unplayable + file_animation_.warnings.size();
     if (file_animation_.animation_count == 0) return {};
-    // The nodes some recorded instance hangs from or below: a channel elsewhere moves nothing Prism draws (skinned
-    // joints, whose meshes are posed once at load, cameras, lights, empty nodes).
+    // The nodes some recorded instance or the camera hangs from or below: a channel elsewhere moves nothing Prism
+    // draws (skinned joints, whose meshes are posed once at load, lights, other cameras, empty nodes).
     std::vector<bool> carries(animation_.nodes.size(), false);
-    for (const AnimatedInstance& instance : animation_.instances)
-        for (int32_t slot = int32_t(instance.node); slot >= 0 && !carries[size_t(slot)];
-             slot = animation_.nodes[size_t(slot)].parent)
+    auto carry = [&](int32_t slot) {
+        for (; slot >= 0 && !carries[size_t(slot)]; slot = animation_.nodes[size_t(slot)].parent)
             carries[size_t(slot)] = true;
+    };
+    for (const AnimatedInstance& instance : animation_.instances) carry(int32_t(instance.node));
+    carry(animation_.camera_node);
     for (FileChannel& channel : file_animation_.channels) {
         const int32_t slot = slot_of_.empty() ? -1 : slot_of_[size_t(channel.node)];
         if (slot < 0 || !carries[size_t(slot)] || !animation_.nodes[size_t(slot)].keyed) continue;
@@ -188,17 +194,18 @@ NodeAnimation AnimationRig::finish(std::vector<std::string>& warnings) {
                                                  " animations; sequences and the viewer play the first, " + named)
                                .what());
     if (!animation_.plays()) {
-        warnings.push_back(file_error(file_, named + " is not played: it moves no mesh Prism draws (only morph "
-                                                     "weights, skinned joints, cameras, lights or animation pointers); "
-                                                     "the scene is drawn as its nodes place it")
+        warnings.push_back(file_error(file_, named +
+                                                 " is not played: it moves neither a mesh Prism draws nor the "
+                                                 "camera (only morph weights, skinned joints, lights, other cameras "
+                                                 "or animation pointers); the scene is drawn as its nodes place it")
                                .what());
         return {};
     }
     if (animation_.channels.size() < total)
         warnings.push_back(file_error(file_, named + ": " + std::to_string(total - animation_.channels.size()) +
                                                  " of its " + std::to_string(total) +
-                                                 " channels are not played (morph weights, skinned joints, cameras, "
-                                                 "lights, animation pointers, nodes given by a matrix)")
+                                                 " channels are not played (morph weights, skinned joints, lights, "
+                                                 "other cameras, animation pointers, nodes given by a matrix)")
                                .what());
     return std::move(animation_);
 }

@@ -39,7 +39,8 @@ FileAnimation read_first_animation(const nlohmann::json& animations, const tinyg
                                    const std::string& file);
 
 // Builds the scene's NodeAnimation while the importer walks the node trees: every node it enters gets a place
-// (parents before children), every instance below a keyed node is recorded with the node it hangs from.
+// (parents before children), every instance below a keyed node is recorded with the node it hangs from, and so is
+// the scene's camera.
 class AnimationRig {
 public:
     AnimationRig(FileAnimation animation, const tinygltf::Model& model, std::string file);
@@ -53,6 +54,8 @@ public:
     Place enter(int node_index, const glm::mat4& local, Place parent);
     // An instance the importer added for a node at `place`: its transform is the node's world times `local`.
     void add_instance(uint32_t instance, Place place, const glm::mat4& local);
+    // The scene's camera hangs from the node at `place`.
+    void set_camera(Place place);
 
     // The animation to play (channels that move no recorded instance left out), and the warnings: what is not
     // played, and the malformed channels read_first_animation left out.

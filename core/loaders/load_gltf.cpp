@@ -31,6 +31,7 @@
 #include "core/util/json_depth.h"
 #include "core/util/load_progress.h"
 #include "core/scene/mesh_tangents.h"
+#include "core/scene/scene_motion.h"
 #include "core/util/scene_read_rules.h"
 
 namespace prism {
@@ -272,7 +273,7 @@ private:
         } else if (node.mesh >= 0) {
             add_mesh_instances(node, node.mesh, world, place);
         }
-        if (node.camera >= 0) add_camera(node.camera, world);
+        if (node.camera >= 0) add_camera(node.camera, world, place);
         auto light = node.extensions.find("KHR_lights_punctual");
         if (light != node.extensions.end() && light->second.Has("light"))
             add_light(light->second.Get("light").GetNumberAsInt(), world);
@@ -561,7 +562,7 @@ private:
         }
     }
 
-    void add_camera(int camera_index, const glm::mat4& world) {
+    void add_camera(int camera_index, const glm::mat4& world, gltf::AnimationRig::Place place) {
         if (camera_index >= static_cast<int>(model_.cameras.size()))
             throw file_error(file_, "camera " + std::to_string(camera_index) + " does not exist");
         if (scene_.has_camera) return;  // the first camera instance wins
@@ -571,14 +572,10 @@ private:
                                       " is orthographic; Prism traces perspective cameras only, ignored");
             return;
         }
-        glm::vec3 position = world * glm::vec4(0, 0, 0, 1);
-        glm::vec3 forward = glm::normalize(glm::vec3(world * glm::vec4(0, 0, -1, 0)));
-        glm::vec3 up = glm::normalize(glm::vec3(world * glm::vec4(0, 1, 0, 0)));
-        scene_.camera.position = position;
-        scene_.camera.target = position + forward;
-        scene_.camera.up = up;
+        place_camera_at_node(scene_.camera, world);
         scene_.camera.vertical_fov_degrees = glm::degrees(static_cast<float>(camera.perspective.yfov));
         scene_.has_camera = true;
+        rig_.set_camera(place);
     }
 
     void add_light(int light_index, const glm::mat4& world) {

@@ -397,6 +397,7 @@ private:
     struct LoadedModel {
         std::vector<Instance> instances;  // mesh indices already in the scene, transforms in model space
         std::vector<Light> lights;
+        NodeAnimation animation;  // a glTF model's animation, its instances numbered as `instances`
     };
 
     const LoadedModel& load_object_model(const std::filesystem::path& file, const std::string& key_path, Scene& scene) {
@@ -429,6 +430,7 @@ private:
             model.instances.push_back(std::move(instance));
         }
         model.lights = part.lights;
+        model.animation = std::move(part.animation);
         return models_.emplace(key, std::move(model)).first->second;
     }
 
@@ -457,6 +459,8 @@ private:
             const LoadedModel& model = load_object_model(file, key_path, scene);
             std::optional<InstanceSpin> spin;
             if (source.contains("spin")) spin = read_spin(source["spin"], join(key_path, "spin"), placement);
+            append_node_animation(scene.animation, model.animation, static_cast<uint32_t>(scene.instances.size()),
+                                  placement);
             for (const Instance& part : model.instances) {
                 Instance instance = part;
                 instance.transform = placement * part.transform;

@@ -18,6 +18,31 @@ glm::vec4 normalized_rotation(const glm::vec4& v) {
 
 }  // namespace
 
+void append_node_animation(NodeAnimation& into, const NodeAnimation& part, uint32_t first_instance,
+                           const glm::mat4& placement) {
+    if (!part.plays() || part.instances.empty()) return;
+    into.name = into.name.empty() ? part.name : into.name + ", " + part.name;
+    into.duration = std::max(into.duration, part.duration);
+    const auto root = int32_t(into.nodes.size());
+    AnimationNode placed;
+    placed.matrix = placement;
+    into.nodes.push_back(placed);
+    const auto offset = uint32_t(into.nodes.size());
+    for (AnimationNode node : part.nodes) {
+        node.parent = node.parent >= 0 ? node.parent + int32_t(offset) : root;
+        into.nodes.push_back(node);
+    }
+    for (AnimationChannel channel : part.channels) {
+        channel.node += offset;
+        into.channels.push_back(std::move(channel));
+    }
+    for (AnimatedInstance instance : part.instances) {
+        instance.instance += first_instance;
+        instance.node += offset;
+        into.instances.push_back(instance);
+    }
+}
+
 glm::vec4 sample_channel(const AnimationChannel& channel, float seconds) {
     const std::vector<float>& times = channel.times;
     const bool cubic = channel.interpolation == AnimationInterpolation::CubicSpline;
@@ -49,8 +74,7 @@ glm::vec4 sample_channel(const AnimationChannel& channel, float seconds) {
     return finish(value(key));
 }
 
-void apply_node_animation(const NodeAnimation& animation, double seconds, std::vector<glm::mat4>& transforms) {
-    if (!animation.plays()) return;
+std::vector<glm::mat4> node_world_transforms(const NodeAnimation& animation, double seconds) {
     double t = animation.duration > 0.0 ? std::fmod(seconds, animation.duration) : 0.0;
     if (t < 0.0) t += animation.duration;
     std::vector<AnimationNode> posed = animation.nodes;
@@ -72,6 +96,12 @@ void apply_node_animation(const NodeAnimation& animation, double seconds, std::v
                                            : node.matrix;
         world[i] = node.parent >= 0 ? world[size_t(node.parent)] * local : local;
     }
+    return world;
+}
+
+void apply_node_animation(const NodeAnimation& animation, double seconds, std::vector<glm::mat4>& transforms) {
+    if (!animation.plays() || animation.instances.empty()) return;
+    const std::vector<glm::mat4> world = node_world_transforms(animation, seconds);
     // Finite keys can still compose to inf (scales of 1e30 on nested nodes): such an instance keeps the transform it
     // had, so the BVH and the kernels never see a non-finite one.
     for (const AnimatedInstance& instance : animation.instances) {

@@ -48,15 +48,24 @@ struct NodeAnimation {
     std::vector<AnimationNode> nodes;
     std::vector<AnimationChannel> channels;
     std::vector<AnimatedInstance> instances;
+    int32_t camera_node = -1;  // the node the scene's camera hangs from, when a keyed node is above it
 
-    bool plays() const { return !channels.empty() && !instances.empty(); }
+    bool plays() const { return !channels.empty() && (!instances.empty() || camera_node >= 0); }
 };
+
+// Adds `part`'s nodes, channels and instances to `into`: `part`'s roots hang from a new node placed by `placement`,
+// and its instances are numbered from `first_instance` (a scene file placing an animated model; the model's camera
+// is not carried over). Both animations play together, over the longer duration.
+void append_node_animation(NodeAnimation& into, const NodeAnimation& part, uint32_t first_instance,
+                           const glm::mat4& placement);
 
 // A channel's value at `seconds` (xyz, or a normalized quaternion as xyzw for rotations).
 glm::vec4 sample_channel(const AnimationChannel& channel, float seconds);
 
-// The local transform of every node at `seconds` into the animation (looped over its duration), composed down to
-// each animated instance; writes those instances' transforms into `transforms` (one per scene instance). An instance
+// Every node's world transform at `seconds` into the animation (looped over its duration).
+std::vector<glm::mat4> node_world_transforms(const NodeAnimation& animation, double seconds);
+
+// The animated instances' transforms at `seconds`, written into `transforms` (one per scene instance). An instance
 // whose transform would not be finite keeps the one `transforms` holds.
 void apply_node_animation(const NodeAnimation& animation, double seconds, std::vector<glm::mat4>& transforms);
 

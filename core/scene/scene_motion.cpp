@@ -26,4 +26,25 @@ std::vector<glm::mat4> instance_transforms_at(const Scene& scene, double seconds
 
 bool scene_moves(const Scene& scene) { return !scene.spins.empty() || scene.animation.plays(); }
 
+Camera camera_at(const Scene& scene, double seconds) {
+    Camera camera = scene.camera;
+    const NodeAnimation& animation = scene.animation;
+    if (animation.plays() && animation.camera_node >= 0)
+        place_camera_at_node(camera, node_world_transforms(animation, seconds)[size_t(animation.camera_node)]);
+    return camera;
+}
+
+bool place_camera_at_node(Camera& camera, const glm::mat4& world) {
+    const glm::vec3 position = world * glm::vec4(0, 0, 0, 1);
+    const glm::vec3 forward = glm::normalize(glm::vec3(world * glm::vec4(0, 0, -1, 0)));
+    const glm::vec3 up = glm::normalize(glm::vec3(world * glm::vec4(0, 1, 0, 0)));
+    const glm::vec3 target = position + forward;
+    for (int i = 0; i < 3; ++i)
+        if (!std::isfinite(position[i]) || !std::isfinite(target[i]) || !std::isfinite(up[i])) return false;
+    camera.position = position;
+    camera.target = target;
+    camera.up = up;
+    return true;
+}
+
 }  // namespace prism
