@@ -206,6 +206,27 @@ TEST(NodeAnimation, ChannelsThatCannotPlayAreLeftOutWithAWarning) {
         << scene.warnings[2];
 }
 
+// A file of many malformed channels gets eight lines naming them and one counting the rest; a name from the file
+// is quoted short and without control characters.
+TEST(NodeAnimation, ManyMalformedChannelsAreCountedNotListed) {
+    SlidingTriangle sliding("many-malformed.gltf");
+    json& animation = sliding.gltf.document["animations"][0];
+    animation["name"] = "\x1b[2J" + std::string(500, 'n');
+    for (int i = 0; i < 100; ++i)
+        animation["channels"].push_back({{"sampler", 7}, {"target", {{"node", 1}, {"path", "scale"}}}});
+    const Scene scene = load(sliding.gltf.write("many-malformed.gltf"));
+    EXPECT_TRUE(scene.animation.plays());
+    ASSERT_EQ(scene.warnings.size(), 10u);  // eight named, the count, the channels not played
+    for (const std::string& warning : scene.warnings) {
+        EXPECT_EQ(warning.find('\x1b'), std::string::npos) << warning;
+        EXPECT_LT(warning.size(), 400u) << warning;
+    }
+    EXPECT_NE(scene.warnings[7].find("channel 8: its sampler does not exist; left out"), std::string::npos)
+        << scene.warnings[7];
+    EXPECT_NE(scene.warnings[8].find("92 more malformed channels left out"), std::string::npos) << scene.warnings[8];
+    EXPECT_NE(scene.warnings[9].find("100 of its 101 channels are not played"), std::string::npos) << scene.warnings[9];
+}
+
 TEST(NodeAnimation, AnAnimationThatMovesNoMeshIsNotPlayed) {
     GltfBuilder gltf;
     const int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});

@@ -12,6 +12,8 @@
 namespace prism::gltf {
 namespace {
 
+constexpr size_t kMalformedChannelsNamed = 8;  // warnings that name a malformed channel; the rest are counted
+
 // The string at `key`, or `fallback` when there is none or it is not a string.
 std::string string_of(const nlohmann::json& object, const char* key, const std::string& fallback = {}) {
     auto found = object.find(key);
@@ -75,17 +77,22 @@ FileAnimation read_first_animation(const nlohmann::json& animations, const tinyg
     if (!animations.is_array() || animations.empty() || !animations[0].is_object()) return out;
     out.animation_count = animations.size();
     const nlohmann::json& animation = animations[0];
-    out.name = string_of(animation, "name");
+    out.name = shorten(string_of(animation, "name"), 64);  // it is quoted in warnings and `prism info`
     if (out.name.empty()) out.name = "animation 0";
     auto channels = animation.find("channels");
     auto samplers = animation.find("samplers");
     if (channels == animation.end() || !channels->is_array()) return out;
+    // A file of a million malformed channels gets a few lines, then a count.
+    size_t malformed = 0;
+    auto left_out = [&](const std::string& warning) {
+        if (++malformed <= kMalformedChannelsNamed) out.warnings.push_back(Error(warning).what());
+    };
     for (size_t c = 0; c < channels->size(); ++c) {
         const nlohmann::json& entry = (*channels)[c];
         const std::string what = "animation '" + out.name + "', channel " + std::to_string(c);
         auto target = entry.is_object() ? entry.find("target") : entry.end();
         if (!entry.is_object() || target == entry.end() || !target->is_object()) {
-            out.warnings.push_back(file_error(file, what + " has no target; left out").what());
+            left_out(file + ": " + what + " has no target; left out");
             continue;
         }
         const std::string path = string_of(*target, "path");
@@ -112,16 +119,22 @@ FileAnimation read_first_animation(const nlohmann::json& animations, const tinyg
             try {
                 cause = read_keys(model, (*samplers)[size_t(sampler)], channel.channel, file);
             } catch (const Error& error) {  // an accessor's bytes: "<file>: accessor N: ..."
-                out.warnings.push_back(std::string(error.what()) + " (" + what + "; left out)");
+                left_out(std::string(error.what()) + " (" + what + "; left out)");
                 continue;
             }
         }
         if (!cause.empty()) {
-            out.warnings.push_back(file_error(file, what + ": " + cause + "; left out").what());
+            left_out(file + ": " + what + ": " + cause + "; left out");
             continue;
         }
         out.channels.push_back(std::move(channel));
     }
+    if (malformed > kMalformedChannelsNamed)
+        out.warnings.push_back(file_error(file, "animation '" + out.name +
+                                                    "': " + std::to_string(malformed - kMalformedChannelsNamed) +
+                                                    " more malformed channels left out")
+                                   .what());
+    out.malformed = malformed;
     return out;
 }
 
@@ -170,7 +183,7 @@ void AnimationRig::set_camera(Place place) {
 
 NodeAnimation AnimationRig::finish(std::vector<std::string>& warnings) {
     for (const std::string& warning : file_animation_.warnings) warnings.push_back(warning);
-    const size_t total = file_animation_.channels.size() + file_animation_.unplayable + file_animation_.warnings.size();
+    const size_t total = file_animation_.channels.size() + file_animation_.unplayable + file_animation_.malformed;
     if (file_animation_.animation_count == 0) return {};
     // The nodes some recorded instance or the camera hangs from or below: a channel elsewhere moves nothing Prism
     // draws (skinned joints, whose meshes are posed once at load, lights, other cameras, empty nodes).

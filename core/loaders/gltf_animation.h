@@ -30,7 +30,8 @@ struct FileAnimation {
     size_t animation_count = 0;  // how many the file has (only the first is played)
     std::vector<FileChannel> channels;
     size_t unplayable = 0;              // channels left out: morph weights, KHR_animation_pointer targets
-    std::vector<std::string> warnings;  // "<file>: ..." for each channel left out because it is malformed
+    size_t malformed = 0;               // channels left out because they are malformed
+    std::vector<std::string> warnings;  // "<file>: ..." for the first few of those, then their count
 };
 
 // The first animation of the document's "animations" array (null: the file has none). A malformed channel is left
