@@ -35,6 +35,9 @@ void add_scene_options(CLI::App* command, SceneOptions& options, bool scene_requ
     add_bvh_shape_options(command, options);
     command->add_flag("--allow-any-path", options.allow_any_path,
                       "let the scene read files outside its own folder (absolute or ../ URIs and paths)");
+    command->add_option("--animation", options.animation,
+                        "which animation of a glTF scene sequences and the viewer play: its index, its name, or all "
+                        "(default: the first)");
 }
 
 void add_bvh_shape_options(CLI::App* command, SceneOptions& options) {
@@ -85,6 +88,7 @@ LoadedScene load_and_build(const SceneOptions& options, const std::string& backe
     load_options.data_dir = options.data_dir.empty() ? default_data_dir() : std::filesystem::path(options.data_dir);
     Progress loading("loading " + options.scene);
     load_options.allow_any_path = options.allow_any_path;
+    load_options.animation = options.animation;
     load_options.progress = [&loading](double fraction) { loading.update(fraction); };
     loaded.scene = load_scene(options.scene, load_options);
     loading.finish();

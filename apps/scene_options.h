@@ -24,6 +24,7 @@ struct SceneOptions {
     // over instances, which a move refits; otherwise it flattens them into one BVH (BvhBuildOptions).
     bool moving_instances = false;
     bool allow_any_path = false;  // --allow-any-path: the scene may read files outside its folder
+    std::string animation;        // --animation: a glTF scene's animation to play (empty: the first)
 };
 
 void add_scene_options(CLI::App* command, SceneOptions& options, bool scene_required = false);

@@ -56,6 +56,9 @@ fs::path example_folder() {
     fs::create_directories(dir / "shared");
     fs::path link = dir / "shared" / "scenes";
     if (!fs::exists(link)) fs::create_directory_symlink(fs::absolute(prism::test::scenes_dir()), link);
+    // The examples may name the repository's own docs/examples (an animated glTF written for them).
+    fs::path docs = dir / "repo" / "docs";
+    if (!fs::exists(docs)) fs::create_directory_symlink(fs::path(PRISM_SOURCE_DIR) / "docs", docs);
     return dir / "repo";
 }
 
@@ -95,7 +98,7 @@ TEST(DocsSceneFormat, EveryKeyIsDocumentedAndShown) {
                           "fresnel",  "bias",      "scale",        "power",         "emissive",  "file",
                           "mode",     "env_color", "uv_set",       "material",      "transform", "matrix",
                           "name",     "translate", "rotate",       "range",         "inner_cone_degrees",
-                          "outer_cone_degrees"};
+                          "outer_cone_degrees",        "spin",         "animation"};
     // clang-format on
     for (const char* key : keys) {
         // Built by appending: GCC 12 warns falsely (-Wrestrict) on "literal" + std::string here.

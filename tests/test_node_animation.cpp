@@ -199,7 +199,7 @@ TEST(NodeAnimation, ChannelsThatCannotPlayAreLeftOutWithAWarning) {
     ASSERT_EQ(scene.warnings.size(), 3u) << ::testing::PrintToString(scene.warnings);
     EXPECT_NE(scene.warnings[0].find("channel 3: its output has 3 components; 4 expected; left out"), std::string::npos)
         << scene.warnings[0];
-    EXPECT_NE(scene.warnings[1].find("has 2 animations; sequences and the viewer play the first, animation 'slide'"),
+    EXPECT_NE(scene.warnings[1].find("has 2 animations; sequences and the viewer play the first, 'slide' (--animation"),
               std::string::npos)
         << scene.warnings[1];
     EXPECT_NE(scene.warnings[2].find("animation 'slide': 3 of its 4 channels are not played"), std::string::npos)
@@ -223,7 +223,8 @@ TEST(NodeAnimation, ManyMalformedChannelsAreCountedNotListed) {
     }
     EXPECT_NE(scene.warnings[7].find("channel 8: its sampler does not exist; left out"), std::string::npos)
         << scene.warnings[7];
-    EXPECT_NE(scene.warnings[8].find("92 more malformed channels left out"), std::string::npos) << scene.warnings[8];
+    EXPECT_NE(scene.warnings[8].find("92 more malformed animation channels left out"), std::string::npos)
+        << scene.warnings[8];
     EXPECT_NE(scene.warnings[9].find("100 of its 101 channels are not played"), std::string::npos) << scene.warnings[9];
 }
 
@@ -316,6 +317,65 @@ TEST(NodeAnimation, ASceneFilePlaysEachPlacedCopy) {
     EXPECT_EQ(glm::vec3(half[1][0]), glm::vec3(4, 0, 0));  // the child's scale 2 times the placement's 2
     // At rest, the scene file's placements as loaded.
     EXPECT_EQ(translation_of(scene.instances[1].transform), glm::vec3(1, 10, -6));
+}
+
+// docs/examples/animated-boxes.gltf has two animations: "spin" (a red box's rotation, 4 s) and "bounce and pulse"
+// (a green box's CUBICSPLINE translation over 2 s, a blue box's STEP scale over 1.5 s). --animation (a bare glTF) and
+// an object's "animation" (a scene file) pick the first, one by index or name, or all; each clip loops on its own.
+TEST(NodeAnimation, AnimationIsPickedByIndexNameOrAll) {
+    const std::filesystem::path boxes =
+        std::filesystem::path(PRISM_SOURCE_DIR) / "docs" / "examples" / "animated-boxes.gltf";
+    auto load_picked = [&](const std::string& animation) {
+        LoadOptions options;
+        options.allow_any_path = true;
+        options.animation = animation;
+        return load_scene(boxes.string(), options);
+    };
+    const Scene first = load_picked("");
+    EXPECT_EQ(first.animation.name, "spin");
+    EXPECT_DOUBLE_EQ(first.animation.duration, 4.0);
+    ASSERT_EQ(first.warnings.size(), 1u);
+    EXPECT_NE(first.warnings[0].find("has 2 animations; sequences and the viewer play the first, 'spin' (--animation"),
+              std::string::npos)
+        << first.warnings[0];
+    for (const char* second : {"1", "bounce and pulse"}) {
+        const Scene picked = load_picked(second);
+        EXPECT_EQ(picked.animation.name, "bounce and pulse") << second;
+        EXPECT_EQ(picked.animation.channels.size(), 2u) << second;
+        EXPECT_TRUE(picked.warnings.empty()) << second;
+    }
+    const Scene all = load_picked("all");
+    EXPECT_EQ(all.animation.name, "all 2 animations");
+    EXPECT_EQ(all.animation.channels.size(), 3u);
+    EXPECT_DOUBLE_EQ(all.animation.duration, 4.0);
+    // Each clip loops on its own: at 2.5 s the bounce (2 s) is half a second into its second round, as at 0.5 s.
+    const std::vector<glm::mat4> early = instance_transforms_at(all, 0.5), late = instance_transforms_at(all, 2.5);
+    EXPECT_EQ(translation_of(late[1]), translation_of(early[1]));
+    EXPECT_NE(late[0], early[0]);  // the spin (4 s) went on
+    // What the file does not have is a one-line error that lists what it has.
+    EXPECT_EQ(test::error_message([&] { (void)load_picked("run"); }),
+              boxes.string() + ": no animation 'run' (it has 2: 0 'spin', 1 'bounce and pulse'; or all)");
+    EXPECT_EQ(test::error_message([&] { (void)load_picked("2"); }).find("no animation '2'") != std::string::npos, true);
+    LoadOptions on_ply;
+    on_ply.animation = "0";
+    EXPECT_EQ(test::error_message([&] { (void)load_scene("builtin:sphere", on_ply); }),
+              "builtin:sphere: --animation picks a glTF file's animation; this scene has none");
+}
+
+TEST(NodeAnimation, ASceneFileObjectPicksItsModelsAnimation) {
+    const std::filesystem::path examples = std::filesystem::path(PRISM_SOURCE_DIR) / "docs" / "examples";
+    LoadOptions options;
+    options.allow_any_path = true;
+    const Scene scene = load_scene((examples / "animated-boxes.json").string(), options);
+    EXPECT_EQ(scene.animation.name, "all 2 animations");
+    EXPECT_EQ(scene.animation.instances.size(), 3u);
+    std::string text = R"({"objects": [{"file": ")";
+    text.append(test::scene("stanford/bunny_res2.ply").string()).append(R"(", "animation": 0}]})");
+    const std::filesystem::path bad = test::write_file("animation-on-a-ply.json", text);
+    EXPECT_NE(test::error_message([&] {
+                  (void)load_scene(bad.string(), options);
+              }).find("objects[0].animation: only glTF models have animations"),
+              std::string::npos);
 }
 
 // `prism render --frames`: frame N shows the animation at N / fps seconds, and a frame a whole loop later is the

@@ -71,25 +71,22 @@ std::string read_keys(const tinygltf::Model& model, const nlohmann::json& sample
 
 }  // namespace
 
-FileAnimation read_first_animation(const nlohmann::json& animations, const tinygltf::Model& model,
-                                   const std::string& file) {
-    FileAnimation out;
-    if (!animations.is_array() || animations.empty() || !animations[0].is_object()) return out;
-    out.animation_count = animations.size();
-    const nlohmann::json& animation = animations[0];
-    out.name = shorten(string_of(animation, "name"), 64);  // it is quoted in warnings and `prism info`
-    if (out.name.empty()) out.name = "animation 0";
+namespace {
+
+// One clip's channels appended to `out`; `out.malformed` counts the channels left out over every clip read.
+void read_clip(const nlohmann::json& animation, const std::string& name, const tinygltf::Model& model,
+               const std::string& file, FileAnimation& out) {
     auto channels = animation.find("channels");
     auto samplers = animation.find("samplers");
-    if (channels == animation.end() || !channels->is_array()) return out;
+    if (channels == animation.end() || !channels->is_array()) return;
+    const size_t first = out.channels.size();
     // A file of a million malformed channels gets a few lines, then a count.
-    size_t malformed = 0;
     auto left_out = [&](const std::string& warning) {
-        if (++malformed <= kMalformedChannelsNamed) out.warnings.push_back(Error(warning).what());
+        if (++out.malformed <= kMalformedChannelsNamed) out.warnings.push_back(Error(warning).what());
     };
     for (size_t c = 0; c < channels->size(); ++c) {
         const nlohmann::json& entry = (*channels)[c];
-        const std::string what = "animation '" + out.name + "', channel " + std::to_string(c);
+        const std::string what = "animation '" + name + "', channel " + std::to_string(c);
         auto target = entry.is_object() ? entry.find("target") : entry.end();
         if (!entry.is_object() || target == entry.end() || !target->is_object()) {
             left_out(file + ": " + what + " has no target; left out");
@@ -129,12 +126,63 @@ FileAnimation read_first_animation(const nlohmann::json& animations, const tinyg
         }
         out.channels.push_back(std::move(channel));
     }
-    if (malformed > kMalformedChannelsNamed)
-        out.warnings.push_back(file_error(file, "animation '" + out.name +
-                                                    "': " + std::to_string(malformed - kMalformedChannelsNamed) +
-                                                    " more malformed channels left out")
+    // The clip loops over its last key (glTF leaves looping to the viewer; its sample viewer loops each clip).
+    double seconds = 0.0;
+    for (size_t c = first; c < out.channels.size(); ++c)
+        seconds = std::max(seconds, double(out.channels[c].channel.times.back()));
+    for (size_t c = first; c < out.channels.size(); ++c) out.channels[c].channel.clip_seconds = seconds;
+}
+
+// The file's name for clip `i`, quoted short in warnings and `prism info`, else "animation i".
+std::string clip_name(const nlohmann::json& animations, size_t i) {
+    const std::string name = animations[i].is_object() ? shorten(string_of(animations[i], "name"), 64) : "";
+    return name.empty() ? "animation " + std::to_string(i) : name;
+}
+
+// The clips `selection` names: empty, the first; "all"; a number, that index; else the clip of that name.
+std::vector<size_t> selected_clips(const nlohmann::json& animations, const std::string& selection,
+                                   const std::string& file) {
+    const size_t count = animations.is_array() ? animations.size() : 0;
+    if (selection.empty()) return count > 0 ? std::vector<size_t>{0} : std::vector<size_t>{};
+    if (count == 0) throw file_error(file, "has no animations to play (--animation " + shorten(selection) + ")");
+    std::vector<size_t> all(count);
+    for (size_t i = 0; i < count; ++i) all[i] = i;
+    if (selection == "all") return all;
+    if (selection.find_first_not_of("0123456789") == std::string::npos && selection.size() <= 9) {
+        const size_t index = std::stoul(selection);
+        if (index < count) return {index};
+    }
+    for (size_t i = 0; i < count; ++i)
+        if (animations[i].is_object() && string_of(animations[i], "name") == selection) return {i};
+    std::string cause = "no animation '";
+    cause.append(shorten(selection)).append("' (it has ").append(std::to_string(count)).append(": ");
+    for (size_t i = 0; i < count && i < 8; ++i)
+        cause.append(i ? ", " : "").append(std::to_string(i)).append(" '").append(clip_name(animations, i)).append("'");
+    cause.append(count > 8 ? ", ...; or all)" : "; or all)");
+    throw file_error(file, cause);
+}
+
+}  // namespace
+
+FileAnimation read_animations(const nlohmann::json& animations, const tinygltf::Model& model, const std::string& file,
+                              const std::string& selection) {
+    FileAnimation out;
+    const std::vector<size_t> clips = selected_clips(animations, selection, file);
+    if (clips.empty()) return out;
+    out.animation_count = animations.size();
+    for (size_t i : clips)
+        if (animations[i].is_object()) read_clip(animations[i], clip_name(animations, i), model, file, out);
+    out.name =
+        clips.size() == 1 ? clip_name(animations, clips[0]) : "all " + std::to_string(clips.size()) + " animations";
+    if (out.malformed > kMalformedChannelsNamed)
+        out.warnings.push_back(file_error(file, std::to_string(out.malformed - kMalformedChannelsNamed) +
+                                                    " more malformed animation channels left out")
                                    .what());
-    out.malformed = malformed;
+    if (selection.empty() && out.animation_count > 1)
+        out.warnings.push_back(file_error(file, "has " + std::to_string(out.animation_count) +
+                                                    " animations; sequences and the viewer play the first, '" +
+                                                    out.name + "' (--animation picks another, or all)")
+                                   .what());
     return out;
 }
 
@@ -198,14 +246,10 @@ NodeAnimation AnimationRig::finish(std::vector<std::string>& warnings) {
         const int32_t slot = slot_of_.empty() ? -1 : slot_of_[size_t(channel.node)];
         if (slot < 0 || !carries[size_t(slot)] || !animation_.nodes[size_t(slot)].keyed) continue;
         channel.channel.node = uint32_t(slot);
-        animation_.duration = std::max(animation_.duration, double(channel.channel.times.back()));
+        animation_.duration = std::max(animation_.duration, channel.channel.clip_seconds);
         animation_.channels.push_back(std::move(channel.channel));
     }
     const std::string named = "animation '" + animation_.name + "'";
-    if (file_animation_.animation_count > 1)
-        warnings.push_back(file_error(file_, "has " + std::to_string(file_animation_.animation_count) +
-                                                 " animations; sequences and the viewer play the first, " + named)
-                               .what());
     if (!animation_.plays()) {
         warnings.push_back(file_error(file_, named +
                                                  " is not played: it moves neither a mesh Prism draws nor the "

@@ -1,4 +1,4 @@
-// glTF animations (glTF 2.0, "Animations"): the file's first animation, its channels that key a node's
+// glTF animations (glTF 2.0, "Animations"): the file's animations chosen to play, their channels that key a node's
 // translation, rotation or scale read into samplers Prism can play (core/scene/node_animation.h). The "animations"
 // array is taken out of the JSON before tinygltf parses it (gltf_rest_pose.h), so it is read here from the JSON,
 // its keys through the accessors tinygltf did read.
@@ -26,18 +26,20 @@ struct FileChannel {
 };
 
 struct FileAnimation {
-    std::string name;            // the file's name for it, else "animation 0"
-    size_t animation_count = 0;  // how many the file has (only the first is played)
+    std::string name;            // the file's name for the one played, "animation N", or "all N animations"
+    size_t animation_count = 0;  // how many the file has
     std::vector<FileChannel> channels;
     size_t unplayable = 0;              // channels left out: morph weights, KHR_animation_pointer targets
     size_t malformed = 0;               // channels left out because they are malformed
     std::vector<std::string> warnings;  // "<file>: ..." for the first few of those, then their count
 };
 
-// The first animation of the document's "animations" array (null: the file has none). A malformed channel is left
-// out with a warning naming `file` and the cause, so the scene still draws as its nodes place it.
-FileAnimation read_first_animation(const nlohmann::json& animations, const tinygltf::Model& model,
-                                   const std::string& file);
+// The animations of the document's "animations" array (null: the file has none) that `selection` names: empty, the
+// first; "all", every one, played together; a number, that one; else the one of that name. A selection the file does
+// not have throws prism::Error naming `file` and listing its animations. A malformed channel is left out with a
+// warning naming `file` and the cause, so the scene still draws as its nodes place it.
+FileAnimation read_animations(const nlohmann::json& animations, const tinygltf::Model& model, const std::string& file,
+                              const std::string& selection);
 
 // Builds the scene's NodeAnimation while the importer walks the node trees: every node it enters gets a place
 // (parents before children), every instance below a keyed node is recorded with the node it hangs from, and so is

@@ -631,7 +631,7 @@ bool has_extension(const std::filesystem::path& path, const char* extension) {
 
 }  // namespace
 
-void load_gltf(const std::filesystem::path& path, Scene& scene) {
+void load_gltf(const std::filesystem::path& path, Scene& scene, const std::string& animation) {
     std::string file = path.string();
     const bool binary = has_extension(path, ".glb");
     std::string bytes = read_input_file(path);
@@ -717,7 +717,7 @@ void load_gltf(const std::filesystem::path& path, Scene& scene) {
     if (report_progress) report_load_progress(0.3);  // parsed; the meshes and textures follow
     LoadProgressShare importing(0.3, 1.0);
     GltfImporter(model, file, scene, gltf::parse_skins(skins, file),
-                 gltf::read_first_animation(animations, model, file), report_progress)
+                 gltf::read_animations(animations, model, file, animation), report_progress)
         .import();
 }
 

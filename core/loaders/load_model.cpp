@@ -26,9 +26,12 @@ ModelFormat model_format(const std::filesystem::path& path) {
     return ModelFormat::Unknown;
 }
 
-void load_model(const std::filesystem::path& path, Scene& scene) {
-    switch (model_format(path)) {
-        case ModelFormat::Gltf: load_gltf(path, scene); return;
+void load_model(const std::filesystem::path& path, Scene& scene, const std::string& animation) {
+    const ModelFormat format = model_format(path);
+    if (!animation.empty() && format != ModelFormat::Gltf)
+        throw file_error(path.string(), "has no animations to play (--animation picks a glTF file's)");
+    switch (format) {
+        case ModelFormat::Gltf: load_gltf(path, scene, animation); return;
         case ModelFormat::Obj: load_obj(path, scene); return;
         case ModelFormat::Ply: add_ply_model(path, scene); return;
         default: throw file_error(path.string(), "unsupported scene format");

@@ -400,15 +400,18 @@ private:
         NodeAnimation animation;  // a glTF model's animation, its instances numbered as `instances`
     };
 
-    const LoadedModel& load_object_model(const std::filesystem::path& file, const std::string& key_path, Scene& scene) {
+    // `animation`: which of a glTF model's animations plays (load_gltf.h); part of the cache key.
+    const LoadedModel& load_object_model(const std::filesystem::path& file, const std::string& key_path,
+                                         const std::string& animation, Scene& scene) {
         std::string key = file.string();
+        key.append("\n").append(animation);
         auto cached = models_.find(key);
         if (cached != models_.end()) return cached->second;
         if (model_format(file) == ModelFormat::SceneJson || model_format(file) == ModelFormat::Unknown)
             fail(join(key_path, "file"), "unsupported model format '" + file.filename().string() +
                                              "' (expected .gltf, .glb, .obj, .ply or .ply.gz)");
         Scene part;
-        load_model(file, part);
+        load_model(file, part, animation);
         for (std::string& warning : part.warnings) scene.warnings.push_back(std::move(warning));
 
         // Append the part's textures, materials and meshes, shifting every index by what is already there.
@@ -434,13 +437,30 @@ private:
         return models_.emplace(key, std::move(model)).first->second;
     }
 
+    // An object's "animation": a glTF model's animation by index or name, or "all" (docs/scene-format.md).
+    std::string read_animation_choice(const json& source, const std::string& key_path,
+                                      const std::filesystem::path& file) const {
+        if (!source.contains("animation")) return {};
+        const std::string path = join(key_path, "animation");
+        const json& value = source["animation"];
+        std::string choice;
+        if (value.is_number_unsigned())
+            choice = std::to_string(value.get<uint64_t>());
+        else if (value.is_string() && !value.get<std::string>().empty())
+            choice = value.get<std::string>();
+        else
+            fail(path, "expected an animation's index (0, 1, ...), its name, or \"all\"");
+        if (model_format(file) != ModelFormat::Gltf) fail(path, "only glTF models have animations");
+        return choice;
+    }
+
     void read_objects(const json& objects, Scene& scene) {
         if (!objects.is_array()) fail("objects", "expected an array");
         for (size_t i = 0; i < objects.size(); ++i) {
             LoadProgressShare share(double(i) / double(objects.size()), double(i + 1) / double(objects.size()));
             std::string key_path = element("objects", i);
             const json& source = objects[i];
-            expect_keys(source, key_path, {"file", "transform", "matrix", "material", "name", "spin"});
+            expect_keys(source, key_path, {"file", "transform", "matrix", "material", "name", "spin", "animation"});
             if (!source.contains("file")) fail(join(key_path, "file"), "missing");
             if (source.contains("transform") && source.contains("matrix"))
                 fail(key_path, "give either transform or matrix");
@@ -456,7 +476,8 @@ private:
             }
             std::string name = source.contains("name") ? string(source["name"], join(key_path, "name")) : "";
             std::filesystem::path file = relative_file(source["file"], join(key_path, "file"), false);
-            const LoadedModel& model = load_object_model(file, key_path, scene);
+            const std::string animation = read_animation_choice(source, key_path, file);
+            const LoadedModel& model = load_object_model(file, key_path, animation, scene);
             std::optional<InstanceSpin> spin;
             if (source.contains("spin")) spin = read_spin(source["spin"], join(key_path, "spin"), placement);
             append_node_animation(scene.animation, model.animation, static_cast<uint32_t>(scene.instances.size()),

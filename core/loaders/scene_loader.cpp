@@ -54,6 +54,10 @@ Scene load_scene(const std::string& spec, const LoadOptions& options) {
     LoadProgressScope progress(options.progress);
     Scene scene;
     bool bare_model = false;
+    if (!options.animation.empty() && model_format(spec) != ModelFormat::Gltf)
+        throw Error(spec + ": --animation picks a glTF file's animation; " +
+                    (model_format(spec) == ModelFormat::SceneJson ? "a scene file names one per object (\"animation\")"
+                                                                  : "this scene has none"));
     if (spec.rfind(kBuiltinPrefix, 0) == 0) {
         scene = load_builtin_scene(spec.substr(std::string(kBuiltinPrefix).size()), options);
     } else {
@@ -66,7 +70,7 @@ Scene load_scene(const std::string& spec, const LoadOptions& options) {
             if (format == ModelFormat::SceneJson) {
                 scene = load_scene_json(path);
             } else {
-                load_model(path, scene);
+                load_model(path, scene, options.animation);
                 add_environment_defaults(scene, options);
                 bare_model = true;
             }

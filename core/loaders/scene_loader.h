@@ -15,6 +15,8 @@ struct LoadOptions {
     std::filesystem::path data_dir = "../shared/scenes";  // where builtin:bunny/dragon find the Stanford models
     // Let the scene read files outside its own folder (absolute URIs, "../.."); core/util/scene_read_rules.h.
     bool allow_any_path = false;
+    // Which animation of a glTF scene plays (load_gltf.h): empty for the first, a number, a name, or "all".
+    std::string animation;
     // Called with the fraction of the load done (0 to 1) as the loaders read (core/util/load_progress.h).
     std::function<void(double fraction)> progress;
 };

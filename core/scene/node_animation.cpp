@@ -75,10 +75,10 @@ glm::vec4 sample_channel(const AnimationChannel& channel, float seconds) {
 }
 
 std::vector<glm::mat4> node_world_transforms(const NodeAnimation& animation, double seconds) {
-    double t = animation.duration > 0.0 ? std::fmod(seconds, animation.duration) : 0.0;
-    if (t < 0.0) t += animation.duration;
     std::vector<AnimationNode> posed = animation.nodes;
     for (const AnimationChannel& channel : animation.channels) {
+        double t = channel.clip_seconds > 0.0 ? std::fmod(seconds, channel.clip_seconds) : 0.0;
+        if (t < 0.0) t += channel.clip_seconds;
         AnimationNode& node = posed[channel.node];
         const glm::vec4 v = sample_channel(channel, float(t));
         switch (channel.path) {

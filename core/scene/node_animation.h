@@ -32,6 +32,7 @@ struct AnimationChannel {
     AnimationInterpolation interpolation = AnimationInterpolation::Linear;
     std::vector<float> times;       // seconds, increasing
     std::vector<glm::vec4> values;  // xyz (w for rotations); CUBICSPLINE: in-tangent, value, out-tangent per key
+    double clip_seconds = 0.0;      // the length of the animation (clip) it belongs to, which loops on its own
 };
 
 // An instance of Scene::instances that hangs from an animated node: its transform is the node's world transform
@@ -44,7 +45,7 @@ struct AnimatedInstance {
 
 struct NodeAnimation {
     std::string name;       // for messages and `prism info`
-    double duration = 0.0;  // seconds: the last key of any channel (the sequence loops over it)
+    double duration = 0.0;  // seconds: the longest clip played (each clip loops over its own length)
     std::vector<AnimationNode> nodes;
     std::vector<AnimationChannel> channels;
     std::vector<AnimatedInstance> instances;
@@ -62,7 +63,7 @@ void append_node_animation(NodeAnimation& into, const NodeAnimation& part, uint3
 // A channel's value at `seconds` (xyz, or a normalized quaternion as xyzw for rotations).
 glm::vec4 sample_channel(const AnimationChannel& channel, float seconds);
 
-// Every node's world transform at `seconds` into the animation (looped over its duration).
+// Every node's world transform at `seconds` into the animation (each channel looped over its clip's length).
 std::vector<glm::mat4> node_world_transforms(const NodeAnimation& animation, double seconds);
 
 // The animated instances' transforms at `seconds`, written into `transforms` (one per scene instance). An instance
