@@ -14,7 +14,7 @@ std::span<const ControlHelp> controls_help() {
         {"+ / -", "ray depth up / down"},
         {"[ / ]", "exposure half a stop down / up"},
         {"T", "tone map (Khronos PBR Neutral) on / off"},
-        {"M", "start / stop the moving object"},
+        {"M", "play / pause the scene's animation (else the moving object)"},
         {"P", "screenshot (prism-view-NNNN.png, never overwritten)"},
         {"L", "reload the current scene file"},
         {"drop a file", "load a scene (.gltf .glb .obj .ply .json) or an environment (.hdr, cube-map folder)"},
