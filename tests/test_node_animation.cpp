@@ -228,6 +228,31 @@ TEST(NodeAnimation, ManyMalformedChannelsAreCountedNotListed) {
     EXPECT_NE(scene.warnings[9].find("100 of its 101 channels are not played"), std::string::npos) << scene.warnings[9];
 }
 
+// Channels may share one large accessor (here zero-filled ones, which claim 4 MiB of buffer and hold nothing), so a
+// small file could make every channel copy it: the copies stop at a budget (the buffers' bytes in floats, 16M at
+// least), and the channels past it are left out with a warning.
+TEST(NodeAnimation, KeysSharedByManyChannelsStayWithinABudget) {
+    SlidingTriangle sliding("key-budget.gltf");
+    GltfBuilder& gltf = sliding.gltf;
+    gltf.view(std::vector<float>(size_t(1) << 20));  // 4 MiB that zero-filled accessors may claim
+    const size_t keys = (size_t(4) << 20) / 12;      // VEC3 elements of that
+    const int times = gltf.accessor({{"componentType", 5126}, {"count", keys}, {"type", "SCALAR"}});
+    const int values = gltf.accessor({{"componentType", 5126}, {"count", keys}, {"type", "VEC3"}});
+    json& animation = gltf.document["animations"][0];
+    animation["samplers"].push_back({{"input", times}, {"output", values}, {"interpolation", "STEP"}});
+    for (int i = 0; i < 30; ++i)
+        animation["channels"].push_back({{"sampler", 1}, {"target", {{"node", 1}, {"path", "scale"}}}});
+    const Scene scene = load(gltf.write("key-budget.gltf"));
+    size_t floats = 0;
+    for (const AnimationChannel& c : scene.animation.channels) floats += c.times.size() + 3 * c.values.size();
+    EXPECT_LE(floats, size_t(16) << 20);
+    EXPECT_GT(scene.animation.channels.size(), 2u);
+    EXPECT_LT(scene.animation.channels.size(), 31u);
+    ASSERT_FALSE(scene.warnings.empty());
+    EXPECT_NE(scene.warnings[0].find("would pass what the file's channels may copy in all"), std::string::npos)
+        << scene.warnings[0];
+}
+
 TEST(NodeAnimation, AnAnimationThatMovesNoMeshIsNotPlayed) {
     GltfBuilder gltf;
     const int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});

@@ -12,7 +12,8 @@
 namespace prism::gltf {
 namespace {
 
-constexpr size_t kMalformedChannelsNamed = 8;  // warnings that name a malformed channel; the rest are counted
+constexpr size_t kMalformedChannelsNamed = 8;       // warnings that name a malformed channel; the rest are counted
+constexpr size_t kMinKeyFloats = size_t(16) << 20;  // key floats all channels may copy, whatever the file's size
 
 // The string at `key`, or `fallback` when there is none or it is not a string.
 std::string string_of(const nlohmann::json& object, const char* key, const std::string& fallback = {}) {
@@ -28,9 +29,18 @@ int index_of(const nlohmann::json& object, const char* key) {
     return value >= 0 && value <= INT32_MAX ? static_cast<int>(value) : -1;
 }
 
-// The channel's keys, or the reason it cannot be played.
+// The floats an accessor holds as its header declares them (0 for one that does not exist: reading it fails).
+size_t declared_floats(const tinygltf::Model& model, int accessor) {
+    if (accessor < 0 || size_t(accessor) >= model.accessors.size()) return 0;
+    const tinygltf::Accessor& a = model.accessors[size_t(accessor)];
+    const int components = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
+    return a.count * size_t(std::max(components, 1));
+}
+
+// The channel's keys, or the reason it cannot be played. `floats_left`: what the file's keys may still take
+// (FileAnimation::key_floats_left), charged before anything is read.
 std::string read_keys(const tinygltf::Model& model, const nlohmann::json& sampler, AnimationChannel& channel,
-                      const std::string& file) {
+                      const std::string& file, size_t& floats_left) {
     if (!sampler.is_object()) return "its sampler is not an object";
     const int input = index_of(sampler, "input"), output = index_of(sampler, "output");
     if (input < 0 || output < 0) return "its sampler has no input or output accessor";
@@ -43,6 +53,14 @@ std::string read_keys(const tinygltf::Model& model, const nlohmann::json& sample
         channel.interpolation = AnimationInterpolation::CubicSpline;
     else
         return "interpolation '" + interpolation + "' is not STEP, LINEAR or CUBICSPLINE";
+    // Channels may share accessors (and accessors bytes), so a small file could make every channel copy one large
+    // accessor: the copies together may not exceed what the file's buffers hold (kMinKeyFloats at least).
+    const size_t needed = declared_floats(model, input) + declared_floats(model, output);
+    if (needed > floats_left)
+        return "its keys (" + std::to_string(needed) +
+               " floats) would pass what the file's channels may copy in all (its buffers' size in bytes, at least " +
+               std::to_string(kMinKeyFloats) + ")";
+    floats_left -= needed;
     const FloatArray times = read_floats(model, input, file);
     const FloatArray values = read_floats(model, output, file);
     const int components = channel.path == AnimationPath::Rotation ? 4 : 3;
@@ -114,7 +132,7 @@ void read_clip(const nlohmann::json& animation, const std::string& name, const t
             cause = "its sampler does not exist";
         if (cause.empty()) {
             try {
-                cause = read_keys(model, (*samplers)[size_t(sampler)], channel.channel, file);
+                cause = read_keys(model, (*samplers)[size_t(sampler)], channel.channel, file, out.key_floats_left);
             } catch (const Error& error) {  // an accessor's bytes: "<file>: accessor N: ..."
                 left_out(std::string(error.what()) + " (" + what + "; left out)");
                 continue;
@@ -169,6 +187,9 @@ FileAnimation read_animations(const nlohmann::json& animations, const tinygltf::
     FileAnimation out;
     const std::vector<size_t> clips = selected_clips(animations, selection, file);
     if (clips.empty()) return out;
+    size_t buffer_bytes = 0;
+    for (const tinygltf::Buffer& buffer : model.buffers) buffer_bytes += buffer.data.size();
+    out.key_floats_left = std::max(kMinKeyFloats, buffer_bytes);
     out.animation_count = animations.size();
     for (size_t i : clips)
         if (animations[i].is_object()) read_clip(animations[i], clip_name(animations, i), model, file, out);

@@ -30,7 +30,8 @@ struct FileAnimation {
     size_t animation_count = 0;  // how many the file has
     std::vector<FileChannel> channels;
     size_t unplayable = 0;              // channels left out: morph weights, KHR_animation_pointer targets
-    size_t malformed = 0;               // channels left out because they are malformed
+    size_t malformed = 0;               // channels left out because they are malformed (or too large)
+    size_t key_floats_left = 0;         // what more channels may copy (read_animations sets the budget)
     std::vector<std::string> warnings;  // "<file>: ..." for the first few of those, then their count
 };
 
