@@ -102,11 +102,12 @@ void run_info(const InfoOptions& options) {
             s["load_ms"].get<double>(), double(s["device_bytes"].get<size_t>()) / (1024.0 * 1024.0));
         if (s.contains("animation")) {
             const auto& a = s["animation"];
+            const size_t channels = a["channels"].get<size_t>(), moving = a["moving_instances"].get<size_t>();
             std::printf(
-                "  animation '%s': %.2f s, %zu channels moving %zu instances (played by --frames and the "
+                "  animation '%s': %.2f s, %zu channel%s moving %zu instance%s (played by --frames and the "
                 "viewer's M)\n",
-                a["name"].get<std::string>().c_str(), a["seconds"].get<double>(), a["channels"].get<size_t>(),
-                a["moving_instances"].get<size_t>());
+                a["name"].get<std::string>().c_str(), a["seconds"].get<double>(), channels, channels == 1 ? "" : "s",
+                moving, moving == 1 ? "" : "s");
         }
         for (const auto& w : s["warnings"]) std::printf("  warning: %s\n", w.get<std::string>().c_str());
     }
