@@ -320,6 +320,28 @@ TEST(NodeAnimation, TheScenesCameraFollowsItsNode) {
     EXPECT_EQ(camera_at(camera_only, 0.75).position, glm::vec3(1.5f, 0, 4));
 }
 
+// A camera whose node gives no view (scale 0) or whose yfov is no field of view is left out with a warning: the
+// scene is framed as one without a camera, with a finite camera.
+TEST(NodeAnimation, ACameraThatGivesNoViewIsLeftToTheFraming) {
+    for (const auto& [scale, yfov] : {std::pair{0.0, 0.8}, std::pair{1.0, 0.0}, std::pair{1.0, 4.0}}) {
+        GltfBuilder gltf;
+        const int positions = gltf.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+        gltf.node({{"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}}}}})}});
+        gltf.document["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", yfov}, {"znear", 0.1}}}}};
+        gltf.node({{"camera", 0}, {"translation", {0, 0, 4}}, {"scale", {scale, scale, scale}}});
+        LoadOptions options;
+        options.allow_any_path = true;
+        const Scene scene = load_scene(gltf.write("no-view.gltf").string(), options);
+        ASSERT_FALSE(scene.warnings.empty());
+        EXPECT_NE(scene.warnings[0].find("camera 0 gives no view"), std::string::npos) << scene.warnings[0];
+        for (int i = 0; i < 3; ++i) {
+            EXPECT_TRUE(std::isfinite(scene.camera.position[i]));
+            EXPECT_TRUE(std::isfinite(scene.camera.target[i]));
+        }
+        EXPECT_NE(scene.camera.position, scene.camera.target);
+    }
+}
+
 // A scene file places an animated model twice: each copy plays below its own placement.
 TEST(NodeAnimation, ASceneFilePlaysEachPlacedCopy) {
     SlidingTriangle sliding("placed-twice.gltf");

@@ -572,8 +572,19 @@ private:
                                       " is orthographic; Prism traces perspective cameras only, ignored");
             return;
         }
-        place_camera_at_node(scene_.camera, world);
-        scene_.camera.vertical_fov_degrees = glm::degrees(static_cast<float>(camera.perspective.yfov));
+        // A node that gives no view (a zero scale, a non-finite transform) or a field of view that is not one leaves
+        // the camera to the framing every file without a camera gets.
+        const double yfov = camera.perspective.yfov;
+        Camera placed = scene_.camera;
+        if (!place_camera_at_node(placed, world) || !(yfov > 0.0 && yfov < 3.14159)) {
+            scene_.warnings.push_back(file_error(file_, "camera " + std::to_string(camera_index) +
+                                                            " gives no view (its node's transform or its yfov); the "
+                                                            "scene is framed instead")
+                                          .what());
+            return;
+        }
+        scene_.camera = placed;
+        scene_.camera.vertical_fov_degrees = glm::degrees(static_cast<float>(yfov));
         scene_.has_camera = true;
         rig_.set_camera(place);
     }
