@@ -95,7 +95,8 @@ TEST(ViewerHeadless, ScriptedKeysStillApply) {
 }
 
 // M plays a glTF file's animation; headless, each frame advances it by MovingObject::kScriptedStep (1/30 s), so the
-// 15th frame shows what `prism render --frames 15 --fps 30` shows: the animation half a second in.
+// 15th frame shows what `prism render --frames 15 --fps 30` shows: the animation half a second in. Full resolution
+// while it moves (--interactive-scale 1): a slow build (sanitizers) would otherwise render the moving frames smaller.
 TEST(ViewerHeadless, MPlaysTheScenesAnimation) {
     prism::test::GltfBuilder gltf;
     const int positions = gltf.positions({-1, -1, 0, 1, -1, 0, 0, 1, 0});
@@ -114,7 +115,8 @@ TEST(ViewerHeadless, MPlaysTheScenesAnimation) {
     const std::string scene = "--scene '" + file.string() + "' --allow-any-path --width 320 --height 180 ";
     const std::filesystem::path played = dir / "played.png", still = dir / "still.png";
     prism::test::CommandResult view = prism::test::run_prism(
-        "view " + scene + "--headless --no-panel --backend cpu --frames 15 --keys 0:M --screenshot '" +
+        "view " + scene +
+            "--headless --no-panel --backend cpu --frames 15 --keys 0:M --interactive-scale 1 --screenshot '" +
             played.string() + "'",
         "env -u DISPLAY -u WAYLAND_DISPLAY");
     ASSERT_EQ(view.exit_code, 0) << view.output;
