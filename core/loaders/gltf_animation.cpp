@@ -87,10 +87,6 @@ std::string read_keys(const tinygltf::Model& model, const nlohmann::json& sample
     return {};
 }
 
-}  // namespace
-
-namespace {
-
 // One clip's channels appended to `out`; `out.malformed` counts the channels left out over every clip read.
 void read_clip(const nlohmann::json& animation, const std::string& name, const tinygltf::Model& model,
                const std::string& file, FileAnimation& out) {
@@ -206,10 +202,6 @@ FileAnimation read_animations(const nlohmann::json& animations, const tinygltf::
                                    .what());
     return out;
 }
-
-}  // namespace prism::gltf
-
-namespace prism::gltf {
 
 AnimationRig::AnimationRig(FileAnimation animation, const tinygltf::Model& model, std::string file)
     : file_animation_(std::move(animation)), model_(model), file_(std::move(file)) {
