@@ -75,8 +75,9 @@ void run_info(const InfoOptions& options) {
         if (const NodeAnimation& animation = loaded.scene.animation; animation.plays())
             info["scene"]["animation"] = {{"name", animation.name},
                                           {"seconds", animation.duration},
-                                          {"channels", animation.channels.size()},
-                                          {"moving_instances", animation.instances.size()}};
+                                          {"channels", animation.channels.size() + animation.weight_channels.size()},
+                                          {"moving_instances", animation.instances.size()},
+                                          {"deformed_meshes", animation.deformations.size()}};
     }
     if (!options.json.empty()) {
         bench::write_result(options.json, info);
@@ -103,11 +104,12 @@ void run_info(const InfoOptions& options) {
         if (s.contains("animation")) {
             const auto& a = s["animation"];
             const size_t channels = a["channels"].get<size_t>(), moving = a["moving_instances"].get<size_t>();
+            const size_t deformed = a["deformed_meshes"].get<size_t>();
             std::printf(
-                "  animation '%s': %.2f s, %zu channel%s moving %zu instance%s (played by --frames and the "
-                "viewer's M)\n",
+                "  animation '%s': %.2f s, %zu channel%s moving %zu instance%s and deforming %zu mesh%s (played by "
+                "--frames and the viewer's M)\n",
                 a["name"].get<std::string>().c_str(), a["seconds"].get<double>(), channels, channels == 1 ? "" : "s",
-                moving, moving == 1 ? "" : "s");
+                moving, moving == 1 ? "" : "s", deformed, deformed == 1 ? "" : "es");
         }
         for (const auto& w : s["warnings"]) std::printf("  warning: %s\n", w.get<std::string>().c_str());
     }

@@ -75,7 +75,8 @@ using viewer::Action;
 // What M sets moving. A scene with motion of its own (a glTF animation, a scene file's spins) plays it
 // (core/scene/scene_motion.h); any other scene gets one instance turning about its own vertical axis and swinging
 // left and right. The swing is advanced per frame (not per second) and a headless run plays the scene's motion at
-// a fixed step, so scripted runs are reproducible. Only the top level changes: RenderEngine refits it.
+// a fixed step, so scripted runs are reproducible. RenderEngine refits the top level (and the BVHs of the meshes an
+// animation deforms).
 class MovingObject {
 public:
     static constexpr double kScriptedStep = 1.0 / 30.0;  // seconds of the scene's motion per headless frame
@@ -83,11 +84,9 @@ public:
     explicit MovingObject(const LoadedScene& loaded) {
         for (const Instance& instance : loaded.scene.instances) base_.push_back(instance.transform);
         if (base_.empty()) return;
-        if (scene_moves(loaded.scene)) {  // the placements, the animation and the spins: what the motion needs
-            motion_.instances = loaded.scene.instances;
-            motion_.animation = loaded.scene.animation;
-            motion_.spins = loaded.scene.spins;
-            name_ = motion_.animation.plays() ? "animation '" + motion_.animation.name + "'" : "spinning objects";
+        if (scene_moves(loaded.scene)) {
+            const NodeAnimation& animation = loaded.scene.animation;
+            name_ = animation.plays() ? "animation '" + animation.name + "'" : "spinning objects";
             plays_scene_ = true;
             return;
         }
@@ -112,12 +111,14 @@ public:
         return "moving object '" + name_ + (on ? "': on" : "': off");
     }
 
-    // The transforms `seconds` of the scene's motion later (the swing ignores it: one step per call).
-    std::vector<glm::mat4> advance(double seconds) {
+    // Moves `loaded` (the scene this object was made from, and the `device` scene the engine traces) `seconds` of
+    // the scene's motion on (the swing ignores it: one step per call).
+    void advance(double seconds, RenderEngine& engine, const LoadedScene& loaded, DeviceScene& device) {
         ++step_;
         if (plays_scene_) {
             played_ += seconds;
-            return instance_transforms_at(motion_, played_);
+            engine.move_to(loaded.scene, device, played_);
+            return;
         }
         float angle = 0.15f * float(step_);
         glm::vec3 offset{amplitude_ * std::sin(angle), 0.0f, 0.0f};
@@ -125,13 +126,12 @@ public:
         transforms[index_] = glm::translate(glm::mat4(1.0f), centre_ + offset) *
                              glm::rotate(glm::mat4(1.0f), angle, glm::vec3(0.0f, 1.0f, 0.0f)) *
                              glm::translate(glm::mat4(1.0f), -centre_) * base_[index_];
-        return transforms;
+        engine.update_instances(device, transforms, false);
     }
 
 private:
     std::vector<glm::mat4> base_;
-    Scene motion_;  // a scene with motion of its own: its instances (no meshes), animation and spins
-    bool plays_scene_ = false;
+    bool plays_scene_ = false;  // the scene has motion of its own: its animation and spins
     double played_ = 0.0;
     size_t index_ = 0;
     glm::vec3 centre_{0.0f};
@@ -314,7 +314,7 @@ public:
                 // Real time in a window (a stalled frame counts at most a tenth of a second), a fixed step headless.
                 double step =
                     options_.headless ? MovingObject::kScriptedStep : std::clamp(now - motion_clock_, 0.0, 0.1);
-                engine_->update_instances(*device_, moving_.advance(step), false);
+                moving_.advance(step, *engine_, *loaded_, *device_);
                 moving = true;
             }
             motion_clock_ = now;

@@ -25,9 +25,8 @@ WorkMessage render_item(const WorkerJob& job, RenderEngine& engine, LoadedScene&
         uint32_t frame = job.frames.first + uint32_t(item);
         frame_camera = turntable_camera(camera_at(loaded.scene, frame / job.options.fps), frame,
                                         job.options.turntable_seconds, job.options.fps);
-        if (scene_moves(loaded.scene))  // a refit of the top level: every worker's frame N is the same
-            engine.update_instances(loaded.device, instance_transforms_at(loaded.scene, frame / job.options.fps),
-                                    false);
+        if (scene_moves(loaded.scene))  // refits, not rebuilds: every worker's frame N is the same
+            engine.move_to(loaded.scene, loaded.device, frame / job.options.fps);
         frame_path = numbered_output_path(job.out, frame);
     } else {
         settings.region = job.tiles[size_t(item)];

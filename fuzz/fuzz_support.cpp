@@ -126,8 +126,10 @@ void load_and_build_or_throw(const std::filesystem::path& scene_file) {
     (void)build_device_scene(scene);
     // An animation's samplers at its start, inside it and past its end (looped), as a sequence would take them.
     if (scene.animation.plays())
-        for (double seconds : {0.0, scene.animation.duration / 3.0, scene.animation.duration * 2.5})
+        for (double seconds : {0.0, scene.animation.duration / 3.0, scene.animation.duration * 2.5}) {
             (void)instance_transforms_at(scene, seconds);
+            (void)deformed_meshes_at(scene.animation, seconds);
+        }
 }
 
 void load_and_build(const std::filesystem::path& scene_file) {

@@ -348,6 +348,28 @@ TEST_P(BackendContract, RayQueriesMatchTheReferenceHits) {
     }
 }
 
+// A mesh an animation deforms (Khronos' SimpleSkin, its joints turning): RenderEngine::move_to poses it, refits
+// its BVH and uploads the arrays again; the frame is the one cpu-ref draws from a scene built in that pose.
+TEST_P(BackendContract, APosedMeshIsTracedWhereItMoved) {
+    const prism::Scene& loaded_scene = scene("gltf/SimpleSkin/SimpleSkin.gltf").scene;
+    prism::BvhBuildOptions options;
+    options.layout = prism::resolve_bvh_layout("auto", backend());
+    prism::DeviceScene device = prism::build_device_scene(loaded_scene, options);
+    prism::RenderEngine engine(backend(), device);
+    const prism::RenderSettings settings = prism::test::small_settings(64, 48, 3);
+    const prism::FrameResult still = engine.render(loaded_scene.camera, settings);
+    for (double seconds : {1.75, 4.0}) {
+        SCOPED_TRACE(seconds);
+        engine.move_to(loaded_scene, device, seconds);
+        const prism::FrameResult moved = engine.render(loaded_scene.camera, settings);
+        const prism::Scene posed = prism::test::scene_posed_at(loaded_scene, seconds);
+        const prism::FrameResult expected =
+            prism::RenderEngine("cpu-ref", prism::build_device_scene(posed, options)).render(posed.camera, settings);
+        EXPECT_GE(prism::test::psnr_rgba8(expected.image, moved.image), 45.0);
+        EXPECT_LT(prism::test::psnr_rgba8(still.image, moved.image), 30.0);
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, BackendContract, ::testing::ValuesIn(backend_specs()),
                          [](const auto& info) { return prism::test::test_name_of(info.param); });
 

@@ -6,6 +6,7 @@
 #include "core/util/output_file.h"
 #include "core/image/image_compare.h"
 #include "core/loaders/scene_loader.h"
+#include "core/scene/scene_motion.h"
 #ifdef PRISM_HAVE_VULKAN
 #include "backends/vulkan/vulkan_backend.h"
 #endif
@@ -113,6 +114,23 @@ prism::DeviceScene load_device_scene(const std::string& spec, prism::Scene* out,
     prism::DeviceScene device = prism::build_device_scene(loaded, bvh);
     if (out) *out = std::move(loaded);
     return device;
+}
+
+prism::Scene scene_posed_at(const prism::Scene& scene, double seconds) {
+    prism::Scene posed = scene;
+    const std::vector<glm::mat4> transforms = prism::instance_transforms_at(scene, seconds);
+    for (size_t i = 0; i < transforms.size(); ++i) posed.instances[i].transform = transforms[i];
+    const std::vector<prism::DeformedVertices> meshes = prism::deformed_meshes_at(scene.animation, seconds);
+    for (size_t d = 0; d < meshes.size(); ++d) {
+        prism::Mesh& mesh = posed.meshes[scene.animation.deformations[d].mesh];
+        mesh.positions = meshes[d].positions;
+        mesh.normals = meshes[d].normals;
+        mesh.tangents = meshes[d].tangents;
+    }
+    posed.camera = prism::camera_at(scene, seconds);
+    posed.animation = {};
+    posed.spins.clear();
+    return posed;
 }
 
 std::string test_name_of(const std::string& text) {

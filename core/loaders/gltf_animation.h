@@ -22,14 +22,18 @@ namespace prism::gltf {
 // A channel as the file gives it: `node` is the file's node index.
 struct FileChannel {
     int node = -1;
-    AnimationChannel channel;  // its `node` field is set once the node has a place in NodeAnimation::nodes
+    bool weights = false;          // it keys the node's morph target weights (weight_channel), not its transform
+    AnimationChannel channel;      // its `node` field is set once the node has a place in NodeAnimation::nodes
+    WeightChannel weight_channel;  // (weights)
+
+    float last_key() const { return weights ? weight_channel.times.back() : channel.times.back(); }
 };
 
 struct FileAnimation {
     std::string name;            // the file's name for the one played, "animation N", or "all N animations"
     size_t animation_count = 0;  // how many the file has
     std::vector<FileChannel> channels;
-    size_t unplayable = 0;              // channels left out: morph weights, KHR_animation_pointer targets
+    size_t unplayable = 0;              // channels left out: KHR_animation_pointer targets
     size_t malformed = 0;               // channels left out because they are malformed (or too large)
     size_t key_floats_left = 0;         // what more channels may copy (read_animations sets the budget)
     std::vector<std::string> warnings;  // "<file>: ..." for the first few of those, then their count
@@ -43,8 +47,8 @@ FileAnimation read_animations(const nlohmann::json& animations, const tinygltf::
                               const std::string& selection);
 
 // Builds the scene's NodeAnimation while the importer walks the node trees: every node it enters gets a place
-// (parents before children), every instance below a keyed node is recorded with the node it hangs from, and so is
-// the scene's camera.
+// (parents before children), every instance below a keyed node is recorded with the node it hangs from, and so are
+// the scene's camera and the meshes whose skins or weights the animation moves.
 class AnimationRig {
 public:
     AnimationRig(FileAnimation animation, const tinygltf::Model& model, std::string file);
@@ -61,6 +65,14 @@ public:
     // The scene's camera hangs from the node at `place`.
     void set_camera(Place place);
 
+    // Whether a channel keys the morph target weights of (entered) node `node_index`.
+    bool weights_keyed(int node_index) const;
+    // Whether a keyed node is on the path of (entered) node `node_index`: the node moves.
+    bool moves(int node_index) const;
+    // A mesh posed anew at every moment: its weights keyed on node `weights_node` (-1: its own weights), its skin's
+    // `joints` (the file's node indices, all entered; empty: no skin).
+    void add_deformation(MeshDeformation deformation, int weights_node, const std::vector<int>& joints);
+
     // The animation to play (channels that move no recorded instance left out), and the warnings: what is not
     // played, and the malformed channels read_first_animation left out.
     NodeAnimation finish(std::vector<std::string>& warnings);
@@ -69,8 +81,11 @@ private:
     FileAnimation file_animation_;
     const tinygltf::Model& model_;
     std::string file_;
-    std::vector<bool> keyed_;       // per file node: a playable channel keys it
-    std::vector<int32_t> slot_of_;  // per file node: its place, -1 before it is entered
+    std::vector<bool> keyed_;                   // per file node: a playable channel keys its transform
+    std::vector<int32_t> weights_channel_;      // per file node: the last channel of file_animation_ keying its weights
+    std::vector<int32_t> slot_of_;              // per file node: its place, -1 before it is entered
+    std::vector<bool> slot_moves_;              // per place: a keyed node is on its path
+    std::vector<int32_t> deformation_weights_;  // per deformation: the weights channel of file_animation_, or -1
     NodeAnimation animation_;
 };
 

@@ -15,48 +15,61 @@ bool morph_changes(const tinygltf::Primitive& primitive, std::span<const double>
     return std::any_of(weights.begin(), weights.begin() + targets, [](double w) { return w != 0.0; });
 }
 
-void apply_morph_targets(const tinygltf::Model& model, const tinygltf::Primitive& primitive,
-                         std::span<const double> weights, Mesh& mesh, const std::string& what,
-                         const std::string& file) {
-    const size_t targets = std::min(weights.size(), primitive.targets.size());
-    bool moved_normals = false, moved_tangents = false;
-    for (size_t t = 0; t < targets; ++t) {
-        const float w = static_cast<float>(weights[t]);
-        if (!std::isfinite(w))
+std::vector<float> morph_weights(const tinygltf::Primitive& primitive, std::span<const double> weights,
+                                 const std::string& what, const std::string& file) {
+    std::vector<float> out(primitive.targets.size(), 0.0f);
+    for (size_t t = 0; t < out.size() && t < weights.size(); ++t) {
+        out[t] = static_cast<float>(weights[t]);
+        if (!std::isfinite(out[t]))
             throw file_error(file, what + ": morph target " + std::to_string(t) + " has a weight that is not a number");
-        if (w == 0.0f) continue;
+    }
+    return out;
+}
+
+std::vector<MorphTarget> read_morph_targets(const tinygltf::Model& model, const tinygltf::Primitive& primitive,
+                                            const Mesh& mesh, std::span<const float> weights, bool every_target,
+                                            const std::string& what, const std::string& file) {
+    std::vector<MorphTarget> targets(primitive.targets.size());
+    for (size_t t = 0; t < targets.size(); ++t) {
+        if (!every_target && !(t < weights.size() && weights[t] != 0.0f)) continue;
         // One displacement attribute of target t, checked against the mesh's vertex count.
         auto displacements = [&](const char* name) {
-            FloatArray array;
+            std::vector<glm::vec3> out;
             auto found = primitive.targets[t].find(name);
-            if (found == primitive.targets[t].end()) return array;
-            array = read_floats(model, found->second, file);
+            if (found == primitive.targets[t].end()) return out;
+            const FloatArray array = read_floats(model, found->second, file);
             if (array.components != 3 || array.count != mesh.positions.size())
                 throw file_error(file, what + ": morph target " + std::to_string(t) + " " + name +
                                            " must be VEC3 and as long as POSITION");
-            return array;
+            out.resize(array.count);
+            for (size_t v = 0; v < array.count; ++v) out[v] = {array.at(v, 0), array.at(v, 1), array.at(v, 2)};
+            return out;
         };
-        if (FloatArray d = displacements("POSITION"); d.count)
-            for (size_t v = 0; v < d.count; ++v) mesh.positions[v] += w * glm::vec3(d.at(v, 0), d.at(v, 1), d.at(v, 2));
-        if (!mesh.normals.empty())
-            if (FloatArray d = displacements("NORMAL"); d.count) {
-                for (size_t v = 0; v < d.count; ++v)
-                    mesh.normals[v] += w * glm::vec3(d.at(v, 0), d.at(v, 1), d.at(v, 2));
-                moved_normals = true;
-            }
-        if (!mesh.tangents.empty())
-            if (FloatArray d = displacements("TANGENT"); d.count) {
-                for (size_t v = 0; v < d.count; ++v)
-                    mesh.tangents[v] += glm::vec4(w * glm::vec3(d.at(v, 0), d.at(v, 1), d.at(v, 2)), 0.0f);
-                moved_tangents = true;
-            }
+        targets[t].positions = displacements("POSITION");
+        if (!mesh.normals.empty()) targets[t].normals = displacements("NORMAL");
+        if (!mesh.tangents.empty()) targets[t].tangents = displacements("TANGENT");
     }
-    if (moved_normals)
-        for (glm::vec3& n : mesh.normals)
-            if (glm::dot(n, n) > 0.0f) n = glm::normalize(n);
-    if (moved_tangents)
-        for (glm::vec4& t : mesh.tangents)
-            if (glm::vec3 xyz(t); glm::dot(xyz, xyz) > 0.0f) t = glm::vec4(glm::normalize(xyz), t.w);
+    return targets;
+}
+
+void apply_morph_targets(const tinygltf::Model& model, const tinygltf::Primitive& primitive,
+                         std::span<const double> weights, Mesh& mesh, const std::string& what,
+                         const std::string& file) {
+    const std::vector<float> floats = morph_weights(primitive, weights, what, file);
+    const std::vector<MorphTarget> targets = read_morph_targets(model, primitive, mesh, floats, false, what, file);
+    DeformedVertices vertices = take_deformed(mesh);
+    morph_vertices(vertices, targets, floats);
+    put_deformed(mesh, std::move(vertices));
+}
+
+DeformedVertices take_deformed(Mesh& mesh) {
+    return {std::move(mesh.positions), std::move(mesh.normals), std::move(mesh.tangents)};
+}
+
+void put_deformed(Mesh& mesh, DeformedVertices&& vertices) {
+    mesh.positions = std::move(vertices.positions);
+    mesh.normals = std::move(vertices.normals);
+    mesh.tangents = std::move(vertices.tangents);
 }
 
 }  // namespace prism::gltf

@@ -1,11 +1,14 @@
-// glTF morph targets, applied once when a file loads with the weights the file gives them (the node's "weights",
-// else the mesh's defaults; animations do not key weights): each target's POSITION, NORMAL and TANGENT displacements,
-// scaled by its weight, added to the primitive's attributes (glTF 2.0, "Morph Targets"), before any skin.
+// glTF morph targets (glTF 2.0, "Morph Targets"): each target's POSITION, NORMAL and TANGENT displacements read into
+// MorphTarget (core/scene/mesh_deformation.h), and a primitive's attributes moved by them with the weights the file
+// gives (the node's "weights", else the mesh's defaults), before any skin. An animation that keys the weights keeps
+// the targets and poses the mesh again at every moment.
 #pragma once
 
 #include <span>
 #include <string>
+#include <vector>
 
+#include "core/scene/mesh_deformation.h"
 #include "core/scene/scene.h"
 
 namespace tinygltf {
@@ -18,11 +21,26 @@ namespace prism::gltf {
 // Whether any weight is non-zero for a target the primitive has (all zero: the mesh as stored).
 bool morph_changes(const tinygltf::Primitive& primitive, std::span<const double> weights);
 
-// Adds the weighted displacements to `mesh` (read from `primitive`: positions, and normals and tangents where both
-// the mesh and the target have them; normals and tangents are normalized again). Weights beyond the primitive's
-// targets are ignored, missing ones are 0. Throws prism::Error "<file>: <what>: ..." for a weight that is not a
-// finite float or a target whose attribute is not VEC3 or not as long as POSITION.
+// The weights as floats, one per target of the primitive (missing ones 0). Throws prism::Error "<file>: <what>: ..."
+// for a weight that is not a finite float.
+std::vector<float> morph_weights(const tinygltf::Primitive& primitive, std::span<const double> weights,
+                                 const std::string& what, const std::string& file);
+
+// The primitive's targets as displacements for `mesh` (positions, and normals and tangents where both the mesh and
+// the target have them). Only the targets whose weight is non-zero are read unless `every_target`; the others stay
+// empty. Throws prism::Error "<file>: <what>: ..." for a target attribute that is not VEC3 or not as long as
+// POSITION.
+std::vector<MorphTarget> read_morph_targets(const tinygltf::Model& model, const tinygltf::Primitive& primitive,
+                                            const Mesh& mesh, std::span<const float> weights, bool every_target,
+                                            const std::string& what, const std::string& file);
+
+// Adds the weighted displacements to `mesh` (morph_vertices on the targets read_morph_targets reads). Weights beyond
+// the primitive's targets are ignored, missing ones are 0.
 void apply_morph_targets(const tinygltf::Model& model, const tinygltf::Primitive& primitive,
                          std::span<const double> weights, Mesh& mesh, const std::string& what, const std::string& file);
+
+// The attributes a deformation moves, moved out of `mesh` and back.
+DeformedVertices take_deformed(Mesh& mesh);
+void put_deformed(Mesh& mesh, DeformedVertices&& vertices);
 
 }  // namespace prism::gltf

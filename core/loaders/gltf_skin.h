@@ -1,7 +1,8 @@
-// glTF skins, applied once when a file loads: the joints stand where the file's nodes put them (an animation does
-// not move them), and each vertex moves by linear blend skinning (glTF 2.0, "Skins"): the weighted sum of its joints'
-// matrices, each the joint's world transform times its inverse bind matrix. The skinned mesh node's own transform
-// is ignored, as the spec says; the result is in world space.
+// glTF skins (glTF 2.0, "Skins"): the joints and inverse bind matrices of the document's skins, each vertex's
+// influences (JOINTS_n, WEIGHTS_n) checked and read into SkinInfluences, and linear blend skinning
+// (core/scene/mesh_deformation.h) with the joints where the file's nodes put them. The skinned mesh node's own
+// transform is ignored, as the spec says; the result is in world space. An animation that moves the joints keeps
+// the influences and poses the mesh again at every moment.
 #pragma once
 
 #include <span>
@@ -12,7 +13,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "core/loaders/gltf_accessor.h"
-#include "core/scene/scene.h"
+#include "core/scene/mesh_deformation.h"
 
 namespace prism::gltf {
 
@@ -25,6 +26,10 @@ struct Skin {
 // prism::Error naming `file` for an entry that is not a skin.
 std::vector<Skin> parse_skins(const nlohmann::json& skins, const std::string& file);
 
+// The skin's inverse bind matrices, one per joint (identity matrices when it has none, the spec's default). Throws
+// prism::Error naming `file` when they are too few.
+std::vector<glm::mat4> inverse_bind_matrices(const tinygltf::Model& model, const Skin& skin, const std::string& file);
+
 // Each joint's world transform times its inverse bind matrix. `node_world[n]` is node n's world transform. Throws
 // prism::Error naming `file` when a joint is not a node or the inverse bind matrices are too few.
 std::vector<glm::mat4> joint_matrices(const tinygltf::Model& model, const Skin& skin,
@@ -36,10 +41,10 @@ struct Influences {
     FloatArray weights;
 };
 
-// Moves the mesh's positions, normals and tangents by their vertices' influences (weights normalized to sum 1; a
-// vertex with no weight stays where it is). Throws prism::Error "<file>: <what>: ..." for a joint the skin does not
-// have or a weight that is negative or not finite.
-void apply_skin(Mesh& mesh, std::span<const glm::mat4> joints, std::span<const Influences> influences,
-                const std::string& what, const std::string& file);
+// The sets' influences on `vertex_count` vertices of a skin with `joint_count` joints. Throws prism::Error
+// "<file>: <what>: ..." for a joint the skin does not have (with a weight above 0) or a weight that is negative or
+// not finite.
+SkinInfluences skin_influences(std::span<const Influences> sets, size_t vertex_count, size_t joint_count,
+                               const std::string& what, const std::string& file);
 
 }  // namespace prism::gltf

@@ -300,8 +300,11 @@ private:
         int owner = -1;
     };
     MorphWeights morph_weights(const tinygltf::Node& node, const tinygltf::Mesh& mesh) const {
+        const int node_index = static_cast<int>(&node - model_.nodes.data());
+        const std::span<const double> weights = node.weights.empty() ? mesh.weights : node.weights;
+        if (rig_.weights_keyed(node_index)) return {weights, node_index};  // posed anew at every moment: its own copy
         if (node.weights.empty() || node.weights == mesh.weights) return {mesh.weights, -1};
-        return {node.weights, static_cast<int>(&node - model_.nodes.data())};
+        return {node.weights, node_index};
     }
 
     void add_primitive_instances(const tinygltf::Node& node, int mesh_index, const glm::mat4& world) {
@@ -322,14 +325,23 @@ private:
             scene_mesh = found->second;
         } else {
             Mesh converted;
-            if (!convert_primitive(mesh, mesh_index, p, mirrored, morph.weights, converted)) {
+            std::optional<MeshDeformation> deformation;
+            const int node_index = static_cast<int>(&node - model_.nodes.data());
+            const bool keyed = rig_.weights_keyed(node_index) && !mesh.primitives[p].targets.empty();
+            if (!convert_primitive(mesh, mesh_index, p, mirrored, keyed ? std::span<const double>() : morph.weights,
+                                   converted)) {
                 meshes_[key] = kSkipped;
                 return;
             }
             if (morph.owner >= 0) count_copied_vertices(converted.positions.size());
+            if (keyed) deformation = deform(mesh, mesh_index, p, morph.weights, converted, nullptr, nullptr);
             scene_.meshes.push_back(std::move(converted));
             scene_mesh = static_cast<uint32_t>(scene_.meshes.size() - 1);
             meshes_[key] = scene_mesh;
+            if (deformation) {
+                deformation->mesh = scene_mesh;
+                rig_.add_deformation(std::move(*deformation), node_index, {});
+            }
         }
         if (scene_mesh == kSkipped) return;
         add_instance(node, mesh, scene_mesh, world);
@@ -367,12 +379,18 @@ private:
         if (matrices == joint_matrices_.end())
             matrices = joint_matrices_.emplace(node.skin, gltf::joint_matrices(model_, skin, node_world_, file_)).first;
         const MorphWeights morph = morph_weights(node, mesh);
+        // The animation moves the mesh when it moves a joint or keys the node's weights.
+        const bool joints_move =
+            std::any_of(skin.joints.begin(), skin.joints.end(), [&](int joint) { return rig_.moves(joint); });
+        const bool weights_keyed = rig_.weights_keyed(pending.node);
         for (size_t p = 0; p < mesh.primitives.size(); ++p) {
             auto key = std::make_tuple(pending.mesh, static_cast<int>(p), node.skin, morph.owner);
             auto found = skinned_meshes_.find(key);
             if (found == skinned_meshes_.end()) {
+                const bool moves = joints_move || (weights_keyed && !mesh.primitives[p].targets.empty());
                 std::optional<uint32_t> skinned =
-                    skinned_primitive(mesh, pending.mesh, static_cast<int>(p), morph.weights, matrices->second);
+                    skinned_primitive(mesh, pending.mesh, static_cast<int>(p), morph.weights, matrices->second,
+                                      moves ? &skin : nullptr, pending.node);
                 if (!skinned) {
                     add_primitive_instance(node, pending.mesh, static_cast<int>(p), node_world_[pending.node]);
                     continue;
@@ -385,9 +403,11 @@ private:
 
     // The primitive skinned into world space as a new scene mesh (kSkipped when it is not traced), or nullopt
     // when it has no joints and weights to skin it by.
+    // `moving`: the skin, when the animation moves the mesh (its joints, or the weights of node `node_index`).
     std::optional<uint32_t> skinned_primitive(const tinygltf::Mesh& mesh, int mesh_index, int p,
                                               std::span<const double> morph_weights,
-                                              const std::vector<glm::mat4>& joints) {
+                                              const std::vector<glm::mat4>& joints, const gltf::Skin* moving,
+                                              int node_index) {
         const tinygltf::Primitive& primitive = mesh.primitives[p];
         const std::string what = "mesh " + std::to_string(mesh_index) + " primitive " + std::to_string(p);
         std::vector<gltf::Influences> influences;
@@ -410,15 +430,77 @@ private:
         }
         Mesh converted;
         // A mirroring skin: convert_primitive reverses the winding and bitangent sign, as for a mirroring node.
+        // (A deformed mesh keeps the winding its skin gives at load.)
         const bool mirrored = glm::determinant(glm::mat3(joints.front())) < 0.0f;
-        if (!convert_primitive(mesh, mesh_index, p, mirrored, morph_weights, converted)) return kSkipped;
+        const bool keyed_weights = moving && rig_.weights_keyed(node_index);
+        if (!convert_primitive(mesh, mesh_index, p, mirrored, moving ? std::span<const double>() : morph_weights,
+                               converted))
+            return kSkipped;
         for (const gltf::Influences& set : influences)
             if (set.joints.count != converted.positions.size() || set.weights.count != converted.positions.size())
                 throw file_error(file_, what + ": JOINTS and WEIGHTS counts differ from POSITION count");
         count_copied_vertices(converted.positions.size());
-        gltf::apply_skin(converted, joints, influences, what, file_);
+        SkinInfluences bound =
+            gltf::skin_influences(influences, converted.positions.size(), joints.size(), what, file_);
+        std::optional<MeshDeformation> deformation;
+        if (moving) deformation = deform(mesh, mesh_index, p, morph_weights, converted, &bound, moving);
+        DeformedVertices vertices = gltf::take_deformed(converted);
+        skin_vertices(vertices, bound, joints);
+        gltf::put_deformed(converted, std::move(vertices));
         scene_.meshes.push_back(std::move(converted));
-        return static_cast<uint32_t>(scene_.meshes.size() - 1);
+        const auto scene_mesh = static_cast<uint32_t>(scene_.meshes.size() - 1);
+        if (deformation) {
+            deformation->mesh = scene_mesh;
+            rig_.add_deformation(std::move(*deformation), keyed_weights ? node_index : -1, moving->joints);
+        }
+        return scene_mesh;
+    }
+
+    // `mesh`'s primitive p, converted without morph weights into `converted`, kept as a deformation's rest pose with
+    // its targets (and `influences` and `skin`, when skinned); `converted` is then morphed by `weights`, the pose a
+    // still frame shows. Nothing is kept (nullopt, `converted` morphed all the same) when the targets and the rest
+    // pose would copy more than the file's animations may (its buffers' size in floats, 16M at least), with a warning.
+    std::optional<MeshDeformation> deform(const tinygltf::Mesh& mesh, int mesh_index, int p,
+                                          std::span<const double> weights, Mesh& converted, SkinInfluences* influences,
+                                          const gltf::Skin* skin) {
+        const tinygltf::Primitive& primitive = mesh.primitives[p];
+        const std::string what = "mesh " + std::to_string(mesh_index) + " primitive " + std::to_string(p);
+        const std::vector<float> floats = gltf::morph_weights(primitive, weights, what, file_);
+        const size_t vertices = converted.positions.size();
+        // The rest pose's attributes, each target's and the influences', in floats (counted in double: a file may
+        // declare more targets times vertices than size_t holds).
+        const double needed =
+            double(vertices) * (3 + (converted.normals.empty() ? 0 : 3) + (converted.tangents.empty() ? 0 : 4) +
+                                9.0 * double(primitive.targets.size())) +
+            (influences ? 2.0 * double(influences->weights.size()) : 0.0);
+        std::optional<MeshDeformation> deformation;
+        if (needed <= double(deformation_floats_left())) {
+            deformation_floats_used_ += size_t(needed);
+            deformation.emplace();
+            deformation->targets = gltf::read_morph_targets(model_, primitive, converted, floats, true, what, file_);
+            deformation->weights = floats;
+            deformation->rest = {converted.positions, converted.normals, converted.tangents};
+            if (influences) deformation->influences = *influences;
+            if (skin) deformation->inverse_bind = gltf::inverse_bind_matrices(model_, *skin, file_);
+        } else {
+            warn_once(warned_large_deformation_, what + ": its morph targets and skin are too large to animate (" +
+                                                     std::to_string(uint64_t(std::min(needed, 1e19))) +
+                                                     " floats); drawn as the file poses it");
+        }
+        const std::vector<MorphTarget> targets =
+            deformation ? std::vector<MorphTarget>{}
+                        : gltf::read_morph_targets(model_, primitive, converted, floats, false, what, file_);
+        DeformedVertices posed = gltf::take_deformed(converted);
+        morph_vertices(posed, deformation ? deformation->targets : targets, floats);
+        gltf::put_deformed(converted, std::move(posed));
+        return deformation;
+    }
+
+    size_t deformation_floats_left() const {
+        size_t buffer_bytes = 0;
+        for (const tinygltf::Buffer& buffer : model_.buffers) buffer_bytes += buffer.data.size();
+        const size_t budget = std::max(size_t(16) << 20, buffer_bytes);
+        return budget > deformation_floats_used_ ? budget - deformation_floats_used_ : 0;
     }
 
     // Each skinned copy, and each copy morphed with a node's own weights, is new memory: bounded, so a file cannot
@@ -629,6 +711,8 @@ private:
     std::vector<glm::mat4> node_world_;                     // per node reached: its world transform
     std::vector<PendingSkin> pending_skins_;
     size_t copied_vertices_ = 0;
+    size_t deformation_floats_used_ = 0;  // what the deformed meshes' rest poses, targets and influences copy
+    bool warned_large_deformation_ = false;
     bool warned_non_triangles_ = false;
     bool warned_unplaced_joint_ = false;
     bool warned_unskinnable_ = false;

@@ -434,6 +434,7 @@ private:
         }
         model.lights = part.lights;
         model.animation = std::move(part.animation);
+        for (MeshDeformation& deformation : model.animation.deformations) deformation.mesh += mesh_offset;
         return models_.emplace(key, std::move(model)).first->second;
     }
 

@@ -27,6 +27,23 @@ bool degenerate(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
     return !(area2 > 0.0f) || !std::isfinite(area2);
 }
 
+// Mesh triangle t as the traversal tests it: v0 with the primitive index in w, the edges with rt_edge_scale in w.
+TriangleGeometry triangle_geometry(const std::vector<glm::vec3>& positions, glm::uvec3 tri, uint32_t t) {
+    glm::vec3 a = positions[tri.x], b = positions[tri.y], c = positions[tri.z];
+    glm::vec3 e1 = b - a, e2 = c - a;
+    float edge_scale = rt_edge_scale(float3{e1.x, e1.y, e1.z}, float3{e2.x, e2.y, e2.z});
+    return TriangleGeometry{float4{a.x, a.y, a.z, std::bit_cast<float>(t)}, float4{e1.x, e1.y, e1.z, edge_scale},
+                            float4{e2.x, e2.y, e2.z, 0.0f}};
+}
+
+Aabb triangle_bounds(const std::vector<glm::vec3>& positions, glm::uvec3 tri) {
+    Aabb box;
+    box.grow(positions[tri.x]);
+    box.grow(positions[tri.y]);
+    box.grow(positions[tri.z]);
+    return box;
+}
+
 // Node indices of a separately built BVH moved to where it lands in the shared arrays.
 void rebase_nodes(BvhNodes& nodes, BvhLayout layout, uint32_t node_offset, uint32_t primitive_offset) {
     for (BvhNode& node : nodes) {
@@ -325,9 +342,7 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
                 ++device.degenerate_triangles;
                 continue;  // empty bounds: the builder leaves it out
             }
-            bounds[t].grow(a);
-            bounds[t].grow(b);
-            bounds[t].grow(c);
+            bounds[t] = triangle_bounds(mesh.positions, tri);
             device.mesh_bounds[m].grow(bounds[t]);
         }
         if (flatten) {
@@ -344,14 +359,8 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
             placement.bvh = build_bvh(bounds, options, mesh_progress);
             triangles_placed += share;
         }
-        for (uint32_t t : placement.bvh.primitive_order) {
-            glm::uvec3 tri = mesh.triangles[t];
-            glm::vec3 a = mesh.positions[tri.x], b = mesh.positions[tri.y], c = mesh.positions[tri.z];
-            glm::vec3 e1 = b - a, e2 = c - a;
-            float edge_scale = rt_edge_scale(float3{e1.x, e1.y, e1.z}, float3{e2.x, e2.y, e2.z});
-            device.triangles.push_back(
-                TriangleGeometry{to_float4(a, as_float(t)), to_float4(e1, edge_scale), to_float4(e2, 0.0f)});
-        }
+        for (uint32_t t : placement.bvh.primitive_order)
+            device.triangles.push_back(triangle_geometry(mesh.positions, mesh.triangles[t], t));
         triangle_weighted_sah += double(placement.bvh.sah_cost) * placement.bvh.primitive_order.size();
         bvh_triangles += placement.bvh.primitive_order.size();
         placements.push_back(std::move(placement));
@@ -375,6 +384,16 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
         throw Error(scene.source +
                     ": an instance's mesh has only degenerate triangles");  // keeps instance ids = scene ids
     build_top_level(device, transforms, true);
+    // A mesh an animation poses anew keeps its tree as built, for refits (flattened instances never move).
+    std::vector<bool> deformed(scene.meshes.size(), false);
+    for (const MeshDeformation& deformation : scene.animation.deformations)
+        if (deformation.mesh < deformed.size()) deformed[deformation.mesh] = true;
+    auto keep_deformable = [&](size_t m, const Bvh& bvh, uint32_t first_vertex, uint32_t first_triangle,
+                               uint32_t first_node, uint32_t first_block) {
+        if (deformed[m])
+            device.deformable_meshes.push_back(
+                {uint32_t(m), bvh, first_vertex, first_triangle, first_node, first_block});
+    };
     // The layout's node array holds the top level first, then each mesh's BVH; the other array gets one unused
     // node (GPU APIs dislike empty buffers).
     if (flatten) {
@@ -394,6 +413,8 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
         for (size_t m = 0; m < placements.size(); ++m) {
             MeshPlacement& placement = placements[m];
             uint32_t node_offset = static_cast<uint32_t>(device.wide_nodes.size());
+            keep_deformable(m, placement.bvh, placement.first_vertex, placement.first_triangle, node_offset,
+                            uint32_t(device.triangle_blocks.size()));
             rebase_wide_nodes(placement.bvh.wide_nodes, node_offset, placement.first_triangle);
             block_wide_leaves(placement.bvh.wide_nodes, device.triangles, device.triangle_blocks);
             device.wide_nodes.insert(device.wide_nodes.end(), placement.bvh.wide_nodes.begin(),
@@ -419,6 +440,7 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
         for (size_t m = 0; m < placements.size(); ++m) {
             MeshPlacement& placement = placements[m];
             uint32_t node_offset = static_cast<uint32_t>(device.nodes.size());
+            keep_deformable(m, placement.bvh, placement.first_vertex, placement.first_triangle, node_offset, 0);
             rebase_nodes(placement.bvh.nodes, options.layout, node_offset, placement.first_triangle);
             device.nodes.insert(device.nodes.end(), placement.bvh.nodes.begin(), placement.bvh.nodes.end());
             placement.first_vertex = node_offset;  // reused below as the mesh's root node index
@@ -495,6 +517,54 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
     if (!flatten) device.sah_cost = bvh_triangles ? float(triangle_weighted_sah / double(bvh_triangles)) : 0.0f;
     device.bvh_build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return device;
+}
+
+void update_mesh_vertices(DeviceScene& device, uint32_t mesh, const Mesh& loaded, const DeformedVertices& posed) {
+    auto found = std::find_if(device.deformable_meshes.begin(), device.deformable_meshes.end(),
+                              [mesh](const DeviceScene::DeformableMesh& d) { return d.mesh == mesh; });
+    if (found == device.deformable_meshes.end())
+        throw Error("update_mesh_vertices: mesh " + std::to_string(mesh) + " was not built to be posed anew");
+    if (posed.positions.size() != loaded.positions.size() ||
+        (!posed.normals.empty() && posed.normals.size() != loaded.positions.size()) ||
+        (!posed.tangents.empty() && posed.tangents.size() != loaded.positions.size()))
+        throw Error("update_mesh_vertices: a pose of another size than mesh " + std::to_string(mesh));
+    DeviceScene::DeformableMesh& deformable = *found;
+    for (size_t v = 0; v < posed.normals.size(); ++v) {
+        float4& normal = device.vertices[deformable.first_vertex + v].normal;
+        normal = to_float4(posed.normals[v], normal.w);  // w: the vertex's flags
+    }
+    for (size_t v = 0; v < posed.tangents.size(); ++v)
+        device.vertices[deformable.first_vertex + v].tangent = to_float4(posed.tangents[v]);
+
+    Bvh& bvh = deformable.bvh;
+    std::vector<Aabb> bounds(loaded.triangles.size());
+    for (uint32_t t : bvh.primitive_order) bounds[t] = triangle_bounds(posed.positions, loaded.triangles[t]);
+    refit_bvh(bvh, bounds);
+    for (size_t i = 0; i < bvh.primitive_order.size(); ++i) {
+        const uint32_t t = bvh.primitive_order[i];
+        device.triangles[deformable.first_triangle + i] = triangle_geometry(posed.positions, loaded.triangles[t], t);
+    }
+    device.mesh_bounds[mesh] = Aabb{};
+    if (!bvh.nodes.empty()) device.mesh_bounds[mesh] = node_bounds(bvh.nodes[0]);
+    // The refitted tree goes where the build put it, with the same indices moved the same way.
+    if (device.bvh_options.layout == BvhLayout::Wide) {
+        BvhWideNodes nodes = bvh.wide_nodes;
+        rebase_wide_nodes(nodes, deformable.first_node, deformable.first_triangle);
+        UninitializedVector<TriangleBlock> blocks;
+        block_wide_leaves(nodes, device.triangles, blocks);
+        std::copy(nodes.begin(), nodes.end(), device.wide_nodes.begin() + deformable.first_node);
+        // block_wide_leaves numbered the blocks from 0: they land at first_block.
+        for (BvhWideNode& node : std::span(device.wide_nodes.data() + deformable.first_node, nodes.size()))
+            for (uint32_t k = 0; k < RT_BVH_WIDTH; ++k)
+                if (wide_lane_leaf(node, k))
+                    set_wide_lane_leaf(node, k, wide_lane_first(node, k) + deformable.first_block,
+                                       wide_lane_count(node, k));
+        std::copy(blocks.begin(), blocks.end(), device.triangle_blocks.begin() + deformable.first_block);
+    } else {
+        BvhNodes nodes = bvh.nodes;
+        rebase_nodes(nodes, device.bvh_options.layout, deformable.first_node, deformable.first_triangle);
+        std::copy(nodes.begin(), nodes.end(), device.nodes.begin() + deformable.first_node);
+    }
 }
 
 void update_instance_transforms(DeviceScene& device, const std::vector<glm::mat4>& transforms, bool rebuild) {

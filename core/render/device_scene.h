@@ -41,6 +41,15 @@ struct DeviceScene {
     std::vector<uint32_t> instance_meshes;
     Bvh top_level;
 
+    // The meshes an animation poses anew (Scene::animation.deformations), kept for refits: each one's own tree and
+    // where its entries are in the arrays above.
+    struct DeformableMesh {
+        uint32_t mesh = 0;
+        Bvh bvh;  // as built, before its node and triangle indices were moved to their place in the arrays
+        uint32_t first_vertex = 0, first_triangle = 0, first_node = 0, first_block = 0;
+    };
+    std::vector<DeformableMesh> deformable_meshes;
+
     size_t byte_size() const;
 };
 
@@ -48,6 +57,13 @@ struct DeviceScene {
 // `progress` hears the fraction of the scene's triangles placed in BVH leaves so far (build_bvh's, over all meshes).
 DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& options = {},
                                const BvhProgress& progress = {});
+
+// Mesh `mesh` of the scene posed anew (`loaded` as the scene holds it, for its triangles; `posed` its positions,
+// normals and tangents, as many as it has): its vertices and triangles rewritten and its BVH refitted in place (the
+// same tree, boxes around the moved triangles; triangles left out as degenerate when it was built stay out). The
+// top level then needs update_instance_transforms. Throws prism::Error for a mesh that was not built deformable
+// (DeviceScene::deformable_meshes) or a pose of another size.
+void update_mesh_vertices(DeviceScene& device, uint32_t mesh, const Mesh& loaded, const DeformedVertices& posed);
 
 // New instance transforms (same instances, same meshes): refits the top level, or rebuilds it when `rebuild`.
 // Throws prism::Error for a scene built with flattened instances (BvhBuildOptions::flatten_instances).

@@ -120,6 +120,19 @@ void Renderer::update_instances(const DeviceScene& scene) {
         backend_.write(DeviceArray::nodes, scene.nodes.data(), scene.top_level_nodes * sizeof(BvhNode));
 }
 
+void Renderer::update_geometry(const DeviceScene& scene) {
+    // The same sizes as uploaded: a posed mesh moves its entries, it adds none.
+    auto rewrite = [this](DeviceArray array, const auto& entries) {
+        backend_.write(array, entries.data(), entries.size() * sizeof(entries[0]));
+    };
+    rewrite(DeviceArray::instances, scene.instances);
+    rewrite(DeviceArray::nodes, scene.nodes);
+    rewrite(DeviceArray::wide_nodes, scene.wide_nodes);
+    rewrite(DeviceArray::triangles, scene.triangles);
+    rewrite(DeviceArray::triangle_blocks, scene.triangle_blocks);
+    rewrite(DeviceArray::vertices, scene.vertices);
+}
+
 void Renderer::enqueue_pass(StagePass pass, uint32_t depth, uint32_t frame_flags) {
     for (size_t s = 0; s < stage_count; ++s)
         if (stage_pass(Stage(s)) == pass && stage_runs(Stage(s), frame_flags)) backend_.enqueue(Stage(s), depth);

@@ -11,6 +11,8 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "core/scene/mesh_deformation.h"
+
 namespace prism {
 
 // A node as the file places it when nothing animates it: its local matrix, or its TRS when a channel may key it.
@@ -35,6 +37,16 @@ struct AnimationChannel {
     double clip_seconds = 0.0;      // the length of the animation (clip) it belongs to, which loops on its own
 };
 
+// A channel that keys a node's morph target weights: `width` weights per key (CUBICSPLINE: in-tangents, values and
+// out-tangents, 3 x width per key).
+struct WeightChannel {
+    AnimationInterpolation interpolation = AnimationInterpolation::Linear;
+    uint32_t width = 0;
+    std::vector<float> times;  // seconds, increasing
+    std::vector<float> values;
+    double clip_seconds = 0.0;
+};
+
 // An instance of Scene::instances that hangs from an animated node: its transform is the node's world transform
 // times `local` (EXT_mesh_gpu_instancing's per-instance transform, else identity).
 struct AnimatedInstance {
@@ -50,18 +62,27 @@ struct NodeAnimation {
     std::vector<AnimationChannel> channels;
     std::vector<AnimatedInstance> instances;
     int32_t camera_node = -1;  // the node the scene's camera hangs from, when a keyed node is above it
+    std::vector<WeightChannel> weight_channels;
+    std::vector<MeshDeformation> deformations;  // meshes posed anew at every moment: skinned, or weights keyed
 
-    bool plays() const { return !channels.empty() && (!instances.empty() || camera_node >= 0); }
+    bool plays() const {
+        return (!channels.empty() || !weight_channels.empty()) &&
+               (!instances.empty() || camera_node >= 0 || !deformations.empty());
+    }
 };
 
-// Adds `part`'s nodes, channels and instances to `into`: `part`'s roots hang from a new node placed by `placement`,
-// and its instances are numbered from `first_instance` (a scene file placing an animated model; the model's camera
-// is not carried over). Both animations play together, over the longer duration.
+// Adds `part`'s nodes, channels, instances and deformations to `into`: `part`'s roots hang from a new node placed by
+// `placement` and its instances are numbered from `first_instance` (a scene file placing an animated model, whose
+// meshes are already the scene's; the model's camera is not carried over). Both animations play together, over the
+// longer duration. A mesh `into` already deforms (the same model placed again shares its meshes) is not added twice.
 void append_node_animation(NodeAnimation& into, const NodeAnimation& part, uint32_t first_instance,
                            const glm::mat4& placement);
 
 // A channel's value at `seconds` (xyz, or a normalized quaternion as xyzw for rotations).
 glm::vec4 sample_channel(const AnimationChannel& channel, float seconds);
+
+// A weight channel's `width` weights at `seconds`.
+std::vector<float> sample_weights(const WeightChannel& channel, float seconds);
 
 // Every node's world transform at `seconds` into the animation (each channel looped over its clip's length).
 std::vector<glm::mat4> node_world_transforms(const NodeAnimation& animation, double seconds);
@@ -69,5 +90,9 @@ std::vector<glm::mat4> node_world_transforms(const NodeAnimation& animation, dou
 // The animated instances' transforms at `seconds`, written into `transforms` (one per scene instance). An instance
 // whose transform would not be finite keeps the one `transforms` holds.
 void apply_node_animation(const NodeAnimation& animation, double seconds, std::vector<glm::mat4>& transforms);
+
+// Each deformed mesh's attributes at `seconds`, one entry per NodeAnimation::deformations entry. An entry whose
+// pose is not finite everywhere (keys that compose to infinity) comes back empty: its mesh keeps the pose it has.
+std::vector<DeformedVertices> deformed_meshes_at(const NodeAnimation& animation, double seconds);
 
 }  // namespace prism
