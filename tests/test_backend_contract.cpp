@@ -358,7 +358,13 @@ TEST_P(BackendContract, APosedMeshIsTracedWhereItMoved) {
     prism::RenderEngine engine(backend(), device);
     const prism::RenderSettings settings = prism::test::small_settings(64, 48, 3);
     const prism::FrameResult still = engine.render(loaded_scene.camera, settings);
-    for (double seconds : {1.75, 4.0}) {
+    auto pixels_differing = [](const std::vector<uint32_t>& a, const std::vector<uint32_t>& b) {
+        size_t n = 0;
+        for (size_t i = 0; i < a.size() && i < b.size(); ++i) n += a[i] != b[i];
+        return n;
+    };
+    // The mesh bent a quarter turn one way (at 1 s) and the other (at 4 s), and on its way back (at 1.75 s).
+    for (double seconds : {1.0, 1.75, 4.0}) {
         SCOPED_TRACE(seconds);
         engine.move_to(loaded_scene, device, seconds);
         const prism::FrameResult moved = engine.render(loaded_scene.camera, settings);
@@ -366,7 +372,7 @@ TEST_P(BackendContract, APosedMeshIsTracedWhereItMoved) {
         const prism::FrameResult expected =
             prism::RenderEngine("cpu-ref", prism::build_device_scene(posed, options)).render(posed.camera, settings);
         EXPECT_GE(prism::test::psnr_rgba8(expected.image, moved.image), 45.0);
-        EXPECT_LT(prism::test::psnr_rgba8(still.image, moved.image), 30.0);
+        EXPECT_GT(pixels_differing(still.image, moved.image), still.image.size() / 50);  // it did move
     }
 }
 
