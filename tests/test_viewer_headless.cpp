@@ -121,7 +121,11 @@ void expect_m_plays(const std::filesystem::path& file, const std::string& status
     auto at_rest = prism::test::read_png(still, &w, &h);
     ASSERT_EQ(shown.size(), rendered.size());
     EXPECT_GE(prism::test::psnr_rgba8(shown, rendered), 45.0);
-    EXPECT_LT(prism::test::psnr_rgba8(shown, at_rest), 30.0);  // it did move
+    // It did move: counted in pixels, which a background's contrast does not change as it does a PSNR (with the
+    // constant sky of a machine without the shared cube maps, 31.7 dB against the still frame).
+    size_t moved = 0;
+    for (size_t i = 0; i < shown.size() && i < at_rest.size(); ++i) moved += shown[i] != at_rest[i];
+    EXPECT_GT(moved, shown.size() / 100);
 }
 
 TEST(ViewerHeadless, MPlaysTheScenesAnimation) {
