@@ -2,8 +2,6 @@
 // targets whose weights it keys, posed anew for every frame, their BVHs refitted in place
 // (core/render/device_scene.h, update_mesh_vertices) and uploaded (RenderEngine::move_to).
 #include <cmath>
-#include <fstream>
-#include <iterator>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
@@ -276,10 +274,7 @@ TEST(MeshDeformation, ASequenceOfFramesPlaysTheSkin) {
                                                   "' --width 48 --height 32 --depth 1 --frames 0-11 --fps 2 --out '" +
                                                   (dir / "f_%d.png").string() + "'");
     ASSERT_EQ(r.exit_code, 0) << r.output;
-    auto bytes = [&](int frame) {
-        std::ifstream in(dir / ("f_" + std::to_string(frame) + ".png"), std::ios::binary);
-        return std::string(std::istreambuf_iterator<char>(in), {});
-    };
+    auto bytes = [&](int frame) { return test::file_bytes(dir / ("f_" + std::to_string(frame) + ".png")); };
     EXPECT_NE(bytes(1), bytes(0));
     EXPECT_NE(bytes(2), bytes(1));
     EXPECT_EQ(bytes(11), bytes(0));

@@ -1,8 +1,6 @@
 // glTF animations of node transforms (core/scene/node_animation.h, core/loaders/gltf_animation.h): the spec's
 // samplers, the loader's channels and nodes, and what a sequence of frames shows.
 #include <cmath>
-#include <fstream>
-#include <iterator>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
@@ -441,10 +439,7 @@ TEST(NodeAnimation, ASequenceOfFramesPlaysTheAnimation) {
         "render -q --backend cpu --allow-any-path --scene '" + sliding.file.string() +
         "' --width 48 --height 32 --depth 1 --frames 0-4 --fps 4 --out '" + (dir / "f_%d.png").string() + "'");
     ASSERT_EQ(r.exit_code, 0) << r.output;
-    auto bytes = [&](int frame) {
-        std::ifstream file(dir / ("f_" + std::to_string(frame) + ".png"), std::ios::binary);
-        return std::string(std::istreambuf_iterator<char>(file), {});
-    };
+    auto bytes = [&](int frame) { return test::file_bytes(dir / ("f_" + std::to_string(frame) + ".png")); };
     EXPECT_NE(bytes(1), bytes(0));
     EXPECT_NE(bytes(2), bytes(1));
     EXPECT_EQ(bytes(4), bytes(0));

@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -114,6 +115,11 @@ prism::DeviceScene load_device_scene(const std::string& spec, prism::Scene* out,
     prism::DeviceScene device = prism::build_device_scene(loaded, bvh);
     if (out) *out = std::move(loaded);
     return device;
+}
+
+std::string file_bytes(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
 prism::Scene scene_posed_at(const prism::Scene& scene, double seconds) {

@@ -23,6 +23,8 @@ std::filesystem::path scene(const std::string& relative);
 std::filesystem::path temp_dir(const std::string& name);
 // Writes bytes to a file under temp_dir("files") (whole or not at all: core/util/output_file.h) and returns its path.
 std::filesystem::path write_file(const std::string& name, const std::string& bytes);
+// The bytes of a file ("" when it cannot be read).
+std::string file_bytes(const std::filesystem::path& path);
 
 // The message of the prism::Error that `action` throws, or "(no prism::Error thrown)".
 std::string error_message(const std::function<void()>& action);
