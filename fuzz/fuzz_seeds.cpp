@@ -350,6 +350,48 @@ std::string animated_triangle_gltf() {
     return document.dump();
 }
 
+// A strip of two triangles skinned to two joints, the second turned by a LINEAR rotation channel, with a morph
+// target whose weight a CUBICSPLINE weights channel keys (the deformed meshes, core/scene/mesh_deformation.h).
+std::string deforming_strip_gltf() {
+    prism::test::GltfBuilder gltf;
+    auto floats = [&](const std::vector<float>& values, int count, const char* type) {
+        return gltf.accessor(
+            {{"bufferView", gltf.view(values)}, {"componentType", 5126}, {"count", count}, {"type", type}});
+    };
+    const int positions = gltf.positions({-0.5f, 0, 0, 0.5f, 0, 0, -0.5f, 2, 0, 0.5f, 2, 0});
+    const int normals = gltf.positions({0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1});
+    const int lift = gltf.positions({0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 1, 0});
+    const std::vector<uint8_t> joint_bytes = {0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
+    const int joints = gltf.accessor(
+        {{"bufferView", gltf.view(joint_bytes)}, {"componentType", 5121}, {"count", 4}, {"type", "VEC4"}});
+    const int weights = floats({1, 0, 0, 0, 1, 0, 0, 0, 0.5f, 0.5f, 0, 0, 0, 1, 0, 0}, 4, "VEC4");
+    const int inverse_bind = floats(
+        {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, -1, 0, 1}, 2, "MAT4");
+    const int mesh = gltf.mesh(
+        {{{"attributes", {{"POSITION", positions}, {"NORMAL", normals}, {"JOINTS_0", joints}, {"WEIGHTS_0", weights}}},
+          {"indices", gltf.indices({0, 1, 2, 1, 3, 2})},
+          {"targets", {{{"POSITION", lift}}}}}});
+    gltf.node({{"children", {1}}});                                 // 0: the root joint
+    gltf.node({{"translation", {0, 1, 0}}});                        // 1: the tip joint
+    gltf.node({{"mesh", mesh}, {"skin", 0}, {"weights", {0.25}}});  // 2
+    gltf.document["skins"] = {{{"joints", {0, 1}}, {"inverseBindMatrices", inverse_bind}}};
+    const int times = floats({0, 1, 2}, 3, "SCALAR");
+    const int turns = floats({0, 0, 0, 1, 0, 0, 0.7f, 0.7f, 0, 0, -0.7f, 0.7f}, 3, "VEC4");
+    const int lifts = floats({0, 0, 0, 0, 1, 2, -1, 0.5f, 0}, 9, "SCALAR");
+    gltf.document["animations"] = {{{"name", "fuzz-deform"},
+                                    {"channels",
+                                     {{{"sampler", 0}, {"target", {{"node", 1}, {"path", "rotation"}}}},
+                                      {{"sampler", 1}, {"target", {{"node", 2}, {"path", "weights"}}}}}},
+                                    {"samplers",
+                                     {{{"input", times}, {"output", turns}},
+                                      {{"input", times}, {"output", lifts}, {"interpolation", "CUBICSPLINE"}}}}}};
+    json document = gltf.document;
+    document["buffers"] = {
+        {{"byteLength", gltf.buffer.size()}, {"uri", "data:application/octet-stream;base64," + base64(gltf.buffer)}}};
+    document["scenes"] = {{{"nodes", {0, 2}}}};
+    return document.dump();
+}
+
 void gltf_seeds(const fs::path& scenes, SeedWriter& seeds, const fs::path& scratch) {
     compressed_gltf_seeds(scenes, seeds);
     for (const fs::path& gltf : files_with(scenes, {".gltf"})) {
@@ -374,6 +416,9 @@ void gltf_seeds(const fs::path& scenes, SeedWriter& seeds, const fs::path& scrat
     const std::string animated = animated_triangle_gltf();
     seeds.add("gltf", "animated-triangle.txt", animated);
     seeds.add("glb", "animated-triangle.glb", glb_of(animated, ""));
+    const std::string deforming = deforming_strip_gltf();
+    seeds.add("gltf", "deforming-strip.txt", deforming);
+    seeds.add("glb", "deforming-strip.glb", glb_of(deforming, ""));
     for (const fs::path& glb : files_with(scenes, {".glb"}))
         if (fs::file_size(glb) <= kMaxSeedBytes) seeds.add("glb", glb.filename().string(), read_file(glb));
 }
