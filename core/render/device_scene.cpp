@@ -390,9 +390,12 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
         if (deformation.mesh < deformed.size()) deformed[deformation.mesh] = true;
     auto keep_deformable = [&](size_t m, const Bvh& bvh, uint32_t first_vertex, uint32_t first_triangle,
                                uint32_t first_node, uint32_t first_block) {
-        if (deformed[m])
-            device.deformable_meshes.push_back(
-                {uint32_t(m), bvh, first_vertex, first_triangle, first_node, first_block});
+        if (!deformed[m]) return;
+        DeviceScene::DeformableMesh kept{uint32_t(m), bvh, first_vertex, uint32_t(scene.meshes[m].positions.size())};
+        kept.first_triangle = first_triangle;
+        kept.first_node = first_node;
+        kept.first_block = first_block;
+        device.deformable_meshes.push_back(std::move(kept));
     };
     // The layout's node array holds the top level first, then each mesh's BVH; the other array gets one unused
     // node (GPU APIs dislike empty buffers).
@@ -417,6 +420,9 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
                             uint32_t(device.triangle_blocks.size()));
             rebase_wide_nodes(placement.bvh.wide_nodes, node_offset, placement.first_triangle);
             block_wide_leaves(placement.bvh.wide_nodes, device.triangles, device.triangle_blocks);
+            if (!device.deformable_meshes.empty() && device.deformable_meshes.back().mesh == m)
+                device.deformable_meshes.back().block_count =
+                    uint32_t(device.triangle_blocks.size()) - device.deformable_meshes.back().first_block;
             device.wide_nodes.insert(device.wide_nodes.end(), placement.bvh.wide_nodes.begin(),
                                      placement.bvh.wide_nodes.end());
             placement.first_vertex = node_offset;  // reused below as the mesh's root node index
@@ -524,7 +530,7 @@ void update_mesh_vertices(DeviceScene& device, uint32_t mesh, const Mesh& loaded
                               [mesh](const DeviceScene::DeformableMesh& d) { return d.mesh == mesh; });
     if (found == device.deformable_meshes.end())
         throw Error("update_mesh_vertices: mesh " + std::to_string(mesh) + " was not built to be posed anew");
-    if (posed.positions.size() != loaded.positions.size() ||
+    if (posed.positions.size() != found->vertex_count || loaded.positions.size() != found->vertex_count ||
         (!posed.normals.empty() && posed.normals.size() != loaded.positions.size()) ||
         (!posed.tangents.empty() && posed.tangents.size() != loaded.positions.size()))
         throw Error("update_mesh_vertices: a pose of another size than mesh " + std::to_string(mesh));
@@ -559,6 +565,8 @@ void update_mesh_vertices(DeviceScene& device, uint32_t mesh, const Mesh& loaded
                 if (wide_lane_leaf(node, k))
                     set_wide_lane_leaf(node, k, wide_lane_first(node, k) + deformable.first_block,
                                        wide_lane_count(node, k));
+        if (blocks.size() != deformable.block_count)
+            throw Error("internal: a refitted wide mesh BVH has another number of triangle blocks");
         std::copy(blocks.begin(), blocks.end(), device.triangle_blocks.begin() + deformable.first_block);
     } else {
         BvhNodes nodes = bvh.nodes;

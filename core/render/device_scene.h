@@ -46,7 +46,10 @@ struct DeviceScene {
     struct DeformableMesh {
         uint32_t mesh = 0;
         Bvh bvh;  // as built, before its node and triangle indices were moved to their place in the arrays
-        uint32_t first_vertex = 0, first_triangle = 0, first_node = 0, first_block = 0;
+        uint32_t first_vertex = 0, vertex_count = 0;
+        uint32_t first_triangle = 0;                // its bvh.primitive_order.size() triangles follow
+        uint32_t first_node = 0;                    // its bvh.nodes (bvh.wide_nodes in the wide layout) follow
+        uint32_t first_block = 0, block_count = 0;  // the wide layout's triangle blocks
     };
     std::vector<DeformableMesh> deformable_meshes;
 

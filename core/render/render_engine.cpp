@@ -103,19 +103,16 @@ void RenderEngine::update_instances(DeviceScene& scene, const std::vector<glm::m
 
 void RenderEngine::move_to(const Scene& scene, DeviceScene& device, double seconds) {
     const std::vector<DeformedVertices> posed = deformed_meshes_at(scene.animation, seconds);
-    bool meshes_moved = false;
     for (size_t d = 0; d < posed.size(); ++d) {
         if (posed[d].positions.empty()) continue;  // not finite at this moment: the mesh keeps its pose
         const uint32_t mesh = scene.animation.deformations[d].mesh;
         update_mesh_vertices(device, mesh, scene.meshes.at(mesh), posed[d]);
-        meshes_moved = true;
+        // (The reference renderer reads `device` in place.)
+        for (const DeviceScene::DeformableMesh& deformable : device.deformable_meshes)
+            if (renderer_ && deformable.mesh == mesh) renderer_->update_mesh(device, deformable);
     }
     update_instance_transforms(device, instance_transforms_at(scene, seconds), false);
-    if (!renderer_) return;  // the reference renderer reads `device` in place
-    if (meshes_moved)
-        renderer_->update_geometry(device);
-    else
-        renderer_->update_instances(device);
+    if (renderer_) renderer_->update_instances(device);
 }
 
 }  // namespace prism

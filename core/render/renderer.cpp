@@ -120,17 +120,19 @@ void Renderer::update_instances(const DeviceScene& scene) {
         backend_.write(DeviceArray::nodes, scene.nodes.data(), scene.top_level_nodes * sizeof(BvhNode));
 }
 
-void Renderer::update_geometry(const DeviceScene& scene) {
-    // The same sizes as uploaded: a posed mesh moves its entries, it adds none.
-    auto rewrite = [this](DeviceArray array, const auto& entries) {
-        backend_.write(array, entries.data(), entries.size() * sizeof(entries[0]));
+void Renderer::update_mesh(const DeviceScene& scene, const DeviceScene::DeformableMesh& mesh) {
+    // The entries [first, first + count) of one array, where the build put this mesh's.
+    auto rewrite = [this](DeviceArray array, const auto& entries, size_t first, size_t count) {
+        backend_.write(array, entries.data() + first, count * sizeof(entries[0]), first * sizeof(entries[0]));
     };
-    rewrite(DeviceArray::instances, scene.instances);
-    rewrite(DeviceArray::nodes, scene.nodes);
-    rewrite(DeviceArray::wide_nodes, scene.wide_nodes);
-    rewrite(DeviceArray::triangles, scene.triangles);
-    rewrite(DeviceArray::triangle_blocks, scene.triangle_blocks);
-    rewrite(DeviceArray::vertices, scene.vertices);
+    rewrite(DeviceArray::vertices, scene.vertices, mesh.first_vertex, mesh.vertex_count);
+    rewrite(DeviceArray::triangles, scene.triangles, mesh.first_triangle, mesh.bvh.primitive_order.size());
+    if (scene.bvh_options.layout == BvhLayout::Wide) {
+        rewrite(DeviceArray::wide_nodes, scene.wide_nodes, mesh.first_node, mesh.bvh.wide_nodes.size());
+        rewrite(DeviceArray::triangle_blocks, scene.triangle_blocks, mesh.first_block, mesh.block_count);
+    } else {
+        rewrite(DeviceArray::nodes, scene.nodes, mesh.first_node, mesh.bvh.nodes.size());
+    }
 }
 
 void Renderer::enqueue_pass(StagePass pass, uint32_t depth, uint32_t frame_flags) {

@@ -101,9 +101,9 @@ public:
     double last_trace_ms() const { return last_trace_ms_; }
     // After update_instance_transforms: re-uploads the instances and the top-level nodes only.
     void update_instances(const DeviceScene& scene);
-    // After update_mesh_vertices: re-uploads the instances and every array a posed mesh changes (nodes, triangles,
-    // triangle blocks, vertices).
-    void update_geometry(const DeviceScene& scene);
+    // After update_mesh_vertices: re-uploads what the posed mesh changed (its vertices, triangles, triangle blocks
+    // and BVH nodes); update_instances then uploads the top level.
+    void update_mesh(const DeviceScene& scene, const DeviceScene::DeformableMesh& mesh);
 
 private:
     void upload_scene();
