@@ -7,6 +7,8 @@
 
 #include "core/loaders/load_gltf.h"
 #include "core/loaders/scene_loader.h"
+#include "core/render/device_scene.h"
+#include "core/render/render_engine.h"
 #include "core/scene/node_animation.h"
 #include "core/scene/scene_motion.h"
 #include "tests/gltf_builder.h"
@@ -426,6 +428,60 @@ TEST(NodeAnimation, ASceneFileObjectPicksItsModelsAnimation) {
                   (void)load_scene(bad.string(), options);
               }).find("objects[0].animation: only glTF models have animations"),
               std::string::npos);
+}
+
+// A light below a keyed node moves with it (KHR_lights_punctual on an animated node): a spot light sliding over a
+// floor that stays, shining down its node's -z; RenderEngine::move_to traces the frame a scene built with the light
+// in that place traces.
+TEST(NodeAnimation, ALightBelowAKeyedNodeMovesWithIt) {
+    GltfBuilder gltf;
+    const int positions = gltf.positions({-4, 0, -4, 4, 0, -4, -4, 0, 4, 4, 0, 4});
+    gltf.node({{"name", "floor"},
+               {"mesh", gltf.mesh({{{"attributes", {{"POSITION", positions}}},
+                                    {"indices", gltf.indices({0, 2, 1, 1, 2, 3})}}})}});
+    gltf.document["extensionsUsed"] = {"KHR_lights_punctual"};
+    gltf.document["extensions"]["KHR_lights_punctual"]["lights"] = {
+        {{"type", "spot"}, {"intensity", 40}, {"spot", {{"outerConeAngle", 0.4}}}}};
+    const float h = std::sqrt(0.5f);
+    gltf.node({{"name", "lamp"},
+               {"translation", {-2, 3, 0}},
+               {"rotation", {-h, 0, 0, h}},  // -z turned to point down
+               {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    const int input = gltf.accessor({{"bufferView", gltf.view(std::vector<float>{0, 1})},
+                                     {"componentType", 5126},
+                                     {"count", 2},
+                                     {"type", "SCALAR"}});
+    const int output = gltf.accessor({{"bufferView", gltf.view(std::vector<float>{-2, 3, 0, 2, 3, 0})},
+                                      {"componentType", 5126},
+                                      {"count", 2},
+                                      {"type", "VEC3"}});
+    gltf.document["animations"] = {
+        {{"name", "sweep"},
+         {"channels", {{{"sampler", 0}, {"target", {{"node", 1}, {"path", "translation"}}}}}},
+         {"samplers", {{{"input", input}, {"output", output}}}}}};
+    const Scene scene = load(gltf.write("sweeping-lamp.gltf"));
+    EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+    ASSERT_TRUE(scene.animation.plays());
+    ASSERT_EQ(scene.animation.lights.size(), 1u);
+    EXPECT_TRUE(scene_moves(scene));
+    const std::vector<Light> half = lights_at(scene, 0.5);
+    EXPECT_NEAR(glm::distance(half[0].position, glm::vec3(0, 3, 0)), 0.0f, 1e-5f);
+    EXPECT_NEAR(glm::distance(half[0].direction, glm::vec3(0, -1, 0)), 0.0f, 1e-5f);
+    EXPECT_NEAR(glm::distance(scene.lights[0].position, glm::vec3(-2, 3, 0)), 0.0f, 1e-5f);  // the file's place
+
+    Camera camera;
+    camera.position = {0, 6, 6};
+    camera.target = {0, 0, 0};
+    const RenderSettings settings = test::small_settings(64, 48, 2);
+    DeviceScene device = build_device_scene(scene);
+    RenderEngine engine("cpu", device);
+    const FrameResult still = engine.render(camera, settings);
+    engine.move_to(scene, device, 0.75);
+    const FrameResult moved = engine.render(camera, settings);
+    const FrameResult expected =
+        RenderEngine("cpu", build_device_scene(test::scene_posed_at(scene, 0.75))).render(camera, settings);
+    EXPECT_EQ(moved.image, expected.image);
+    EXPECT_NE(moved.image, still.image);
 }
 
 // `prism render --frames`: frame N shows the animation at N / fps seconds, and a frame a whole loop later is the

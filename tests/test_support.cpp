@@ -133,6 +133,7 @@ prism::Scene scene_posed_at(const prism::Scene& scene, double seconds) {
         mesh.normals = meshes[d].normals;
         mesh.tangents = meshes[d].tangents;
     }
+    posed.lights = prism::lights_at(scene, seconds);
     posed.camera = prism::camera_at(scene, seconds);
     posed.animation = {};
     posed.spins.clear();

@@ -46,8 +46,8 @@ prism::Scene load_test_scene(const std::string& spec);
 // camera and the rest of the scene in `*scene` when given.
 prism::DeviceScene load_device_scene(const std::string& spec, prism::Scene* scene, prism::BvhLayout layout);
 
-// `scene` as it stands `seconds` into its motion, with nothing left to move: instances placed and deformed meshes
-// posed (a scene built from it is what RenderEngine::move_to must trace).
+// `scene` as it stands `seconds` into its motion, with nothing left to move: instances, lights and camera placed and
+// deformed meshes posed (a scene built from it is what RenderEngine::move_to must trace).
 prism::Scene scene_posed_at(const prism::Scene& scene, double seconds);
 
 // A gtest name from a backend spec or a scene's file name: every character but letters and digits made '_'.

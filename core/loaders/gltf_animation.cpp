@@ -319,18 +319,23 @@ void AnimationRig::set_camera(Place place) {
     if (place.moves) animation_.camera_node = place.slot;
 }
 
+void AnimationRig::add_light(uint32_t light, Place place) {
+    if (place.moves) animation_.lights.push_back({light, uint32_t(place.slot)});
+}
+
 NodeAnimation AnimationRig::finish(std::vector<std::string>& warnings) {
     for (const std::string& warning : file_animation_.warnings) warnings.push_back(warning);
     const size_t total = file_animation_.channels.size() + file_animation_.unplayable + file_animation_.malformed;
     if (file_animation_.animation_count == 0) return {};
-    // The nodes some recorded instance, the camera or a deformed mesh's joint hangs from or below: a channel
-    // elsewhere moves nothing Prism draws (lights, other cameras, empty nodes, joints of no drawn skin).
+    // The nodes some recorded instance, light, the camera or a deformed mesh's joint hangs from or below: a channel
+    // elsewhere moves nothing Prism draws (other cameras, empty nodes, joints of no drawn skin).
     std::vector<bool> carries(animation_.nodes.size(), false);
     auto carry = [&](int32_t slot) {
         for (; slot >= 0 && !carries[size_t(slot)]; slot = animation_.nodes[size_t(slot)].parent)
             carries[size_t(slot)] = true;
     };
     for (const AnimatedInstance& instance : animation_.instances) carry(int32_t(instance.node));
+    for (const AnimatedLight& light : animation_.lights) carry(int32_t(light.node));
     carry(animation_.camera_node);
     for (const MeshDeformation& deformation : animation_.deformations)
         for (uint32_t joint : deformation.joints) carry(int32_t(joint));
@@ -360,17 +365,18 @@ NodeAnimation AnimationRig::finish(std::vector<std::string>& warnings) {
     }
     const std::string named = "animation '" + animation_.name + "'";
     if (!animation_.plays()) {
-        warnings.push_back(file_error(file_, named + " is not played: it moves neither a mesh Prism draws nor the "
-                                                     "camera (only lights, other cameras, joints of no skinned mesh, "
-                                                     "or animation pointers); the scene is drawn as its nodes place it")
+        warnings.push_back(file_error(file_, named + " is not played: it moves no mesh Prism draws, no light and not "
+                                                     "the camera (only other cameras, joints of no skinned mesh, or "
+                                                     "animation pointers); the scene is drawn as its nodes place it")
                                .what());
         return {};
     }
     if (played < total)
         warnings.push_back(file_error(file_, named + ": " + std::to_string(total - played) + " of its " +
                                                  std::to_string(total) +
-                                                 " channels are not played (lights, other cameras, joints of no "
-                                                 "skinned mesh, animation pointers, nodes given by a matrix)")
+                                                 " channels are not played (other cameras, joints of no skinned "
+                                                 "mesh, nodes with nothing Prism draws, animation pointers, nodes "
+                                                 "given by a matrix)")
                                .what());
     return std::move(animation_);
 }

@@ -48,7 +48,7 @@ FileAnimation read_animations(const nlohmann::json& animations, const tinygltf::
 
 // Builds the scene's NodeAnimation while the importer walks the node trees: every node it enters gets a place
 // (parents before children), every instance below a keyed node is recorded with the node it hangs from, and so are
-// the scene's camera and the meshes whose skins or weights the animation moves.
+// the scene's camera, its lights and the meshes whose skins or weights the animation moves.
 class AnimationRig {
 public:
     AnimationRig(FileAnimation animation, const tinygltf::Model& model, std::string file);
@@ -64,6 +64,8 @@ public:
     void add_instance(uint32_t instance, Place place, const glm::mat4& local);
     // The scene's camera hangs from the node at `place`.
     void set_camera(Place place);
+    // Scene light `light` hangs from the node at `place`.
+    void add_light(uint32_t light, Place place);
 
     // Whether a channel keys the morph target weights of (entered) node `node_index`.
     bool weights_keyed(int node_index) const;

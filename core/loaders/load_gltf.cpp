@@ -276,7 +276,7 @@ private:
         if (node.camera >= 0) add_camera(node.camera, world, place);
         auto light = node.extensions.find("KHR_lights_punctual");
         if (light != node.extensions.end() && light->second.Has("light"))
-            add_light(light->second.Get("light").GetNumberAsInt(), world);
+            add_light(light->second.Get("light").GetNumberAsInt(), world, place);
         stack.push_back({node_index, world, 0, place});
     }
 
@@ -671,7 +671,7 @@ private:
         rig_.set_camera(place);
     }
 
-    void add_light(int light_index, const glm::mat4& world) {
+    void add_light(int light_index, const glm::mat4& world, gltf::AnimationRig::Place place) {
         if (light_index < 0 || light_index >= static_cast<int>(model_.lights.size()))
             throw file_error(file_, "light " + std::to_string(light_index) + " does not exist");
         const tinygltf::Light& source = model_.lights[light_index];
@@ -692,6 +692,7 @@ private:
             light.outer_cone = static_cast<float>(source.spot.outerConeAngle);
         }
         scene_.lights.push_back(light);
+        rig_.add_light(static_cast<uint32_t>(scene_.lights.size() - 1), place);
     }
 
     static constexpr uint32_t kSkipped = ~0u;

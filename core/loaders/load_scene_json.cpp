@@ -482,7 +482,7 @@ private:
             std::optional<InstanceSpin> spin;
             if (source.contains("spin")) spin = read_spin(source["spin"], join(key_path, "spin"), placement);
             append_node_animation(scene.animation, model.animation, static_cast<uint32_t>(scene.instances.size()),
-                                  placement);
+                                  static_cast<uint32_t>(scene.lights.size()), placement);
             for (const Instance& part : model.instances) {
                 Instance instance = part;
                 instance.transform = placement * part.transform;

@@ -575,6 +575,12 @@ void update_mesh_vertices(DeviceScene& device, uint32_t mesh, const Mesh& loaded
     }
 }
 
+void update_lights(DeviceScene& device, const std::vector<Light>& lights) {
+    if (lights.size() != device.light_count)
+        throw Error("update_lights: expected " + std::to_string(device.light_count) + " lights");
+    for (size_t i = 0; i < lights.size(); ++i) device.lights[i] = device_light(lights[i]);
+}
+
 void update_instance_transforms(DeviceScene& device, const std::vector<glm::mat4>& transforms, bool rebuild) {
     if (transforms.size() != device.instances.size())
         throw Error("update_instance_transforms: expected " + std::to_string(device.instances.size()) + " transforms");

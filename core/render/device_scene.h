@@ -68,6 +68,10 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
 // (DeviceScene::deformable_meshes) or a pose of another size.
 void update_mesh_vertices(DeviceScene& device, uint32_t mesh, const Mesh& loaded, const DeformedVertices& posed);
 
+// The scene's lights moved (the same lights, placed anew: scene_motion.h's lights_at): `lights` rewritten. Throws
+// prism::Error for another number of lights.
+void update_lights(DeviceScene& device, const std::vector<Light>& lights);
+
 // New instance transforms (same instances, same meshes): refits the top level, or rebuilds it when `rebuild`.
 // Throws prism::Error for a scene built with flattened instances (BvhBuildOptions::flatten_instances).
 // Only `instances` and the first `top_level_nodes` entries of `nodes` (`wide_nodes` in the wide layout) change.

@@ -113,6 +113,10 @@ void RenderEngine::move_to(const Scene& scene, DeviceScene& device, double secon
     }
     update_instance_transforms(device, instance_transforms_at(scene, seconds), false);
     if (renderer_) renderer_->update_instances(device);
+    if (scene.animation.plays() && !scene.animation.lights.empty()) {
+        update_lights(device, lights_at(scene, seconds));
+        if (renderer_) renderer_->update_lights(device);
+    }
 }
 
 }  // namespace prism

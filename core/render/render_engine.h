@@ -38,8 +38,8 @@ public:
     // Moving instances: refit (or rebuild) the top level and re-upload it.
     void update_instances(DeviceScene& scene, const std::vector<glm::mat4>& transforms, bool rebuild);
     // The scene at `seconds` into its motion (core/scene/scene_motion.h): its instances placed, the meshes its
-    // animation deforms posed anew with their BVHs refitted, the top level refitted; uploads what changed. `device`
-    // was built from `scene` with moving instances (SceneOptions::moving_instances).
+    // animation deforms posed anew with their BVHs refitted, the top level refitted, its animated lights moved;
+    // uploads what changed. `device` was built from `scene` with moving instances (SceneOptions::moving_instances).
     void move_to(const Scene& scene, DeviceScene& device, double seconds);
 
 private:

@@ -135,6 +135,10 @@ void Renderer::update_mesh(const DeviceScene& scene, const DeviceScene::Deformab
     }
 }
 
+void Renderer::update_lights(const DeviceScene& scene) {
+    backend_.write(DeviceArray::lights, scene.lights.data(), scene.lights.size() * sizeof(::Light));
+}
+
 void Renderer::enqueue_pass(StagePass pass, uint32_t depth, uint32_t frame_flags) {
     for (size_t s = 0; s < stage_count; ++s)
         if (stage_pass(Stage(s)) == pass && stage_runs(Stage(s), frame_flags)) backend_.enqueue(Stage(s), depth);

@@ -104,6 +104,8 @@ public:
     // After update_mesh_vertices: re-uploads what the posed mesh changed (its vertices, triangles, triangle blocks
     // and BVH nodes); update_instances then uploads the top level.
     void update_mesh(const DeviceScene& scene, const DeviceScene::DeformableMesh& mesh);
+    // After update_lights: re-uploads the lights.
+    void update_lights(const DeviceScene& scene);
 
 private:
     void upload_scene();

@@ -67,7 +67,7 @@ bool all_finite(const std::vector<V>& values) {
 }  // namespace
 
 void append_node_animation(NodeAnimation& into, const NodeAnimation& part, uint32_t first_instance,
-                           const glm::mat4& placement) {
+                           uint32_t first_light, const glm::mat4& placement) {
     if (!part.plays()) return;
     into.name = into.name.empty() ? part.name : into.name + ", " + part.name;
     into.duration = std::max(into.duration, part.duration);
@@ -88,6 +88,11 @@ void append_node_animation(NodeAnimation& into, const NodeAnimation& part, uint3
         instance.instance += first_instance;
         instance.node += offset;
         into.instances.push_back(instance);
+    }
+    for (AnimatedLight light : part.lights) {
+        light.light += first_light;
+        light.node += offset;
+        into.lights.push_back(light);
     }
     const auto weight_offset = int32_t(into.weight_channels.size());
     into.weight_channels.insert(into.weight_channels.end(), part.weight_channels.begin(), part.weight_channels.end());

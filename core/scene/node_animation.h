@@ -55,6 +55,13 @@ struct AnimatedInstance {
     glm::mat4 local{1.0f};
 };
 
+// A light of Scene::lights that hangs from an animated node: at the node's origin, shining down its -z (as the
+// loader placed it).
+struct AnimatedLight {
+    uint32_t light = 0;
+    uint32_t node = 0;  // index into NodeAnimation::nodes
+};
+
 struct NodeAnimation {
     std::string name;       // for messages and `prism info`
     double duration = 0.0;  // seconds: the longest clip played (each clip loops over its own length)
@@ -64,19 +71,21 @@ struct NodeAnimation {
     int32_t camera_node = -1;  // the node the scene's camera hangs from, when a keyed node is above it
     std::vector<WeightChannel> weight_channels;
     std::vector<MeshDeformation> deformations;  // meshes posed anew at every moment: skinned, or weights keyed
+    std::vector<AnimatedLight> lights;
 
     bool plays() const {
         return (!channels.empty() || !weight_channels.empty()) &&
-               (!instances.empty() || camera_node >= 0 || !deformations.empty());
+               (!instances.empty() || camera_node >= 0 || !deformations.empty() || !lights.empty());
     }
 };
 
-// Adds `part`'s nodes, channels, instances and deformations to `into`: `part`'s roots hang from a new node placed by
-// `placement` and its instances are numbered from `first_instance` (a scene file placing an animated model, whose
-// meshes are already the scene's; the model's camera is not carried over). Both animations play together, over the
-// longer duration. A mesh `into` already deforms (the same model placed again shares its meshes) is not added twice.
+// Adds `part`'s nodes, channels, instances, deformations and lights to `into`: `part`'s roots hang from a new node
+// placed by `placement`, its instances are numbered from `first_instance` and its lights from `first_light` (a scene
+// file placing an animated model, whose meshes are already the scene's; the model's camera is not carried over).
+// Both animations play together, over the longer duration. A mesh `into` already deforms (the same model placed
+// again shares its meshes) is not added twice.
 void append_node_animation(NodeAnimation& into, const NodeAnimation& part, uint32_t first_instance,
-                           const glm::mat4& placement);
+                           uint32_t first_light, const glm::mat4& placement);
 
 // A channel's value at `seconds` (xyz, or a normalized quaternion as xyzw for rotations).
 glm::vec4 sample_channel(const AnimationChannel& channel, float seconds);

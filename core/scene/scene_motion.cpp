@@ -24,6 +24,26 @@ std::vector<glm::mat4> instance_transforms_at(const Scene& scene, double seconds
     return transforms;
 }
 
+std::vector<Light> lights_at(const Scene& scene, double seconds) {
+    std::vector<Light> lights = scene.lights;
+    const NodeAnimation& animation = scene.animation;
+    if (!animation.plays() || animation.lights.empty()) return lights;
+    const std::vector<glm::mat4> world = node_world_transforms(animation, seconds);
+    for (const AnimatedLight& animated : animation.lights) {
+        const glm::mat4& node = world[animated.node];
+        const glm::vec3 position = node * glm::vec4(0, 0, 0, 1);
+        const glm::vec3 axis = glm::vec3(node * glm::vec4(0, 0, -1, 0));
+        const glm::vec3 direction = glm::normalize(axis);
+        bool finite = glm::dot(axis, axis) > 0.0f;
+        for (int i = 0; i < 3; ++i) finite = finite && std::isfinite(position[i]) && std::isfinite(direction[i]);
+        if (!finite) continue;
+        Light& light = lights.at(animated.light);
+        light.position = position;
+        light.direction = direction;
+    }
+    return lights;
+}
+
 bool scene_moves(const Scene& scene) { return !scene.spins.empty() || scene.animation.plays(); }
 
 Camera camera_at(const Scene& scene, double seconds) {

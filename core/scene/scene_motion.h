@@ -1,5 +1,6 @@
-// Where a scene's instances are at a moment of a sequence: their placements, with a glTF file's animation played
-// (Scene::animation) and the spinning ones (Scene::spins, a scene file's "spin") turned about their axes.
+// Where a scene's instances, lights and camera are at a moment of a sequence: their placements, with a glTF file's
+// animation played (Scene::animation) and the spinning instances (Scene::spins, a scene file's "spin") turned about
+// their axes.
 #pragma once
 
 #include <vector>
@@ -13,6 +14,10 @@ namespace prism {
 // One transform per instance of `scene` at `seconds` into the sequence. Without an animation, at 0 (and every whole
 // turn) the placements as loaded; an animation's instances are where its keys put them at that time (looped).
 std::vector<glm::mat4> instance_transforms_at(const Scene& scene, double seconds);
+
+// The scene's lights at `seconds` into the sequence: those hanging from an animated node where it puts them (a light
+// whose node gives no finite place keeps the one it has), the rest as loaded.
+std::vector<Light> lights_at(const Scene& scene, double seconds);
 
 // Whether anything in `scene` moves over time (a spin, or an animation that moves an instance or the camera).
 bool scene_moves(const Scene& scene);
