@@ -134,6 +134,24 @@ TEST(GltfSkin, APrimitiveWithoutJointsIsDrawnUnskinnedWithAWarning) {
 }
 
 // Malformed skins: one line naming the file and the cause, nothing drawn half-skinned.
+// A thousand JOINTS_n / WEIGHTS_n sets naming one 10,000-vertex accessor would copy 80M floats from a file of
+// 160 KB: the load stops in one line before reading them.
+TEST(GltfSkin, InfluenceSetsSharingOneAccessorStayWithinABudget) {
+    SkinnedStrip strip;
+    std::vector<float> weights(4 * 10000, 0.0f);
+    const int many = strip.gltf.accessor(
+        {{"bufferView", strip.gltf.view(weights)}, {"componentType", 5126}, {"count", 10000}, {"type", "VEC4"}});
+    json& attributes = strip.gltf.document["meshes"][0]["primitives"][0]["attributes"];
+    for (int set = 1; set < 1000; ++set) {
+        attributes["JOINTS_" + std::to_string(set)] = many;
+        attributes["WEIGHTS_" + std::to_string(set)] = many;
+    }
+    const std::filesystem::path file = strip.gltf.write("influence-sets.gltf");
+    const std::string message = test::error_message([&] { (void)load(file); });
+    EXPECT_NE(message.find("its JOINTS_n and WEIGHTS_n sets would copy more than 16777216 floats"), std::string::npos)
+        << message;
+}
+
 TEST(GltfSkin, MalformedSkinsAreOneLineErrors) {
     auto expect_error = [](SkinnedStrip& strip, const std::string& name, const std::string& what) {
         std::filesystem::path file = strip.gltf.write(name);

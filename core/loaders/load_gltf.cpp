@@ -415,6 +415,13 @@ private:
             auto joint_set = primitive.attributes.find("JOINTS_" + std::to_string(set));
             auto weight_set = primitive.attributes.find("WEIGHTS_" + std::to_string(set));
             if (joint_set == primitive.attributes.end() || weight_set == primitive.attributes.end()) break;
+            // Sets may share one accessor, so a small file could name it a thousand times: what the sets copy
+            // stays within the file's buffer size in floats (16M at least), charged before they are read.
+            influence_floats_used_ += declared_floats(joint_set->second) + declared_floats(weight_set->second);
+            if (influence_floats_used_ > file_float_budget())
+                throw file_error(file_, what + ": its JOINTS_n and WEIGHTS_n sets would copy more than " +
+                                            std::to_string(file_float_budget()) +
+                                            " floats (the file's buffers' size in bytes, 16M at least)");
             gltf::Influences read{gltf::read_floats(model_, joint_set->second, file_),
                                   gltf::read_floats(model_, weight_set->second, file_)};
             if (read.joints.components != 4 || read.weights.components != 4)
@@ -496,11 +503,23 @@ private:
         return deformation;
     }
 
-    size_t deformation_floats_left() const {
+    // What copies of a file's data may take in all, in floats: its buffers' size in bytes, 16M at least.
+    size_t file_float_budget() const {
         size_t buffer_bytes = 0;
         for (const tinygltf::Buffer& buffer : model_.buffers) buffer_bytes += buffer.data.size();
-        const size_t budget = std::max(size_t(16) << 20, buffer_bytes);
+        return std::max(size_t(16) << 20, buffer_bytes);
+    }
+
+    size_t deformation_floats_left() const {
+        const size_t budget = file_float_budget();
         return budget > deformation_floats_used_ ? budget - deformation_floats_used_ : 0;
+    }
+
+    // The floats an accessor holds as its header declares them (0 for one that does not exist: reading it fails).
+    size_t declared_floats(int accessor) const {
+        if (accessor < 0 || size_t(accessor) >= model_.accessors.size()) return 0;
+        const tinygltf::Accessor& a = model_.accessors[size_t(accessor)];
+        return a.count * size_t(std::max(tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type)), 1));
     }
 
     // Each skinned copy, and each copy morphed with a node's own weights, is new memory: bounded, so a file cannot
@@ -713,6 +732,7 @@ private:
     std::vector<PendingSkin> pending_skins_;
     size_t copied_vertices_ = 0;
     size_t deformation_floats_used_ = 0;  // what the deformed meshes' rest poses, targets and influences copy
+    size_t influence_floats_used_ = 0;    // what the skinned primitives' JOINTS_n and WEIGHTS_n sets copy
     bool warned_large_deformation_ = false;
     bool warned_non_triangles_ = false;
     bool warned_unplaced_joint_ = false;
