@@ -26,16 +26,18 @@ bool morph_changes(const tinygltf::Primitive& primitive, std::span<const double>
 std::vector<float> morph_weights(const tinygltf::Primitive& primitive, std::span<const double> weights,
                                  const std::string& what, const std::string& file);
 
-// The primitive's targets as displacements for `mesh` (positions, and normals and tangents where both the mesh and
-// the target have them). Only the targets whose weight is non-zero are read unless `every_target`; the others stay
-// empty. Throws prism::Error "<file>: <what>: ..." for a target attribute that is not VEC3 or not as long as
-// POSITION.
+// Target t of the primitive as displacements for `mesh` (positions, and normals and tangents where both the mesh and
+// the target have them). Throws prism::Error "<file>: <what>: ..." for a target attribute that is not VEC3 or not as
+// long as POSITION.
+MorphTarget read_morph_target(const tinygltf::Model& model, const tinygltf::Primitive& primitive, size_t t,
+                              const Mesh& mesh, const std::string& what, const std::string& file);
+// Every target of the primitive (a mesh an animation morphs keeps them all).
 std::vector<MorphTarget> read_morph_targets(const tinygltf::Model& model, const tinygltf::Primitive& primitive,
-                                            const Mesh& mesh, std::span<const float> weights, bool every_target,
-                                            const std::string& what, const std::string& file);
+                                            const Mesh& mesh, const std::string& what, const std::string& file);
 
-// Adds the weighted displacements to `mesh` (morph_vertices on the targets read_morph_targets reads). Weights beyond
-// the primitive's targets are ignored, missing ones are 0.
+// Adds the weighted displacements to `mesh`, as morph_vertices does, reading one target at a time: targets that
+// share one accessor are never all in memory at once. Weights beyond the primitive's targets are ignored, missing
+// ones are 0.
 void apply_morph_targets(const tinygltf::Model& model, const tinygltf::Primitive& primitive,
                          std::span<const double> weights, Mesh& mesh, const std::string& what, const std::string& file);
 

@@ -484,7 +484,7 @@ private:
         if (needed <= double(deformation_floats_left())) {
             deformation_floats_used_ += size_t(needed);
             deformation.emplace();
-            deformation->targets = gltf::read_morph_targets(model_, primitive, converted, floats, true, what, file_);
+            deformation->targets = gltf::read_morph_targets(model_, primitive, converted, what, file_);
             deformation->weights = floats;
             deformation->rest = {converted.positions, converted.normals, converted.tangents};
             if (influences) deformation->influences = *influences;
@@ -494,11 +494,12 @@ private:
                                                      std::to_string(uint64_t(std::min(needed, 1e19))) +
                                                      " floats); drawn as the file poses it");
         }
-        const std::vector<MorphTarget> targets =
-            deformation ? std::vector<MorphTarget>{}
-                        : gltf::read_morph_targets(model_, primitive, converted, floats, false, what, file_);
+        if (!deformation) {
+            gltf::apply_morph_targets(model_, primitive, weights, converted, what, file_);
+            return deformation;
+        }
         DeformedVertices posed = gltf::take_deformed(converted);
-        morph_vertices(posed, deformation ? deformation->targets : targets, floats);
+        morph_vertices(posed, deformation->targets, floats);
         gltf::put_deformed(converted, std::move(posed));
         return deformation;
     }

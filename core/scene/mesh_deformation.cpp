@@ -7,32 +7,38 @@
 
 namespace prism {
 
-void morph_vertices(DeformedVertices& vertices, std::span<const MorphTarget> targets, std::span<const float> weights) {
-    const size_t count = std::min(targets.size(), weights.size());
-    bool moved_normals = false, moved_tangents = false;
-    for (size_t t = 0; t < count; ++t) {
-        const float w = weights[t];
-        if (w == 0.0f) continue;
-        const MorphTarget& target = targets[t];
-        for (size_t v = 0; v < target.positions.size() && v < vertices.positions.size(); ++v)
-            vertices.positions[v] += w * target.positions[v];
-        if (!vertices.normals.empty() && !target.normals.empty()) {
-            for (size_t v = 0; v < target.normals.size() && v < vertices.normals.size(); ++v)
-                vertices.normals[v] += w * target.normals[v];
-            moved_normals = true;
-        }
-        if (!vertices.tangents.empty() && !target.tangents.empty()) {
-            for (size_t v = 0; v < target.tangents.size() && v < vertices.tangents.size(); ++v)
-                vertices.tangents[v] += glm::vec4(w * target.tangents[v], 0.0f);
-            moved_tangents = true;
-        }
+unsigned add_morph_target(DeformedVertices& vertices, const MorphTarget& target, float weight) {
+    if (weight == 0.0f) return 0;
+    unsigned moved = 0;
+    for (size_t v = 0; v < target.positions.size() && v < vertices.positions.size(); ++v)
+        vertices.positions[v] += weight * target.positions[v];
+    if (!vertices.normals.empty() && !target.normals.empty()) {
+        for (size_t v = 0; v < target.normals.size() && v < vertices.normals.size(); ++v)
+            vertices.normals[v] += weight * target.normals[v];
+        moved |= 1u;
     }
-    if (moved_normals)
+    if (!vertices.tangents.empty() && !target.tangents.empty()) {
+        for (size_t v = 0; v < target.tangents.size() && v < vertices.tangents.size(); ++v)
+            vertices.tangents[v] += glm::vec4(weight * target.tangents[v], 0.0f);
+        moved |= 2u;
+    }
+    return moved;
+}
+
+void normalize_morphed(DeformedVertices& vertices, unsigned moved) {
+    if (moved & 1u)
         for (glm::vec3& n : vertices.normals)
             if (glm::dot(n, n) > 0.0f) n = glm::normalize(n);
-    if (moved_tangents)
+    if (moved & 2u)
         for (glm::vec4& t : vertices.tangents)
             if (glm::vec3 xyz(t); glm::dot(xyz, xyz) > 0.0f) t = glm::vec4(glm::normalize(xyz), t.w);
+}
+
+void morph_vertices(DeformedVertices& vertices, std::span<const MorphTarget> targets, std::span<const float> weights) {
+    unsigned moved = 0;
+    for (size_t t = 0; t < targets.size() && t < weights.size(); ++t)
+        moved |= add_morph_target(vertices, targets[t], weights[t]);
+    normalize_morphed(vertices, moved);
 }
 
 void skin_vertices(DeformedVertices& vertices, const SkinInfluences& influences,

@@ -39,6 +39,12 @@ struct DeformedVertices {
 // ones are 0); moved normals and tangents are normalized again.
 void morph_vertices(DeformedVertices& vertices, std::span<const MorphTarget> targets, std::span<const float> weights);
 
+// One target's share of morph_vertices, for a caller that reads targets one at a time: the displacements times
+// `weight` added, nothing normalized. Returns which of normals (bit 0) and tangents (bit 1) it moved.
+unsigned add_morph_target(DeformedVertices& vertices, const MorphTarget& target, float weight);
+// morph_vertices' last step: the normals (`moved` bit 0) and tangents (bit 1) normalized again.
+void normalize_morphed(DeformedVertices& vertices, unsigned moved);
+
 // Each vertex moved by its influences' blend of `joint_matrices`; normals by the blend's inverse transpose (a
 // skin may scale unevenly; a singular blend moves them by its linear part), tangents by its linear part.
 void skin_vertices(DeformedVertices& vertices, const SkinInfluences& influences,
