@@ -129,7 +129,8 @@ RT_FUNC Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, fl
 // Stack layout: interior nodes hold their first child (the second is next to it); both child boxes are tested
 // and the nearer is visited first, the farther pushed with its entry distance so it can be skipped later.
 // - The walk keeps the node it goes to as its parent's pair holds it (first, count): descending costs one
-//   dependent load (the pair), not two (the node again, then its pair); only a popped node is fetched again.
+//   dependent load (the pair), not two (the node again, then its pair); only a popped node is fetched again, and
+//   in an any-hit walk not even that (its entries are the pair's (first, count), below).
 // - "While-while" (Aila & Laine 2009): an inner loop walks interior nodes until every ray has a leaf (or nothing)
 //   next, then the rays test their leaves together. With one loop that took a node or a leaf per step, a GPU warp
 //   whose rays were at both ran both paths every step (docs/kernels.md, "The stack traversal", has the gain).
@@ -168,8 +169,16 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
             bool a_first = t_a <= t_b;
             float t_far = rt_max(t_a, t_b);
             if (t_far < RT_INFINITY && sp < rt_uint(RT_BVH_STACK_SIZE)) {
-                stack[sp].x = a_first ? first + 1u : first;
-                stack[sp].y = rt_as_uint(t_far);
+                if (any_hit) {
+                    // An any-hit walk visits every entry it pushes (its reach is tmax until the hit it returns
+                    // at), so it needs no distance: it pushes the farther child as the pair holds it (first,
+                    // count), and its pop loads no node.
+                    stack[sp].x = rt_as_uint(a_first ? b.lower.w : a.lower.w);
+                    stack[sp].y = rt_as_uint(a_first ? b.upper.w : a.upper.w);
+                } else {
+                    stack[sp].x = a_first ? first + 1u : first;
+                    stack[sp].y = rt_as_uint(t_far);
+                }
                 sp += 1u;
             }
             if (rt_min(t_a, t_b) < RT_INFINITY) {
@@ -210,6 +219,10 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
             if (popped.x == RT_STACK_LEAVE_INSTANCE) {
                 ray = world;
                 instance = RT_NONE;
+            } else if (any_hit) {
+                first = popped.x;
+                count = popped.y;
+                going = true;
             } else if (rt_as_float(popped.y) <= rt_hit_reach(best, tmax)) {
                 BvhNode next = RT_FETCH(kg, nodes, popped.x);
                 first = rt_as_uint(next.lower.w);
