@@ -61,8 +61,8 @@ RT_FUNC void rt_stage_generate(KernelGlobals kg, uint index) {
 RT_FUNC void rt_stage_intersect(KernelGlobals kg, uint index, uint depth) {
     FrameParams frame = RT_FETCH(kg, frame, 0u);
     Ray ray = RT_FETCH(kg, rays, rt_queue_base(frame, depth) + index);
-    // Two calls with constant any_hit, not one with the flag: each walk is compiled for its query, so the
-    // closest-hit walk carries none of the any-hit walk's branches (they cost the frame's intersect stage 5%).
+    // Two calls with constant any_hit, not one with the flag: each walk is compiled for its query, so the frame's
+    // closest-hit walk carries none of the any-hit walk's branches (docs/kernels.md, "Any-hit walks").
     Hit hit = (frame.flags & RT_FLAG_ANY_HIT) != 0u
                   ? rt_trace(kg, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w, ray.direction.w, true)
                   : rt_trace(kg, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w, ray.direction.w, false);
