@@ -133,7 +133,6 @@ TEST(GltfSkin, APrimitiveWithoutJointsIsDrawnUnskinnedWithAWarning) {
         << scene.warnings[0];
 }
 
-// Malformed skins: one line naming the file and the cause, nothing drawn half-skinned.
 // A thousand JOINTS_n / WEIGHTS_n sets naming one 10,000-vertex accessor would copy 80M floats from a file of
 // 160 KB: the load stops in one line before reading them.
 TEST(GltfSkin, InfluenceSetsSharingOneAccessorStayWithinABudget) {
@@ -152,6 +151,7 @@ TEST(GltfSkin, InfluenceSetsSharingOneAccessorStayWithinABudget) {
         << message;
 }
 
+// Malformed skins: one line naming the file and the cause, nothing drawn half-skinned.
 TEST(GltfSkin, MalformedSkinsAreOneLineErrors) {
     auto expect_error = [](SkinnedStrip& strip, const std::string& name, const std::string& what) {
         std::filesystem::path file = strip.gltf.write(name);

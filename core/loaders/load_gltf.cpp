@@ -493,9 +493,7 @@ private:
             warn_once(warned_large_deformation_, what + ": its morph targets and skin are too large to animate (" +
                                                      std::to_string(uint64_t(std::min(needed, 1e19))) +
                                                      " floats); drawn as the file poses it");
-        }
-        if (!deformation) {
-            gltf::apply_morph_targets(model_, primitive, weights, converted, what, file_);
+            gltf::apply_morph_targets(model_, primitive, weights, converted, what, file_);  // a target at a time
             return deformation;
         }
         DeformedVertices posed = gltf::take_deformed(converted);
