@@ -243,6 +243,8 @@ void run_bench(BenchOptions options) {
         nlohmann::json scene_json = {{"scene", scene_name},
                                      {"triangles", loaded.device.traced_triangles},
                                      {"bvh_build_ms", loaded.device.bvh_build_ms},
+                                     {"closed_solid_instances", loaded.device.closed_solid_instances},
+                                     {"closed_solid_ms", loaded.device.closed_solid_ms},
                                      {"sah_cost", loaded.device.sah_cost},
                                      {"backends", nlohmann::json::array()}};
         FirstFrame first;

@@ -69,6 +69,8 @@ void run_info(const InfoOptions& options) {
                          {"top_level_nodes", d.top_level_nodes},
                          {"sah_cost", d.sah_cost},
                          {"bvh_build_ms", d.bvh_build_ms},
+                         {"closed_solid_instances", d.closed_solid_instances},
+                         {"closed_solid_ms", d.closed_solid_ms},
                          {"load_ms", loaded.load_ms},
                          {"device_bytes", d.byte_size()},
                          {"warnings", loaded.scene.warnings}};
@@ -94,13 +96,14 @@ void run_info(const InfoOptions& options) {
         std::printf(
             "Scene %s:\n  triangles %zu (traced %zu, degenerate %zu), meshes %zu, instances %zu, materials %zu, "
             "textures %zu, lights %zu\n  BVH (%s, %s layout): %zu nodes (%zu top level), SAH cost %.2f, "
-            "built in %.1f ms; load %.1f ms; %.1f MiB on the device\n",
+            "built in %.1f ms; closed solids %zu (%.1f ms); load %.1f ms; %.1f MiB on the device\n",
             options.scene.scene.c_str(), s["triangles"].get<size_t>(), s["traced_triangles"].get<size_t>(),
             s["degenerate_triangles"].get<size_t>(), s["meshes"].get<size_t>(), s["instances"].get<size_t>(),
             s["materials"].get<size_t>(), s["textures"].get<size_t>(), s["lights"].get<size_t>(),
             options.scene.bvh.c_str(), s["bvh_layout"].get<std::string>().c_str(), s["bvh_nodes"].get<size_t>(),
             s["top_level_nodes"].get<size_t>(), s["sah_cost"].get<double>(), s["bvh_build_ms"].get<double>(),
-            s["load_ms"].get<double>(), double(s["device_bytes"].get<size_t>()) / (1024.0 * 1024.0));
+            s["closed_solid_instances"].get<size_t>(), s["closed_solid_ms"].get<double>(), s["load_ms"].get<double>(),
+            double(s["device_bytes"].get<size_t>()) / (1024.0 * 1024.0));
         if (s.contains("animation")) {
             const auto& a = s["animation"];
             const size_t channels = a["channels"].get<size_t>(), moving = a["moving_instances"].get<size_t>();

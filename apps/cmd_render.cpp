@@ -90,6 +90,8 @@ void run_render(const RenderOptions& options) {
                         {"leaf_size", options.scene.bvh_leaf_size},
                         {"node_cost", options.scene.bvh_node_cost},
                         {"build_ms", loaded.device.bvh_build_ms},
+                        {"closed_solid_instances", loaded.device.closed_solid_instances},
+                        {"closed_solid_ms", loaded.device.closed_solid_ms},
                         {"sah_cost", loaded.device.sah_cost}};
         stats_file.emplace(options.stats, stats.dump(2) + "\n");
     }

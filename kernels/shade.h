@@ -103,6 +103,7 @@ RT_STRUCT_BEGIN(LitPoint)
     float4 origin;        // xyz: the point moved off the surface on the side the ray came from
     float4 normal;        // xyz: shading normal facing the ray
     float4 geometric;     // xyz: geometric normal facing the ray
+    uint solid;           // the closed solid (instance) the point lies inside, hit from within; RT_NONE if none
 RT_STRUCT_END(LitPoint)
 
 // The child rays go to an array the caller holds, not into this struct: returned by value, a struct with the
@@ -208,6 +209,9 @@ RT_FUNC ShadeResult rt_shade(KernelGlobals kg, Ray ray, Hit hit, RT_OUT_ARRAY Ra
     result.lit.origin = rt_float4(rt_offset_ray_origin(rt_xyz(s.position), ng), 0.0f);
     result.lit.normal = s.normal;
     result.lit.geometric = s.geometric;
+    bool inside_solid =
+        s.geometric.w == 0.0f && (RT_FETCH(kg, instances, hit.instance).flags & RT_INSTANCE_CLOSED_SOLID) != 0u;
+    result.lit.solid = inside_solid ? hit.instance : RT_NONE;
     result.child_count = 0u;
     uint count = 0u;
     if (depth + 1u < frame.max_depth) {
@@ -246,8 +250,23 @@ RT_FUNC ShadeResult rt_shade(KernelGlobals kg, Ray ray, Hit hit, RT_OUT_ARRAY Ra
     return result;
 }
 
+// Whether `light` lies outside the bounds of closed solid `solid` (an instance marked RT_INSTANCE_CLOSED_SOLID): a
+// directional light always. Every path from inside a closed surface to a point outside it crosses the surface, and
+// every surface of the solid stops shadow rays, so a point inside sees no such light, whatever else the scene holds:
+// its shadow ray is not traced (docs/kernels.md, "Shadow rays from inside a solid"). A light inside the bounds (a
+// lamp in a glass bulb) is traced as any other.
+RT_FUNC bool rt_light_outside_solid(KernelGlobals kg, uint solid, Light light) {
+    if (light.position.w == RT_LIGHT_DIRECTIONAL_CODE) return true;
+    Instance inst = RT_FETCH(kg, instances, solid);
+    float3 p =
+        rt_transform_point(inst.world_to_object0, inst.world_to_object1, inst.world_to_object2, rt_xyz(light.position));
+    float3 lower = rt_xyz(inst.solid_lower);
+    float3 upper = rt_xyz(inst.solid_upper);
+    return p.x < lower.x || p.y < lower.y || p.z < lower.z || p.x > upper.x || p.y > upper.y || p.z > upper.z;
+}
+
 // The shadow ray towards light `index` and what it delivers if nothing blocks it; contribution.w = 0 when the
-// light is behind the surface (no ray needed).
+// light is behind the surface or the point lies in a closed solid that hides the light (no ray needed).
 RT_FUNC ShadowRay rt_shadow_ray(KernelGlobals kg, LitPoint lit, uint index, uint pixel) {
     Light light = RT_FETCH(kg, lights, index);
     float3 origin = rt_xyz(lit.origin);
@@ -277,7 +296,8 @@ RT_FUNC ShadowRay rt_shadow_ray(KernelGlobals kg, LitPoint lit, uint index, uint
     sr.origin = rt_float4(origin, 0.0f);
     sr.direction = rt_float4(to_light, distance);
     float3 contribution = rt_xyz(lit.light_weight) * rt_xyz(light.color) * (rt_max(cosine, 0.0f) * falloff);
-    sr.contribution = rt_float4(contribution, cosine > 0.0f && rt_max3(contribution) > 0.0f ? 1.0f : 0.0f);
+    bool hidden = lit.solid != RT_NONE && rt_light_outside_solid(kg, lit.solid, light);
+    sr.contribution = rt_float4(contribution, !hidden && cosine > 0.0f && rt_max3(contribution) > 0.0f ? 1.0f : 0.0f);
     sr.pixel = pixel;
     sr.unused0 = 0u;
     sr.unused1 = 0u;

@@ -120,10 +120,15 @@ RT_STRUCT_BEGIN(Instance)
     uint first_triangle;  // the mesh's first triangle in triangles
     uint first_shading;   // the mesh's first entry in triangle_shading
     uint flags;           // RT_INSTANCE_* bits
+    float4 solid_lower;   // RT_INSTANCE_CLOSED_SOLID: the mesh's bounds in object space (w unused)
+    float4 solid_upper;
 RT_STRUCT_END(Instance)
 
 #define RT_INSTANCE_MIRRORED 1u  // the transform mirrors (det < 0; informative)
 #define RT_INSTANCE_IDENTITY 2u  // world_to_object is exactly the identity: object space is world space
+// The mesh bounds a solid (core/scene/closed_solid.h) that rays can enter and every surface of which stops shadow
+// rays: a hit on its back lies inside it, where no light outside its bounds is seen (kernels/shade.h).
+#define RT_INSTANCE_CLOSED_SOLID 4u
 
 // ---- Materials and textures ----------------------------------------------------------------------------------
 // The seed's material (thesis 6.3, eq. 6.7). See core/scene/scene.h Material for the meaning of each field.

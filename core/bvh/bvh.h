@@ -60,6 +60,9 @@ struct BvhBuildOptions {
     // two-level layout; the built DeviceScene's bvh_options.flatten_instances says which one it got, false for
     // every layout but the wide one).
     float flatten_growth_limit = 2.0f;
+    // build_device_scene: mark the instances whose mesh bounds a solid rays can enter (RT_INSTANCE_CLOSED_SOLID), so
+    // that the shade stage traces no shadow ray the solid itself blocks. Off only to compare against.
+    bool closed_solids = true;
 };
 
 // Where a build's time went (build_bvh's steps, wall clock): the benchmark reports them per thread count.

@@ -8,6 +8,7 @@
 
 #include "core/bvh/bvh_tree.h"
 #include "core/render/device_scene_flat.h"
+#include "core/scene/closed_solid.h"
 #include "core/util/error.h"
 #include "kernels/intersect.h"
 #include "kernels/math.h"
@@ -153,7 +154,9 @@ Aabb transformed_bounds(const Aabb& box, const glm::mat4& m) {
     return out;
 }
 
-::Instance device_instance(const glm::mat4& transform, uint32_t root, uint32_t first_triangle, uint32_t first_shading) {
+// `solid`: the mesh's object-space bounds when the instance is a closed solid (RT_INSTANCE_CLOSED_SOLID), else null.
+::Instance device_instance(const glm::mat4& transform, uint32_t root, uint32_t first_triangle, uint32_t first_shading,
+                           const Aabb* solid) {
     glm::mat4 inverse = glm::inverse(transform);
     ::Instance out{};
     // glm is column-major: row r of the 3x4 matrix is (m[0][r], m[1][r], m[2][r], m[3][r]).
@@ -169,7 +172,11 @@ Aabb transformed_bounds(const Aabb& box, const glm::mat4& m) {
     out.first_triangle = first_triangle;
     out.first_shading = first_shading;
     out.flags = (glm::determinant(glm::mat3(transform)) < 0.0f ? RT_INSTANCE_MIRRORED : 0u) |
-                (identity ? RT_INSTANCE_IDENTITY : 0u);
+                (identity ? RT_INSTANCE_IDENTITY : 0u) | (solid ? RT_INSTANCE_CLOSED_SOLID : 0u);
+    if (solid) {
+        out.solid_lower = to_float4(solid->lower, 0.0f);
+        out.solid_upper = to_float4(solid->upper, 0.0f);
+    }
     return out;
 }
 
@@ -267,6 +274,48 @@ size_t DeviceScene::byte_size() const {
 #include "kernels/data_arrays.h"
 #undef RT_DATA_ARRAY
     return bytes;
+}
+
+// Which instances are closed solids (RT_INSTANCE_CLOSED_SOLID): the mesh bounds a solid (is_closed_solid), some
+// material of the instance lets rays in (transmittance; a ray in an opaque solid is lost anyway), every one stops
+// shadow rays (alpha OPAQUE: cut-out and blended surfaces let light through in the shadow_layers stage), and no
+// animation poses the mesh anew (its bounds would move from under the flag). Each mesh is examined at most once,
+// and only when some instance of it could use the answer.
+static std::vector<bool> closed_solid_instances(const Scene& scene) {
+    std::vector<bool> deformed(scene.meshes.size(), false);
+    for (const MeshDeformation& deformation : scene.animation.deformations)
+        if (deformation.mesh < deformed.size()) deformed[deformation.mesh] = true;
+    enum class Closed : uint8_t { Unknown, Yes, No };
+    std::vector<Closed> closed(scene.meshes.size(), Closed::Unknown);
+    std::vector<bool> solid(scene.instances.size(), false);
+    for (size_t i = 0; i < scene.instances.size(); ++i) {
+        const Instance& instance = scene.instances[i];
+        const Mesh& mesh = scene.meshes[instance.mesh];
+        if (deformed[instance.mesh]) continue;
+        bool enterable = false, opaque = true;
+        auto consider = [&](uint32_t index) {
+            const Material fallback{};
+            const Material& m = index < scene.materials.size() ? scene.materials[index] : fallback;
+            enterable = enterable || m.transmittance > 0.0f;
+            opaque = opaque && m.alpha_mode == AlphaMode::Opaque;
+        };
+        if (instance.material_override != kNoMaterialOverride) {
+            consider(instance.material_override);
+        } else if (mesh.triangle_materials.empty()) {
+            consider(0u);
+        } else {
+            std::vector<bool> seen(scene.materials.size() + 1, false);
+            for (uint32_t index : mesh.triangle_materials) {
+                uint32_t slot = std::min<uint32_t>(index, uint32_t(scene.materials.size()));
+                if (!seen[slot]) consider(index), seen[slot] = true;
+            }
+        }
+        if (!enterable || !opaque) continue;
+        if (closed[instance.mesh] == Closed::Unknown)
+            closed[instance.mesh] = is_closed_solid(mesh) ? Closed::Yes : Closed::No;
+        solid[i] = closed[instance.mesh] == Closed::Yes;
+    }
+    return solid;
 }
 
 // Flattening stores a mesh once per instance: a scene that instances its meshes heavily (a forest of one tree)
@@ -457,6 +506,11 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
     // An instance with a material override reads its own copy of the mesh's per-triangle shading entries (vertex
     // indices and material), one copy per (mesh, material); geometry, vertices and BVH stay shared.
     std::map<std::pair<uint32_t, uint32_t>, uint32_t> override_shading;
+    auto solids_start = std::chrono::steady_clock::now();
+    std::vector<bool> solid(scene.instances.size(), false);
+    if (options.closed_solids) solid = closed_solid_instances(scene);
+    device.closed_solid_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - solids_start).count();
     for (size_t i = 0; i < scene.instances.size(); ++i) {
         const prism::Instance& instance = scene.instances[i];
         const MeshPlacement& placement = placements[instance.mesh];
@@ -474,8 +528,10 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
             }
             first_shading = entry->second;
         }
-        device.instances.push_back(
-            device_instance(instance.transform, placement.first_vertex, placement.first_triangle, first_shading));
+        device.closed_solid_instances += solid[i] ? 1u : 0u;
+        device.instances.push_back(device_instance(instance.transform, placement.first_vertex, placement.first_triangle,
+                                                   first_shading,
+                                                   solid[i] ? &device.mesh_bounds[instance.mesh] : nullptr));
     }
 
     // Materials and their texture stacks.
@@ -521,7 +577,8 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
     device.ambient_light = scene.ambient_light;
 
     if (!flatten) device.sah_cost = bvh_triangles ? float(triangle_weighted_sah / double(bvh_triangles)) : 0.0f;
-    device.bvh_build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    device.bvh_build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() -
+                          device.closed_solid_ms;
     return device;
 }
 
@@ -590,7 +647,12 @@ void update_instance_transforms(DeviceScene& device, const std::vector<glm::mat4
             "move (build it with BvhBuildOptions::flatten_instances off)");
     for (size_t i = 0; i < transforms.size(); ++i) {
         const ::Instance& old = device.instances[i];
-        device.instances[i] = device_instance(transforms[i], old.root, old.first_triangle, old.first_shading);
+        // A closed solid keeps its object-space bounds: the mesh does not move within its instance.
+        Aabb solid{glm::vec3(old.solid_lower.x, old.solid_lower.y, old.solid_lower.z),
+                   glm::vec3(old.solid_upper.x, old.solid_upper.y, old.solid_upper.z)};
+        bool closed = (old.flags & RT_INSTANCE_CLOSED_SOLID) != 0u;
+        device.instances[i] =
+            device_instance(transforms[i], old.root, old.first_triangle, old.first_shading, closed ? &solid : nullptr);
     }
     build_top_level(device, transforms, rebuild);
     if (device.bvh_options.layout == BvhLayout::Wide) {

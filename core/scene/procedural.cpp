@@ -49,9 +49,13 @@ Mesh make_uv_sphere(int rings, int segments) {
     mesh.name = "uv sphere";
     for (int ring = 0; ring <= rings; ++ring) {
         float theta = glm::pi<float>() * ring / rings;
+        // The poles and the seam get exactly the positions they share (sin(pi) and sin(2 pi) are not 0 in float):
+        // the sphere is closed, with no crack at the seam or the south pole (core/scene/closed_solid.h).
+        float sin_theta = ring == 0 || ring == rings ? 0.0f : std::sin(theta);
+        float cos_theta = ring == 0 ? 1.0f : ring == rings ? -1.0f : std::cos(theta);
         for (int segment = 0; segment <= segments; ++segment) {
-            float phi = glm::two_pi<float>() * segment / segments;
-            glm::vec3 p{std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)};
+            float phi = segment == segments ? 0.0f : glm::two_pi<float>() * segment / segments;
+            glm::vec3 p{sin_theta * std::cos(phi), cos_theta, sin_theta * std::sin(phi)};
             mesh.positions.push_back(p);
             mesh.normals.push_back(p);
             mesh.uv0.push_back({static_cast<float>(segment) / segments, static_cast<float>(ring) / rings});
