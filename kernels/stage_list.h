@@ -20,6 +20,8 @@
 // No include guard: it is expanded several times with different definitions of RT_STAGE.
 RT_STAGE(generate, Generate, Before, GridSizesQueue, 0)
 RT_STAGE(intersect, Intersect, Bounce, Queue, 0)
+// Ray queries for any hit (Renderer::trace): a stage of its own, so that each kernel holds one walk.
+RT_STAGE(occlude, Occlude, Bounce, Queue, RT_FLAG_ANY_HIT)
 RT_STAGE(miss, Miss, Bounce, Queue, 0)
 RT_STAGE(shade, Shade, Bounce, QueueGrows, 0)
 RT_STAGE(shadow, Shadow, Bounce, GridSizesQueue, 0)

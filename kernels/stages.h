@@ -57,15 +57,13 @@ RT_FUNC void rt_stage_generate(KernelGlobals kg, uint index) {
     RT_STORE(kg, rays, index, rt_primary_ray(RT_FETCH(kg, frame, 0u), index));
 }
 
-// Closest hit (or any hit for occlusion queries) of every queued ray.
-RT_FUNC void rt_stage_intersect(KernelGlobals kg, uint index, uint depth) {
+// The closest hit (intersect) or any hit (occlude, ray queries with RT_FLAG_ANY_HIT) of every queued ray. Two
+// stages, not one reading the flag: each kernel is compiled for one walk, so the frame's closest-hit walk carries
+// none of the any-hit walk's code (docs/kernels.md, "Any-hit walks").
+RT_FUNC void rt_stage_trace(KernelGlobals kg, uint index, uint depth, bool any_hit) {
     FrameParams frame = RT_FETCH(kg, frame, 0u);
     Ray ray = RT_FETCH(kg, rays, rt_queue_base(frame, depth) + index);
-    // Two calls with constant any_hit, not one with the flag: each walk is compiled for its query, so the frame's
-    // closest-hit walk carries none of the any-hit walk's branches (docs/kernels.md, "Any-hit walks").
-    Hit hit = (frame.flags & RT_FLAG_ANY_HIT) != 0u
-                  ? rt_trace(kg, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w, ray.direction.w, true)
-                  : rt_trace(kg, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w, ray.direction.w, false);
+    Hit hit = rt_trace(kg, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w, ray.direction.w, any_hit);
     RT_STORE(kg, hits, index, hit);
 }
 
@@ -210,7 +208,10 @@ RT_FUNC void rt_kernel_generate(KernelGlobals kg, uint depth) {
     RT_GRID_LOOP(i, rt_pixel_count(kg)) { rt_stage_generate(kg, i); }
 }
 RT_FUNC void rt_kernel_intersect(KernelGlobals kg, uint depth) {
-    RT_WORK_LOOP(kg, i, rt_ray_count(kg, depth), RT_COUNTER_TAKEN_RAYS + depth) { rt_stage_intersect(kg, i, depth); }
+    RT_WORK_LOOP(kg, i, rt_ray_count(kg, depth), RT_COUNTER_TAKEN_RAYS + depth) { rt_stage_trace(kg, i, depth, false); }
+}
+RT_FUNC void rt_kernel_occlude(KernelGlobals kg, uint depth) {
+    RT_WORK_LOOP(kg, i, rt_ray_count(kg, depth), RT_COUNTER_TAKEN_RAYS + depth) { rt_stage_trace(kg, i, depth, true); }
 }
 RT_FUNC void rt_kernel_miss(KernelGlobals kg, uint depth) {
     RT_GRID_LOOP(i, rt_ray_count(kg, depth)) { rt_stage_miss(kg, i, depth); }

@@ -248,7 +248,7 @@ RT_STRUCT_END(Light)
 #define RT_COUNTER_TAKEN_SHADOWS (RT_COUNTER_TAKEN_RAYS + RT_MAX_DEPTH + 1u)
 #define RT_COUNTER_SLOTS (RT_COUNTER_TAKEN_SHADOWS + RT_MAX_DEPTH + 1u)
 
-#define RT_FLAG_ANY_HIT 1u       // intersect reports any hit (ray queries with --any-hit)
+#define RT_FLAG_ANY_HIT 1u       // a ray query for any hit (--any-hit): the occlude stage runs, not intersect
 #define RT_FLAG_NO_SHADING 2u    // ray queries: no frame, intersect only
 #define RT_FLAG_ONE_INSTANCE 4u  // the top level holds exactly instance 0 (the wide traversal starts inside it)
 // The wide layout with its instances flattened (static scenes, core/render/device_scene_flat.cpp): wide_nodes hold one

@@ -69,7 +69,7 @@ TEST(ClosedSolid, OpenInsideOutAndFlatMeshesAreNot) {
     prism::Mesh open = cube();
     open.triangles.pop_back();
     EXPECT_FALSE(prism::is_closed_solid(open));
-    EXPECT_FALSE(prism::is_closed_solid(reversed(cube())));                          // normals inwards
+    EXPECT_FALSE(prism::is_closed_solid(reversed(cube())));                                 // normals inwards
     EXPECT_FALSE(prism::is_closed_solid(merged(cube(), reversed(cube(glm::vec3(3.0f))))));  // one piece inside out
     prism::Mesh crossed = cube();  // one face wound the other way: its edges run the same way as their neighbours'
     std::swap(crossed.triangles[0].y, crossed.triangles[0].z);
@@ -208,8 +208,8 @@ RuleCheck check_rule(const prism::Scene& scene) {
         for (int x = 0; x < size; ++x) {
             glm::vec3 d = glm::normalize(forward + right * (0.8f * (2.0f * (x + 0.5f) / size - 1.0f)) +
                                          up * (0.8f * (1.0f - 2.0f * (y + 0.5f) / size)));
-            rays.push_back(rt_make_ray(float3{eye.x, eye.y, eye.z}, float3{d.x, d.y, d.z}, float3{1, 1, 1}, 0,
-                                       RT_CHANNEL_ALL, 0));
+            rays.push_back(
+                rt_make_ray(float3{eye.x, eye.y, eye.z}, float3{d.x, d.y, d.z}, float3{1, 1, 1}, 0, RT_CHANNEL_ALL, 0));
         }
     while (!rays.empty()) {
         Ray ray = rays.back();
@@ -225,8 +225,8 @@ RuleCheck check_rule(const prism::Scene& scene) {
             if (ruled.contribution.w != 0.0f && traced.contribution.w == 0.0f) ++check.traced_only_with_rule;
             if (ruled.contribution.w != 0.0f || traced.contribution.w == 0.0f) continue;
             ++check.left_out;
-            Hit blocker = rt_trace(kg_without, rt_xyz(traced.origin), rt_xyz(traced.direction), 0.0f,
-                                   traced.direction.w, true);
+            Hit blocker =
+                rt_trace(kg_without, rt_xyz(traced.origin), rt_xyz(traced.direction), 0.0f, traced.direction.w, true);
             check.left_out_unblocked += !(blocker.tuv.x < RT_INFINITY);
         }
         for (uint32_t c = 0; c < shade.child_count; ++c) rays.push_back(children[c]);
@@ -275,7 +275,7 @@ TEST(ClosedSolid, FramesAreUnchangedWithFewerShadowRays) {
     for (const char* spec : {"builtin:sphere", "glass cube"}) {
         SCOPED_TRACE(spec);
         prism::Scene scene = std::string(spec) == "glass cube" ? glass_cube_scene({0.2f, 1.0f, 0.1f})
-                                                                : prism::test::load_test_scene(spec);
+                                                               : prism::test::load_test_scene(spec);
         prism::DeviceScene with = prism::build_device_scene(scene, with_solids(true));
         prism::DeviceScene without = prism::build_device_scene(scene, with_solids(false));
         prism::RenderSettings settings = prism::test::small_settings(96, 72, 8);

@@ -183,7 +183,8 @@ TEST(OpenclRegisterBudgets, OnNvidiaTheStagesGetCudasBudgets) {
     std::vector<prism::opencl::StageProgram> programs = prism::opencl::stage_programs(true, std::nullopt);
     ASSERT_EQ(programs.size(), 3u);
     expect_each_stage_once(programs);
-    const uint32_t traversal = stage_bit(prism::Stage::Intersect) | stage_bit(prism::Stage::Shadow);
+    const uint32_t traversal =
+        stage_bit(prism::Stage::Intersect) | stage_bit(prism::Stage::Occlude) | stage_bit(prism::Stage::Shadow);
     const uint32_t shade = stage_bit(prism::Stage::Shade);
     const uint32_t others = ((1u << prism::stage_count) - 1u) & ~traversal & ~shade;
     EXPECT_EQ(programs[0].stages, others);

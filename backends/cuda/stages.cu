@@ -9,10 +9,10 @@
 
 // Register budgets for blocks of 128 threads (kThreadsPerBlock, cuda_backend.h), a launch setting: the traversal
 // stages are latency-bound, and ptxas left to itself gave intersect a few registers over 64, so that 7 blocks
-// instead of 8 fit on an SM; asking for 8 keeps intersect and shadow at 64 (docs/kernels.md, "Edges"). The other
-// stages (0) take what ptxas chooses.
+// instead of 8 fit on an SM; asking for 8 keeps intersect, occlude and shadow at 64 (docs/kernels.md, "Edges"). The
+// other stages (0) take what ptxas chooses.
 constexpr unsigned min_resident_blocks(std::string_view stage) {
-    return stage == "intersect" || stage == "shadow" ? 8u : 0u;
+    return stage == "intersect" || stage == "occlude" || stage == "shadow" ? 8u : 0u;
 }
 
 // prism_cuda_<name>: one __global__ entry per line of kernels/stage_list.h.

@@ -13,13 +13,14 @@
 namespace prism::opencl {
 namespace {
 
-// Prism's budgets, for work-groups of 128, CUDA's: intersect and shadow at 64 registers (8 groups per SM, as
+// Prism's budgets, for work-groups of 128, CUDA's: intersect, occlude and shadow at 64 registers (8 groups per SM, as
 // __launch_bounds__ holds CUDA's), shade at 128 (4 groups, where nvcc puts CUDA's by itself). Left to itself,
 // NVIDIA's OpenCL compiler gives the shade kernel more, fewer groups fit, and the stage runs slower
 // (docs/kernels.md, "Register budgets on OpenCL"). Stages not named take what the compiler chooses.
 unsigned default_budget(Stage stage) {
     switch (stage) {
         case Stage::Intersect:
+        case Stage::Occlude:
         case Stage::Shadow: return 64u;
         case Stage::Shade: return 128u;
         default: return 0u;

@@ -288,7 +288,7 @@ std::vector<RayHit> Renderer::trace(std::span<const RayQuery> rays, bool any_hit
         backend_.write(DeviceArray::frame, &params, sizeof params);
         backend_.write(DeviceArray::counters, counters.data(), counters.size() * sizeof(uint32_t));
         backend_.write(DeviceArray::rays, device_rays.data(), device_rays.size() * sizeof(Ray));
-        backend_.enqueue(Stage::Intersect, 0);
+        backend_.enqueue(any_hit ? Stage::Occlude : Stage::Intersect, 0);
         std::vector<Hit> hits(n);
         backend_.read(DeviceArray::hits, hits.data(), hits.size() * sizeof(Hit));
         for (const StageTiming& timing : backend_.finish()) last_trace_ms_ += timing.milliseconds;
