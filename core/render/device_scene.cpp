@@ -6,6 +6,7 @@
 #include <cmath>
 #include <future>
 #include <map>
+#include <optional>
 
 #include "core/bvh/bvh_tree.h"
 #include "core/render/device_scene_flat.h"
@@ -286,34 +287,45 @@ static std::vector<bool> closed_solid_instances(const Scene& scene) {
     std::vector<bool> deformed(scene.meshes.size(), false);
     for (const MeshDeformation& deformation : scene.animation.deformations)
         if (deformation.mesh < deformed.size()) deformed[deformation.mesh] = true;
+    // What a set of materials allows: rays in (some transmittance) and shadow rays through (some not alpha-opaque).
+    struct Materials {
+        bool enterable = false, opaque = true;
+        void add(const Scene& scene, uint32_t index) {
+            const Material fallback{};
+            const Material& m = index < scene.materials.size() ? scene.materials[index] : fallback;
+            enterable = enterable || m.transmittance > 0.0f;
+            opaque = opaque && m.alpha_mode == AlphaMode::Opaque;
+        }
+    };
+    // Per mesh, once (a forest instancing one tree a thousand times reads its triangles' materials once).
+    std::vector<std::optional<Materials>> mesh_materials(scene.meshes.size());
+    auto own_materials = [&](uint32_t m) {
+        if (!mesh_materials[m]) {
+            Materials found;
+            std::vector<bool> seen(scene.materials.size() + 1, false);
+            if (scene.meshes[m].triangle_materials.empty()) found.add(scene, 0u);
+            for (uint32_t index : scene.meshes[m].triangle_materials) {
+                uint32_t slot = std::min<uint32_t>(index, uint32_t(scene.materials.size()));
+                if (!seen[slot]) found.add(scene, index), seen[slot] = true;
+            }
+            mesh_materials[m] = found;
+        }
+        return *mesh_materials[m];
+    };
     enum class Closed : uint8_t { Unknown, Yes, No };
     std::vector<Closed> closed(scene.meshes.size(), Closed::Unknown);
     std::vector<bool> solid(scene.instances.size(), false);
     for (size_t i = 0; i < scene.instances.size(); ++i) {
         const Instance& instance = scene.instances[i];
-        const Mesh& mesh = scene.meshes[instance.mesh];
-        if (deformed[instance.mesh]) continue;
-        bool enterable = false, opaque = true;
-        auto consider = [&](uint32_t index) {
-            const Material fallback{};
-            const Material& m = index < scene.materials.size() ? scene.materials[index] : fallback;
-            enterable = enterable || m.transmittance > 0.0f;
-            opaque = opaque && m.alpha_mode == AlphaMode::Opaque;
-        };
-        if (instance.material_override != kNoMaterialOverride) {
-            consider(instance.material_override);
-        } else if (mesh.triangle_materials.empty()) {
-            consider(0u);
-        } else {
-            std::vector<bool> seen(scene.materials.size() + 1, false);
-            for (uint32_t index : mesh.triangle_materials) {
-                uint32_t slot = std::min<uint32_t>(index, uint32_t(scene.materials.size()));
-                if (!seen[slot]) consider(index), seen[slot] = true;
-            }
-        }
-        if (!enterable || !opaque) continue;
+        if (instance.mesh >= scene.meshes.size() || deformed[instance.mesh]) continue;
+        Materials materials;
+        if (instance.material_override != kNoMaterialOverride)
+            materials.add(scene, instance.material_override);
+        else
+            materials = own_materials(instance.mesh);
+        if (!materials.enterable || !materials.opaque) continue;
         if (closed[instance.mesh] == Closed::Unknown)
-            closed[instance.mesh] = is_closed_solid(mesh) ? Closed::Yes : Closed::No;
+            closed[instance.mesh] = is_closed_solid(scene.meshes[instance.mesh]) ? Closed::Yes : Closed::No;
         solid[i] = closed[instance.mesh] == Closed::Yes;
     }
     return solid;
