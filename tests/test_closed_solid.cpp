@@ -84,6 +84,14 @@ TEST(ClosedSolid, OpenInsideOutAndFlatMeshesAreNot) {
     sheet.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
     sheet.triangles = {{0, 1, 2}, {0, 2, 1}};
     EXPECT_FALSE(prism::is_closed_solid(sheet));
+    // The same far from the origin, its back wound from another corner: the volume is summed about the sheet itself,
+    // so the rounding of products of coordinates near 1e5 does not pass for a volume.
+    prism::Mesh far_sheet;
+    far_sheet.positions = {
+        {1e5f, -2e5f, 3e5f}, {1e5f + 1.3f, -2e5f + 0.2f, 3e5f}, {1e5f + 0.1f, -2e5f + 1.7f, 3e5f + 0.4f}};
+    far_sheet.triangles = {{0, 1, 2}, {1, 0, 2}};
+    EXPECT_FALSE(prism::is_closed_solid(far_sheet));
+    EXPECT_TRUE(prism::is_closed_solid(cube(glm::vec3(1e5f, -2e5f, 3e5f), 2.0f)));  // a solid there still is one
     prism::Mesh bad = cube();
     bad.positions[3].x = NAN;
     EXPECT_FALSE(prism::is_closed_solid(bad));

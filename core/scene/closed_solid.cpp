@@ -86,7 +86,8 @@ uint32_t find_root(std::vector<uint32_t>& parent, uint32_t x) {
 
 // Whether every connected piece encloses a positive volume (the divergence theorem over its triangles) greater than
 // a millionth of its bounding box's diagonal cubed: far above the rounding of the sum, so a flat sheet of
-// triangle pairs, whose sum is rounding alone, is no solid.
+// triangle pairs, whose sum is rounding alone, is no solid. The sum is taken about a corner of the piece itself, so
+// that its terms are of the piece's size however far from the origin it lies.
 bool pieces_enclose_volume(const std::vector<glm::vec3>& positions, const std::vector<glm::uvec3>& triangles) {
     std::vector<uint32_t> parent(positions.size());
     std::iota(parent.begin(), parent.end(), 0u);
@@ -96,6 +97,7 @@ bool pieces_enclose_volume(const std::vector<glm::vec3>& positions, const std::v
     }
     for (uint32_t v = 0; v < parent.size(); ++v) parent[v] = find_root(parent, v);  // each vertex's piece, once
     struct Piece {
+        glm::dvec3 origin;
         double six_volume = 0.0;
         glm::dvec3 lower{INFINITY}, upper{-INFINITY};
     };
@@ -103,9 +105,10 @@ bool pieces_enclose_volume(const std::vector<glm::vec3>& positions, const std::v
     std::vector<uint32_t> piece_of(positions.size(), UINT32_MAX);
     for (const glm::uvec3& t : triangles) {
         uint32_t& index = piece_of[parent[t.x]];
-        if (index == UINT32_MAX) index = uint32_t(pieces.size()), pieces.emplace_back();
+        if (index == UINT32_MAX) index = uint32_t(pieces.size()), pieces.push_back(Piece{glm::dvec3(positions[t.x])});
         Piece& piece = pieces[index];
-        glm::dvec3 a(positions[t.x]), b(positions[t.y]), c(positions[t.z]);
+        glm::dvec3 a = glm::dvec3(positions[t.x]) - piece.origin, b = glm::dvec3(positions[t.y]) - piece.origin,
+                   c = glm::dvec3(positions[t.z]) - piece.origin;
         piece.six_volume += glm::dot(a, glm::cross(b, c));
         for (const glm::dvec3& p : {a, b, c}) {
             piece.lower = glm::min(piece.lower, p);
@@ -123,7 +126,8 @@ bool pieces_enclose_volume(const std::vector<glm::vec3>& positions, const std::v
 
 bool is_closed_solid(const Mesh& mesh) {
     const size_t n = mesh.positions.size();
-    if (mesh.triangles.empty() || n >= (size_t(1) << 31)) return false;
+    // The edge lists count in 32 bits: three entries a triangle.
+    if (mesh.triangles.empty() || n >= (size_t(1) << 31) || mesh.triangles.size() >= (size_t(1) << 30)) return false;
     for (const glm::vec3& p : mesh.positions)
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return false;
     for (const glm::uvec3& t : mesh.triangles)
