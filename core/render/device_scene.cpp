@@ -278,15 +278,21 @@ size_t DeviceScene::byte_size() const {
     return bytes;
 }
 
+// Which meshes an animation poses anew (Scene::animation.deformations).
+static std::vector<bool> deformed_meshes(const Scene& scene) {
+    std::vector<bool> deformed(scene.meshes.size(), false);
+    for (const MeshDeformation& deformation : scene.animation.deformations)
+        if (deformation.mesh < deformed.size()) deformed[deformation.mesh] = true;
+    return deformed;
+}
+
 // Which instances are closed solids (RT_INSTANCE_CLOSED_SOLID): the mesh bounds a solid (is_closed_solid), some
 // material of the instance lets rays in (transmittance; a ray in an opaque solid is lost anyway), every one stops
 // shadow rays (alpha OPAQUE: cut-out and blended surfaces let light through in the shadow_layers stage), and no
 // animation poses the mesh anew (its bounds would move from under the flag). Each mesh is examined at most once,
 // and only when some instance of it could use the answer.
 static std::vector<bool> closed_solid_instances(const Scene& scene) {
-    std::vector<bool> deformed(scene.meshes.size(), false);
-    for (const MeshDeformation& deformation : scene.animation.deformations)
-        if (deformation.mesh < deformed.size()) deformed[deformation.mesh] = true;
+    const std::vector<bool> deformed = deformed_meshes(scene);
     // What a set of materials allows: rays in (some transmittance) and shadow rays through (some not alpha-opaque).
     struct Materials {
         bool enterable = false, opaque = true;
@@ -457,9 +463,7 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
                     ": an instance's mesh has only degenerate triangles");  // keeps instance ids = scene ids
     build_top_level(device, transforms, true);
     // A mesh an animation poses anew keeps its tree as built, for refits (flattened instances never move).
-    std::vector<bool> deformed(scene.meshes.size(), false);
-    for (const MeshDeformation& deformation : scene.animation.deformations)
-        if (deformation.mesh < deformed.size()) deformed[deformation.mesh] = true;
+    const std::vector<bool> deformed = deformed_meshes(scene);
     auto keep_deformable = [&](size_t m, const Bvh& bvh, uint32_t first_vertex, uint32_t first_triangle,
                                uint32_t first_node, uint32_t first_block) {
         if (!deformed[m]) return;

@@ -34,7 +34,7 @@ struct DeviceScene {
     size_t top_level_nodes = 0;       // entries of the top level at the start of nodes (wide_nodes in the wide layout;
                                       // 0 with flattened instances, whose wide_nodes are one world-space BVH)
     float sah_cost = 0.0f;            // triangle-weighted mean SAH cost of the mesh BVHs
-    double bvh_build_ms = 0.0;        // the whole build but closed_solid_ms
+    double bvh_build_ms = 0.0;        // the whole build (closed_solid_ms runs beside it, on a thread of its own)
     // Instances marked RT_INSTANCE_CLOSED_SOLID (BvhBuildOptions::closed_solids) and the time their meshes' analysis
     // took (core/scene/closed_solid.h).
     size_t closed_solid_instances = 0;
