@@ -328,7 +328,53 @@ TEST(Bandwidth, BadStagingSettingFailsWithOneLine) {
         << run.output;
 }
 
+// PRISM_VULKAN_COPY_REGIONS takes a whole number from 1 to 64; anything else stops the command before it measures.
+TEST(Bandwidth, BadCopyRegionsSettingFailsWithOneLine) {
+    for (const char* value : {"0", "65", "4x", "-1"}) {
+        auto run =
+            prism::test::run_prism("bandwidth --sizes 4K", std::string("env PRISM_VULKAN_COPY_REGIONS=") + value);
+        EXPECT_NE(run.exit_code, 0) << value;
+        EXPECT_EQ(line_count(run.output), 1) << run.output;
+        EXPECT_NE(run.output.find(std::string("PRISM_VULKAN_COPY_REGIONS='") + value +
+                                  "' is not a whole number from 1 to 64"),
+                  std::string::npos)
+            << run.output;
+    }
+}
+
 #ifdef PRISM_HAVE_VULKAN
+// PRISM_VULKAN_COPY_REGIONS=3: every Vulkan copy is three regions, at a size that does not divide by three and at
+// one smaller than three regions of 256 bytes; each copy's data check passes (a failed one is dropped), and the
+// device says how it copied.
+TEST(Bandwidth, VulkanCopiesInSeveralRegions) {
+    set_runtime_dir();
+    fs::path file = prism::test::temp_dir("bandwidth-regions") / "regions.json";
+    auto run =
+        prism::test::run_prism("bandwidth --sizes 4K,1M --repeats 2 --device vulkan: --json '" + file.string() + "'",
+                               "env PRISM_VULKAN_COPY_REGIONS=3");
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    std::ifstream in(file);
+    json result = json::parse(in, nullptr, false);
+    ASSERT_TRUE(result.is_object()) << run.output;
+    bool found = false;
+    for (const json& device : result["devices"]) {
+        if (device["api"] != "vulkan") continue;
+        found = true;
+        EXPECT_NE(device["details"].dump().find("copies 3 regions of equal size"), std::string::npos)
+            << device["details"].dump();
+        // The pinned copies and the device-to-device one, at both sizes.
+        std::set<std::string> copied;
+        for (const json& m : device["measurements"])
+            if (m["memory"] != "pageable")
+                copied.insert(m["direction"].get<std::string>() + " " + std::to_string(m["bytes"].get<size_t>()));
+        for (const char* direction : {"h2d", "d2h", "d2d"})
+            for (size_t bytes : {size_t(4096), size_t(1) << 20})
+                EXPECT_TRUE(copied.count(std::string(direction) + " " + std::to_string(bytes)))
+                    << direction << " " << bytes;
+    }
+    EXPECT_TRUE(found) << run.output;
+}
+
 // PRISM_VULKAN_STAGING=host and host-4k: the pinned copies go through the application's memory imported with
 // VK_EXT_external_memory_host (lavapipe has it); the copies' data checks pass, and the device says how much of
 // the staging memory the kernel backed with huge pages: none where they were refused.

@@ -1,5 +1,6 @@
 #include "bench/bandwidth/bandwidth.h"
 
+#include <charconv>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -49,6 +50,14 @@ Plan make_plan(const Options& options) {
     std::string staging =
         setting_choice(Setting::VulkanStaging, {"uncached", "cached", "host", "host-4k"}, "prism bandwidth");
     if (!staging.empty()) plan.vulkan_staging = staging;
+    if (std::optional<std::string> regions = setting(Setting::VulkanCopyRegions); regions && !regions->empty()) {
+        unsigned value = 0;
+        auto [end, error] = std::from_chars(regions->data(), regions->data() + regions->size(), value);
+        if (error != std::errc() || end != regions->data() + regions->size() || value < 1 || value > 64)
+            throw Error(std::string("prism bandwidth: ") + setting_name(Setting::VulkanCopyRegions) + "='" +
+                        shorten(*regions) + "' is not a whole number from 1 to 64");
+        plan.vulkan_copy_regions = value;
+    }
     for (const std::string& filter : options.devices) {
         size_t colon = filter.find(':');
         DeviceFilter parsed;

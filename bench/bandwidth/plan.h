@@ -21,6 +21,9 @@ struct Plan {
     // memory, or through the application's own memory imported with VK_EXT_external_memory_host: "host" (huge
     // pages asked for) or "host-4k" (huge pages refused).
     std::string vulkan_staging = "uncached";
+    // PRISM_VULKAN_COPY_REGIONS: each Vulkan copy command is this many regions of equal size in one vkCmdCopyBuffer
+    // (whether NVIDIA's driver spreads a large copy over more copy engines when it is handed several).
+    unsigned vulkan_copy_regions = 1;
 
     // True when the device passes the filters that name its API (or no API).
     bool wants(const std::string& api, const std::string& platform, const std::string& device) const;

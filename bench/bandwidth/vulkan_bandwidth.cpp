@@ -7,7 +7,7 @@
 // PRISM_VULKAN_STAGING=host (or host-4k) stages the pinned copies through the application's own memory instead,
 // imported with VK_EXT_external_memory_host, with transparent huge pages asked for (or refused): the pinned copy
 // then reads the kind of memory CUDA's cudaHostRegister pins, and the report says how much of it the kernel backed
-// with huge pages.
+// with huge pages. PRISM_VULKAN_COPY_REGIONS=n makes each copy command n regions of equal size instead of one.
 #include <sys/mman.h>
 #include <vulkan/vulkan.h>
 
@@ -85,7 +85,7 @@ struct CopyCommands {
 
 class VulkanDevice final : public CopyDevice {
 public:
-    VulkanDevice(const vk::DeviceCandidate& candidate, const std::string& staging)
+    VulkanDevice(const vk::DeviceCandidate& candidate, const std::string& staging, unsigned copy_regions)
         : candidate_(candidate),
           physical_(candidate.handle),
           properties_(candidate.properties),
@@ -93,7 +93,8 @@ public:
           has_transfer_(candidate.transfer_family != UINT32_MAX),
           families_{candidate.compute_family, candidate.transfer_family},
           import_host_(staging == "host" || staging == "host-4k"),
-          huge_pages_(staging == "host") {
+          huge_pages_(staging == "host"),
+          copy_regions_(copy_regions) {
         read_properties(staging == "cached");
         if (candidate.compute_family == UINT32_MAX)
             throw Error(std::string("vulkan ") + properties_.deviceName + ": no compute queue");
@@ -134,6 +135,9 @@ public:
                                            std::to_string(candidate_.transfer_family) + " [transfer]"
                                      : "H2D, D2H, D2D copy: vkCmdCopyBuffer on the " + compute +
                                            " [compute]; no transfer-only queue family, so no [transfer] rows");
+        if (copy_regions_ > 1)
+            result.details.push_back("each vkCmdCopyBuffer copies " + std::to_string(copy_regions_) +
+                                     " regions of equal size (PRISM_VULKAN_COPY_REGIONS)");
         result.details.push_back("D2D kernel: dispatched on the compute queue");
         if (import_host_) {
             result.details.push_back(std::string("pinned H2D and D2H through the application's memory imported with "
@@ -539,19 +543,32 @@ private:
         return result;
     }
 
-    // Records the per-size command buffers. Large transfers are one vkCmdCopyBuffer region.
+    // The regions of one copy of bytes_: one (the default), or PRISM_VULKAN_COPY_REGIONS pieces of equal size, each
+    // a multiple of 256 bytes but the last.
+    std::vector<VkBufferCopy> copy_regions() const {
+        VkDeviceSize piece = (bytes_ / copy_regions_ + 255) / 256 * 256;
+        if (copy_regions_ == 1 || piece == 0) return {VkBufferCopy{0, 0, bytes_}};
+        std::vector<VkBufferCopy> regions;
+        for (VkDeviceSize at = 0; at < bytes_; at += piece) regions.push_back({at, at, std::min(piece, bytes_ - at)});
+        return regions;
+    }
+
+    // Records the per-size command buffers. A transfer is one vkCmdCopyBuffer (of copy_regions()).
     void record_all() {
+        std::vector<VkBufferCopy> regions = copy_regions();
+        uint32_t region_count = static_cast<uint32_t>(regions.size());
         VkBufferCopy whole{0, 0, bytes_};
         for (CopyCommands* copies : {&compute_copies_, &transfer_copies_}) {
             if (!copies->copy.buffer) continue;  // no transfer-only queue
             record(copies->upload, [&](VkCommandBuffer cb) {
-                vkCmdCopyBuffer(cb, upload_staging_.buffer, buffer_a_.buffer, 1, &whole);
+                vkCmdCopyBuffer(cb, upload_staging_.buffer, buffer_a_.buffer, region_count, regions.data());
             });
             record(copies->download, [&](VkCommandBuffer cb) {
-                vkCmdCopyBuffer(cb, buffer_a_.buffer, readback_staging_.buffer, 1, &whole);
+                vkCmdCopyBuffer(cb, buffer_a_.buffer, readback_staging_.buffer, region_count, regions.data());
             });
-            record(copies->copy,
-                   [&](VkCommandBuffer cb) { vkCmdCopyBuffer(cb, buffer_a_.buffer, buffer_b_.buffer, 1, &whole); });
+            record(copies->copy, [&](VkCommandBuffer cb) {
+                vkCmdCopyBuffer(cb, buffer_a_.buffer, buffer_b_.buffer, region_count, regions.data());
+            });
         }
         record(clear_command_, [&](VkCommandBuffer cb) { vkCmdFillBuffer(cb, buffer_b_.buffer, 0, VK_WHOLE_SIZE, 0); });
         record(read_destination_command_,
@@ -640,8 +657,9 @@ private:
     bool has_transfer_ = false;  // a transfer-only queue family exists, and its queue is created
     uint32_t families_[2];       // compute, transfer: the queue families that share every buffer
     bool host_query_reset_ = false;
-    bool import_host_ = false;  // PRISM_VULKAN_STAGING=host or host-4k
-    bool huge_pages_ = false;   // host: transparent huge pages asked for
+    bool import_host_ = false;   // PRISM_VULKAN_STAGING=host or host-4k
+    bool huge_pages_ = false;    // host: transparent huge pages asked for
+    unsigned copy_regions_ = 1;  // PRISM_VULKAN_COPY_REGIONS
     size_t import_alignment_ = kHugePage;
     PFN_vkGetMemoryHostPointerPropertiesEXT host_pointer_properties_ = nullptr;
     std::string huge_page_report_ = "no size measured yet";
@@ -685,7 +703,7 @@ ApiResult measure_vulkan(const Plan& plan) {
     for (const vk::DeviceCandidate& device : devices) {
         if (!plan.wants("vulkan", "", device.properties.deviceName)) continue;
         try {
-            VulkanDevice copy_device(device, plan.vulkan_staging);
+            VulkanDevice copy_device(device, plan.vulkan_staging, plan.vulkan_copy_regions);
             api.devices.push_back(sweep(copy_device, plan));
         } catch (const Error& error) {
             DeviceResult failed{"vulkan", device.properties.deviceName};

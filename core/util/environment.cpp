@@ -26,6 +26,8 @@ constexpr auto kSettings = std::to_array<SettingInfo>({
     {Setting::VulkanWait, "PRISM_VULKAN_WAIT", "poll or block: how Vulkan waits for a frame's fence"},
     {Setting::VulkanStaging, "PRISM_VULKAN_STAGING",
      "uncached, cached, host or host-4k: the host memory of prism bandwidth's Vulkan pinned copies"},
+    {Setting::VulkanCopyRegions, "PRISM_VULKAN_COPY_REGIONS",
+     "1 to 64: prism bandwidth's Vulkan copies as that many vkCmdCopyBuffer regions of equal size (default 1)"},
     {Setting::ViewPanel, "PRISM_VIEW_PANEL", "0: prism view starts without its panel"},
     {Setting::ViewAblate, "PRISM_VIEW_ABLATE", "copy or gl: prism view skips one half of showing a frame"},
     {Setting::ProgressDelay, "PRISM_PROGRESS_DELAY",

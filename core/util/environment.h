@@ -24,6 +24,7 @@ enum class Setting {
     VulkanDispatch,     // PRISM_VULKAN_DISPATCH
     VulkanWait,         // PRISM_VULKAN_WAIT
     VulkanStaging,      // PRISM_VULKAN_STAGING
+    VulkanCopyRegions,  // PRISM_VULKAN_COPY_REGIONS
     ViewPanel,          // PRISM_VIEW_PANEL
     ViewAblate,         // PRISM_VIEW_ABLATE
     ProgressDelay,      // PRISM_PROGRESS_DELAY
