@@ -73,6 +73,23 @@ struct FirstFrame {
     std::vector<uint32_t> image;
 };
 
+// One line of what the traversal and shading stages' kernels got from the API's compiler, where it says
+// (registers per thread / private bytes per thread: stack and spills).
+void print_kernel_resources(const nlohmann::json& resources) {
+    std::string line;
+    for (const nlohmann::json& stage : resources["stages"]) {
+        const std::string name = stage["stage"].get<std::string>();
+        if (name != "intersect" && name != "shadow" && name != "shade") continue;
+        std::string registers = stage["registers"].is_null() ? "?" : std::to_string(stage["registers"].get<int>());
+        std::string bytes =
+            stage["private_bytes"].is_null() ? "?" : std::to_string(stage["private_bytes"].get<long long>());
+        line += (line.empty() ? "" : ", ") + name + " " + registers + " / " + bytes + " B";
+    }
+    if (!line.empty())
+        std::printf("  kernels (registers / private bytes per thread, %s): %s\n",
+                    resources["source"].get<std::string>().c_str(), line.c_str());
+}
+
 nlohmann::json bench_frames(RenderEngine& engine, const Scene& scene, const BenchOptions& options, FirstFrame& first,
                             Progress& progress) {
     const uint32_t frames = options.warmup + options.runs;
@@ -276,6 +293,7 @@ void run_bench(BenchOptions options) {
                 Progress progress("bench " + scene_name + " on " + backend);
                 entry["frames"] = bench_frames(engine, loaded.scene, options, first, progress);
                 progress.finish();
+                entry["kernel_resources"] = bench::kernel_resources_json(engine.kernel_resources());
 #ifdef PRISM_HAVE_EMBREE
                 if (embree) query_engines.push_back(std::move(engine_owner));
 #endif
@@ -283,6 +301,7 @@ void run_bench(BenchOptions options) {
                 std::printf("  frame %.2f ms (%.1f fps), primary %.1f, secondary %.1f, shadow %.1f Mrays/s\n",
                             f["frame_ms"].get<double>(), f["fps"].get<double>(), f["primary_mrays_per_s"].get<double>(),
                             f["secondary_mrays_per_s"].get<double>(), f["shadow_mrays_per_s"].get<double>());
+                print_kernel_resources(entry["kernel_resources"]);
                 scene_json["backends"].push_back(entry);
             } catch (const std::exception& e) {
                 record_failure(result, scene_name, backend, e.what());

@@ -141,6 +141,7 @@ void run_rays_bench(const RaysBenchOptions& options) {
             progress.update(double(s + 1) / double(sets.size()));
         }
         progress.finish();
+        entry["kernel_resources"] = bench::kernel_resources_json(engine.kernel_resources());
         std::printf("%s on %s [%s]:", options.scene.scene.c_str(), backend.c_str(), info.device.c_str());
         for (const RaySet& set : sets) {
             const nlohmann::json& m = entry[set.name];

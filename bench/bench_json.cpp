@@ -47,4 +47,19 @@ void write_result(const std::filesystem::path& path, const nlohmann::json& resul
     std::printf("wrote %s\n", path.string().c_str());
 }
 
+nlohmann::json kernel_resources_json(const KernelResources& resources) {
+    auto known = [](long long value) { return value < 0 ? nlohmann::json(nullptr) : nlohmann::json(value); };
+    nlohmann::json stages = nlohmann::json::array();
+    for (const StageResources& stage : resources.stages) {
+        nlohmann::json statistics = nlohmann::json::object();
+        for (const auto& [name, value] : stage.statistics) statistics[name] = value;
+        stages.push_back({{"stage", stage_name(stage.stage)},
+                          {"registers", known(stage.registers)},
+                          {"private_bytes", known(stage.private_bytes)},
+                          {"shared_bytes", known(stage.shared_bytes)},
+                          {"statistics", statistics}});
+    }
+    return {{"source", resources.source}, {"stages", stages}};
+}
+
 }  // namespace prism::bench

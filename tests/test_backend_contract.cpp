@@ -270,6 +270,48 @@ TEST_P(BackendContract, EveryStageOfTheListRunsAndIsTimedInFrameOrder) {
     EXPECT_GT(total, 0.0);
 }
 
+// What each stage's kernel got from its API's compiler, where the API says: every stage of the list once, in list
+// order. CUDA's registers are ptxas's, and the traversal stages stay within the 64 that their launch bounds ask for
+// (8 blocks of 128 on an SM, backends/cuda/stages.cu); OpenCL reports private memory but no registers.
+TEST_P(BackendContract, KernelResourcesNameEveryStage) {
+    const LoadedScene& s = scene("builtin:sphere");
+    prism::RenderEngine engine(GetParam(), s.device);
+    prism::KernelResources resources = engine.kernel_resources();
+    EXPECT_FALSE(resources.source.empty());
+    const std::string api = api_of(GetParam());
+    if (api == "cpu" || (api == "vulkan" && resources.stages.empty())) {
+        EXPECT_TRUE(resources.stages.empty());
+        if (api == "vulkan") {
+            EXPECT_NE(resources.source.find("lacks VK_KHR_pipeline_executable_properties"), std::string::npos)
+                << resources.source;
+        }
+        return;
+    }
+    ASSERT_EQ(resources.stages.size(), prism::stage_count) << resources.source;
+    for (size_t i = 0; i < prism::stage_count; ++i) {
+        const prism::StageResources& stage = resources.stages[i];
+        SCOPED_TRACE(prism::stage_name(stage.stage));
+        EXPECT_EQ(stage.stage, prism::Stage(i));
+        if (api == "cuda") {
+            EXPECT_GT(stage.registers, 0);
+            EXPECT_LE(stage.registers, 255);
+            EXPECT_GE(stage.private_bytes, 0);
+            std::string name = prism::stage_name(stage.stage);
+            if (name == "intersect" || name == "occlude" || name == "shadow") {
+                EXPECT_LE(stage.registers, 64);
+            }
+        }
+        if (api == "opencl") {
+            EXPECT_EQ(stage.registers, -1);
+            EXPECT_GE(stage.private_bytes, 0);
+            EXPECT_GE(stage.shared_bytes, 0);
+        }
+        if (api == "vulkan") {
+            EXPECT_FALSE(stage.statistics.empty());
+        }
+    }
+}
+
 // Exact fixed-point accumulation and deterministic BVHs: the same frame twice, or on a second instance of the
 // backend, is the same to the bit (image and radiance).
 TEST_P(BackendContract, RendersAreBitIdentical) {

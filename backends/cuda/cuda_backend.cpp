@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "backends/cuda/cuda_device.h"
+#include "backends/cuda/cuda_launch.h"
 #ifdef PRISM_CUDA_GL_INTEROP
 #include "backends/cuda/cuda_gl_interop.h"
 #endif
@@ -66,6 +67,23 @@ public:
         info.device_memory = d.total_memory;
         info.max_buffer = d.total_memory;
         return info;
+    }
+
+    KernelResources kernel_resources() const override {
+        KernelResources resources{"cudaFuncGetAttributes", {}};
+        context_.bind();
+        for (size_t i = 0; i < stage_count; ++i) {
+            cuda::StageAttributes a;
+            context_.check(cuda::stage_attributes(unsigned(i), &a),
+                           std::string("reading the attributes of stage '") + stage_name(Stage(i)) + "'");
+            StageResources stage;
+            stage.stage = Stage(i);
+            stage.registers = a.registers;
+            stage.private_bytes = a.local_bytes;
+            stage.shared_bytes = a.shared_bytes;
+            resources.stages.push_back(stage);
+        }
+        return resources;
     }
 
     void allocate(DeviceArray array, size_t bytes) override {

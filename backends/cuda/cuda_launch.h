@@ -9,4 +9,13 @@ namespace prism::cuda {
 // Returns the cudaError_t of the launch (0 = cudaSuccess); errors inside the kernel surface at the next sync.
 int launch_stage(unsigned stage, void* const* arrays, unsigned depth, unsigned blocks, unsigned threads, void* stream);
 
+// What ptxas gave stage `stage`'s kernel (cudaFuncGetAttributes): registers per thread, local bytes per thread
+// (stack and spills), static shared bytes per block. Returns the cudaError_t (0 = cudaSuccess).
+struct StageAttributes {
+    int registers = 0;
+    long long local_bytes = 0;
+    long long shared_bytes = 0;
+};
+int stage_attributes(unsigned stage, StageAttributes* out);
+
 }  // namespace prism::cuda

@@ -51,4 +51,28 @@ int launch_stage(unsigned stage, void* const* arrays, unsigned depth, unsigned b
     return static_cast<int>(cudaGetLastError());
 }
 
+int stage_attributes(unsigned stage, StageAttributes* out) {
+    enum : unsigned {
+#define RT_STAGE(name, Name, pass, launch, needs) stage_##name,
+#include "kernels/stage_list.h"
+#undef RT_STAGE
+    };
+    cudaFuncAttributes attributes{};
+    cudaError_t status = cudaErrorInvalidValue;
+    switch (stage) {
+#define RT_STAGE(name, Name, pass, launch, needs)                       \
+    case stage_##name:                                                  \
+        status = cudaFuncGetAttributes(&attributes, prism_cuda_##name); \
+        break;
+#include "kernels/stage_list.h"
+#undef RT_STAGE
+        default: break;
+    }
+    if (status != cudaSuccess) return static_cast<int>(status);
+    out->registers = attributes.numRegs;
+    out->local_bytes = static_cast<long long>(attributes.localSizeBytes);
+    out->shared_bytes = static_cast<long long>(attributes.sharedSizeBytes);
+    return 0;
+}
+
 }  // namespace prism::cuda

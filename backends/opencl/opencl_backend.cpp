@@ -100,6 +100,27 @@ public:
 
     GlInteropOffer gl_interop() override { return {gl_.get(), gl_ ? "" : gl_reason_}; }
 
+    // OpenCL has no query for a kernel's registers; its private memory is the stack and spills per work-item.
+    KernelResources kernel_resources() const override {
+        const DeviceEntry& d = dev_.entry();
+        KernelResources resources{"clGetKernelWorkGroupInfo (OpenCL reports no register count)", {}};
+        for (size_t s = 0; s < stage_count; ++s) {
+            cl_ulong private_bytes = 0, local_bytes = 0;
+            check(clGetKernelWorkGroupInfo(kernels_[s], d.device, CL_KERNEL_PRIVATE_MEM_SIZE, sizeof private_bytes,
+                                           &private_bytes, nullptr),
+                  "clGetKernelWorkGroupInfo", d);
+            check(clGetKernelWorkGroupInfo(kernels_[s], d.device, CL_KERNEL_LOCAL_MEM_SIZE, sizeof local_bytes,
+                                           &local_bytes, nullptr),
+                  "clGetKernelWorkGroupInfo", d);
+            StageResources stage;
+            stage.stage = Stage(s);
+            stage.private_bytes = static_cast<long long>(private_bytes);
+            stage.shared_bytes = static_cast<long long>(local_bytes);
+            resources.stages.push_back(stage);
+        }
+        return resources;
+    }
+
     BackendInfo info() const override {
         const DeviceEntry& d = dev_.entry();
         BackendInfo info;

@@ -22,6 +22,7 @@
 #include "backends/vulkan/vulkan_backend.h"
 
 #include <algorithm>
+#include <cctype>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -269,6 +270,60 @@ public:
 
     GlInteropOffer gl_interop() override { return {gl_.get(), gl_ ? "" : gl_reason_}; }
 
+    // The driver's statistics of each stage's pipeline (the variant frames run now), by the driver's own names; a
+    // statistic whose name mentions registers gives StageResources::registers.
+    KernelResources kernel_resources() const override {
+        if (!executable_statistics_)
+            return {std::string(physical_.properties.deviceName) + " lacks VK_KHR_pipeline_executable_properties", {}};
+        KernelResources resources{"VK_KHR_pipeline_executable_properties", {}};
+        const bool address = addressing();
+        for (size_t s = 0; s < stage_count; ++s) {
+            VkPipeline pipeline = address && address_pipelines_[s] ? address_pipelines_[s] : pipelines_[s];
+            if (!pipeline) continue;
+            VkPipelineInfoKHR pipeline_info{VK_STRUCTURE_TYPE_PIPELINE_INFO_KHR};
+            pipeline_info.pipeline = pipeline;
+            uint32_t executables = 0;
+            vk::check(executable_properties_(device_, &pipeline_info, &executables, nullptr),
+                      "vkGetPipelineExecutablePropertiesKHR");
+            StageResources stage;
+            stage.stage = Stage(s);
+            for (uint32_t e = 0; e < executables; ++e) {
+                VkPipelineExecutableInfoKHR executable{VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_INFO_KHR};
+                executable.pipeline = pipeline;
+                executable.executableIndex = e;
+                uint32_t count = 0;
+                vk::check(executable_statistics_(device_, &executable, &count, nullptr),
+                          "vkGetPipelineExecutableStatisticsKHR");
+                std::vector<VkPipelineExecutableStatisticKHR> statistics(
+                    count, VkPipelineExecutableStatisticKHR{VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_STATISTIC_KHR});
+                vk::check(executable_statistics_(device_, &executable, &count, statistics.data()),
+                          "vkGetPipelineExecutableStatisticsKHR");
+                for (const VkPipelineExecutableStatisticKHR& statistic : statistics) {
+                    std::string value = statistic_text(statistic);
+                    stage.statistics.emplace_back(statistic.name, value);
+                    std::string name = statistic.name;
+                    std::transform(name.begin(), name.end(), name.begin(),
+                                   [](unsigned char c) { return char(std::tolower(c)); });
+                    if (name.find("register") != std::string::npos &&
+                        statistic.format == VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_UINT64_KHR)
+                        stage.registers = int(statistic.value.u64);
+                }
+            }
+            resources.stages.push_back(stage);
+        }
+        return resources;
+    }
+
+    static std::string statistic_text(const VkPipelineExecutableStatisticKHR& statistic) {
+        switch (statistic.format) {
+            case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_BOOL32_KHR: return statistic.value.b32 ? "true" : "false";
+            case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_INT64_KHR: return std::to_string(statistic.value.i64);
+            case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_UINT64_KHR: return std::to_string(statistic.value.u64);
+            case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_FLOAT64_KHR: return std::to_string(statistic.value.f64);
+            default: return "?";
+        }
+    }
+
     void dispatch_module(std::span<const uint32_t> spirv, uint32_t groups, uint32_t push) {
         auto found = extra_pipelines_.find(spirv.data());
         if (found == extra_pipelines_.end())
@@ -384,15 +439,34 @@ private:
         vk::GlSharingPlan gl_plan;
         if (gl) gl_plan = vk::plan_gl_sharing(physical_, *gl);
         gl_reason_ = gl ? gl_plan.reason : "GL interop was not requested";
+        std::vector<const char*> extensions;
+        if (gl && gl_plan.reason.empty()) extensions = gl_plan.extensions;
+        // The compiled stages' statistics (registers, spills) where the driver reports them: kernel_resources().
+        VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR executable_info{
+            VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_EXECUTABLE_PROPERTIES_FEATURES_KHR};
+        if (vk::has_device_extension(physical_.handle, VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME)) {
+            VkPhysicalDeviceFeatures2 query{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+            query.pNext = &executable_info;
+            vkGetPhysicalDeviceFeatures2(physical_.handle, &query);
+            executable_info.pNext = nullptr;
+        }
+        if (executable_info.pipelineExecutableInfo) {
+            extensions.push_back(VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME);
+            enable12.pNext = &executable_info;
+        }
         VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
         device_info.pNext = &enable;
         device_info.queueCreateInfoCount = uint32_t(queues.size());
         device_info.pQueueCreateInfos = queues.data();
-        if (gl && gl_plan.reason.empty()) {
-            device_info.enabledExtensionCount = uint32_t(gl_plan.extensions.size());
-            device_info.ppEnabledExtensionNames = gl_plan.extensions.data();
-        }
+        device_info.enabledExtensionCount = uint32_t(extensions.size());
+        device_info.ppEnabledExtensionNames = extensions.data();
         vk::check(vkCreateDevice(physical_.handle, &device_info, nullptr, &device_), "vkCreateDevice");
+        if (executable_info.pipelineExecutableInfo) {
+            executable_properties_ = reinterpret_cast<PFN_vkGetPipelineExecutablePropertiesKHR>(
+                vkGetDeviceProcAddr(device_, "vkGetPipelineExecutablePropertiesKHR"));
+            executable_statistics_ = reinterpret_cast<PFN_vkGetPipelineExecutableStatisticsKHR>(
+                vkGetDeviceProcAddr(device_, "vkGetPipelineExecutableStatisticsKHR"));
+        }
         queue_ = vk::get_device_queues(device_, physical_, false).compute;
 
         VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
@@ -527,6 +601,7 @@ private:
         const VkSpecializationInfo specialization{1, &take_work_entry, sizeof take_work, &take_work};
         pipeline_info.stage.pSpecializationInfo = &specialization;
         pipeline_info.layout = pipeline_layout_;
+        if (executable_statistics_) pipeline_info.flags |= VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR;
         VkPipeline pipeline = VK_NULL_HANDLE;
         VkResult result = vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &pipeline_info, nullptr, &pipeline);
         vkDestroyShaderModule(device_, module, nullptr);
@@ -773,8 +848,11 @@ private:
     VkDescriptorPool descriptor_pool_ = VK_NULL_HANDLE;
     VkDescriptorSet descriptor_set_ = VK_NULL_HANDLE;
     VkPipelineLayout pipeline_layout_ = VK_NULL_HANDLE;
-    std::array<VkPipeline, stage_count> pipelines_{};                      // descriptor mode
-    std::array<VkPipeline, stage_count> address_pipelines_{};              // address mode
+    std::array<VkPipeline, stage_count> pipelines_{};          // descriptor mode
+    std::array<VkPipeline, stage_count> address_pipelines_{};  // address mode
+    // VK_KHR_pipeline_executable_properties, where the device has it (null otherwise).
+    PFN_vkGetPipelineExecutablePropertiesKHR executable_properties_ = nullptr;
+    PFN_vkGetPipelineExecutableStatisticsKHR executable_statistics_ = nullptr;
     std::array<VkPipeline, stage_count> launch_args_pipelines_{};          // [0] only
     std::array<VkPipeline, stage_count> launch_args_address_pipelines_{};  // [0] only
     bool address_supported_ = false;

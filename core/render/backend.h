@@ -72,10 +72,29 @@ struct BackendInfo {
     size_t max_buffer = 0;     // largest single buffer, bytes
 };
 
+// What one stage's compiled kernel takes on the device, as the API reports it after compiling: the same source
+// gets a register count, stack and spill from each API's compiler, and these decide how many threads run at once
+// (docs/kernels.md). -1: the API does not say.
+struct StageResources {
+    Stage stage = Stage::Count;
+    int registers = -1;            // per thread
+    long long private_bytes = -1;  // per thread: stack, local arrays and spills
+    long long shared_bytes = -1;   // per work-group, static
+    // Everything the API reported, by its own names (Vulkan's pipeline executable statistics; empty elsewhere).
+    std::vector<std::pair<std::string, std::string>> statistics;
+};
+
+// A backend's StageResources, one per stage it compiled, and how they were read ("" when the API has no way).
+struct KernelResources {
+    std::string source;  // e.g. "cudaFuncGetAttributes"; or why there is nothing
+    std::vector<StageResources> stages;
+};
+
 class Backend {
 public:
     virtual ~Backend() = default;
     virtual BackendInfo info() const = 0;
+    virtual KernelResources kernel_resources() const { return {"not reported by this backend", {}}; }
 
     // Memory. (Re)allocates when the size changes; contents are undefined after a reallocation. Sizes above
     // info().max_buffer or the free device memory throw prism::Error naming the array and the limit.

@@ -64,6 +64,11 @@ RenderEngine::RenderEngine(const std::string& backend_name, const DeviceScene& s
 
 RenderEngine::~RenderEngine() = default;
 
+KernelResources RenderEngine::kernel_resources() const {
+    if (backend_) return backend_->kernel_resources();
+    return {"the reference renderer compiles no stage kernels", {}};
+}
+
 BackendInfo RenderEngine::info() const {
     if (backend_) return backend_->info();
     BackendInfo info;

@@ -29,6 +29,8 @@ public:
     ~RenderEngine();
 
     BackendInfo info() const;
+    // The registers, stack and spill each stage's kernel got from its API's compiler (cpu-ref: none).
+    KernelResources kernel_resources() const;
     // The backend's GL interop, or why there is none (cpu-ref and cpu: the frame is already in host memory).
     GlInteropOffer gl_interop();
     FrameResult render(const Camera& camera, const RenderSettings& settings,
