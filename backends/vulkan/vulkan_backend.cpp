@@ -271,7 +271,8 @@ public:
     GlInteropOffer gl_interop() override { return {gl_.get(), gl_ ? "" : gl_reason_}; }
 
     // The driver's statistics of each stage's pipeline (the variant frames run now), by the driver's own names; a
-    // statistic whose name mentions registers gives StageResources::registers.
+    // statistic whose name mentions registers gives StageResources::registers, one that mentions shared memory
+    // shared_bytes. NVIDIA's "Local Memory Size" is not read as private bytes: it carries a 2^36 offset.
     KernelResources kernel_resources() const override {
         if (!executable_statistics_)
             return {std::string(physical_.properties.deviceName) + " lacks VK_KHR_pipeline_executable_properties", {}};
@@ -304,9 +305,10 @@ public:
                     std::string name = statistic.name;
                     std::transform(name.begin(), name.end(), name.begin(),
                                    [](unsigned char c) { return char(std::tolower(c)); });
-                    if (name.find("register") != std::string::npos &&
-                        statistic.format == VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_UINT64_KHR)
-                        stage.registers = int(statistic.value.u64);
+                    if (statistic.format != VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_UINT64_KHR) continue;
+                    if (name.find("register") != std::string::npos) stage.registers = int(statistic.value.u64);
+                    if (name.find("shared") != std::string::npos)
+                        stage.shared_bytes = static_cast<long long>(statistic.value.u64);
                 }
             }
             resources.stages.push_back(stage);
