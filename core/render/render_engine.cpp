@@ -65,8 +65,14 @@ RenderEngine::RenderEngine(const std::string& backend_name, const DeviceScene& s
 RenderEngine::~RenderEngine() = default;
 
 KernelResources RenderEngine::kernel_resources() const {
-    if (backend_) return backend_->kernel_resources();
-    return {"the reference renderer compiles no stage kernels", {}};
+    if (!backend_) return {"the reference renderer compiles no stage kernels", {}};
+    // A report, not a result: a query the driver fails says so in place of the numbers, and the measurements it
+    // accompanies stand.
+    try {
+        return backend_->kernel_resources();
+    } catch (const Error& error) {
+        return {std::string("not read: ") + error.what(), {}};
+    }
 }
 
 BackendInfo RenderEngine::info() const {

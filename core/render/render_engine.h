@@ -29,7 +29,8 @@ public:
     ~RenderEngine();
 
     BackendInfo info() const;
-    // The registers, stack and spill each stage's kernel got from its API's compiler (cpu-ref: none).
+    // The registers, stack and spill each stage's kernel got from its API's compiler (cpu-ref: none; a query that
+    // fails: none, and the source says why).
     KernelResources kernel_resources() const;
     // The backend's GL interop, or why there is none (cpu-ref and cpu: the frame is already in host memory).
     GlInteropOffer gl_interop();
