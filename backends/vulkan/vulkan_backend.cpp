@@ -22,8 +22,8 @@
 #include "backends/vulkan/vulkan_backend.h"
 
 #include <algorithm>
-#include <cctype>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>

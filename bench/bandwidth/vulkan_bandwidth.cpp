@@ -136,8 +136,8 @@ public:
                                      : "H2D, D2H, D2D copy: vkCmdCopyBuffer on the " + compute +
                                            " [compute]; no transfer-only queue family, so no [transfer] rows");
         if (copy_regions_ > 1)
-            result.details.push_back("each vkCmdCopyBuffer copies " + std::to_string(copy_regions_) +
-                                     " regions of equal size (PRISM_VULKAN_COPY_REGIONS)");
+            result.details.push_back("each vkCmdCopyBuffer copies up to " + std::to_string(copy_regions_) +
+                                     " regions of equal size, each 256 bytes or more (PRISM_VULKAN_COPY_REGIONS)");
         result.details.push_back("D2D kernel: dispatched on the compute queue");
         if (import_host_) {
             result.details.push_back(std::string("pinned H2D and D2H through the application's memory imported with "

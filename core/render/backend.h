@@ -84,9 +84,9 @@ struct StageResources {
     std::vector<std::pair<std::string, std::string>> statistics;
 };
 
-// A backend's StageResources, one per stage it compiled, and how they were read ("" when the API has no way).
+// A backend's StageResources, one per stage it compiled, and how they were read.
 struct KernelResources {
-    std::string source;  // e.g. "cudaFuncGetAttributes"; or why there is nothing
+    std::string source;  // e.g. "cudaFuncGetAttributes"; or why there are none
     std::vector<StageResources> stages;
 };
 
