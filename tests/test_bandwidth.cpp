@@ -343,19 +343,32 @@ TEST(Bandwidth, BadCopyRegionsSettingFailsWithOneLine) {
 }
 
 #ifdef PRISM_HAVE_VULKAN
+// `prism bandwidth --sizes <sizes>` on the Vulkan devices with `env` before it, its JSON parsed; null (and a failure
+// recorded) when it did not run or wrote no JSON.
+json vulkan_bandwidth(const std::string& sizes, const std::string& env, const std::string& file_name) {
+    set_runtime_dir();
+    fs::path file = prism::test::temp_dir("bandwidth-vulkan") / file_name;
+    auto run = prism::test::run_prism(
+        "bandwidth --sizes " + sizes + " --repeats 2 --device vulkan: --json '" + file.string() + "'", env);
+    if (run.exit_code != 0) {
+        ADD_FAILURE() << env << ": exit " << run.exit_code << "\n" << run.output;
+        return nullptr;
+    }
+    std::ifstream in(file);
+    json result = json::parse(in, nullptr, false);
+    if (!result.is_object() || result["devices"].empty()) {
+        ADD_FAILURE() << env << ": no result with a device\n" << run.output;
+        return nullptr;
+    }
+    return result;
+}
+
 // PRISM_VULKAN_COPY_REGIONS=3: every Vulkan copy is three regions, at two sizes that three does not divide (the last
 // region is the shorter); each copy's data check passes (a failed one is dropped), and the device says how it
 // copied.
 TEST(Bandwidth, VulkanCopiesInSeveralRegions) {
-    set_runtime_dir();
-    fs::path file = prism::test::temp_dir("bandwidth-regions") / "regions.json";
-    auto run =
-        prism::test::run_prism("bandwidth --sizes 4K,1M --repeats 2 --device vulkan: --json '" + file.string() + "'",
-                               "env PRISM_VULKAN_COPY_REGIONS=3");
-    ASSERT_EQ(run.exit_code, 0) << run.output;
-    std::ifstream in(file);
-    json result = json::parse(in, nullptr, false);
-    ASSERT_TRUE(result.is_object()) << run.output;
+    json result = vulkan_bandwidth("4K,1M", "env PRISM_VULKAN_COPY_REGIONS=3", "regions.json");
+    if (result.is_null()) return;
     bool found = false;
     for (const json& device : result["devices"]) {
         if (device["api"] != "vulkan") continue;
@@ -372,23 +385,17 @@ TEST(Bandwidth, VulkanCopiesInSeveralRegions) {
                 EXPECT_TRUE(copied.count(std::string(direction) + " " + std::to_string(bytes)))
                     << direction << " " << bytes;
     }
-    EXPECT_TRUE(found) << run.output;
+    EXPECT_TRUE(found) << result.dump();
 }
 
 // PRISM_VULKAN_STAGING=host and host-4k: the pinned copies go through the application's memory imported with
 // VK_EXT_external_memory_host (lavapipe has it); the copies' data checks pass, and the device says how much of
 // the staging memory the kernel backed with huge pages: none where they were refused.
 TEST(Bandwidth, VulkanStagesThroughImportedHostMemory) {
-    set_runtime_dir();
     for (const char* staging : {"host", "host-4k"}) {
-        fs::path file = prism::test::temp_dir("bandwidth-import") / (std::string(staging) + ".json");
-        auto run =
-            prism::test::run_prism("bandwidth --sizes 4M --repeats 2 --device vulkan: --json '" + file.string() + "'",
-                                   std::string("env PRISM_VULKAN_STAGING=") + staging);
-        ASSERT_EQ(run.exit_code, 0) << run.output;
-        std::ifstream in(file);
-        json result = json::parse(in, nullptr, false);
-        ASSERT_TRUE(result.is_object()) << run.output;
+        json result =
+            vulkan_bandwidth("4M", std::string("env PRISM_VULKAN_STAGING=") + staging, std::string(staging) + ".json");
+        if (result.is_null()) continue;
         bool found = false;
         for (const json& device : result["devices"]) {
             if (device["api"] != "vulkan") continue;
@@ -406,7 +413,7 @@ TEST(Bandwidth, VulkanStagesThroughImportedHostMemory) {
             else
                 EXPECT_NE(details.find("huge pages asked for"), std::string::npos) << details;
         }
-        EXPECT_TRUE(found) << "no Vulkan device in\n" << run.output;
+        EXPECT_TRUE(found) << "no Vulkan device in\n" << result.dump();
     }
 }
 #endif
