@@ -7,6 +7,7 @@
 #include <future>
 #include <map>
 #include <optional>
+#include <utility>
 
 #include "core/bvh/bvh_tree.h"
 #include "core/render/device_scene_flat.h"
@@ -353,14 +354,16 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
     device.bvh_options = options;
     // The closed-solid analysis reads only the scene: it runs beside the BVH builds, which leave cores idle in their
     // serial steps.
-    std::future<std::vector<bool>> closed_solids = std::async(std::launch::async, [&scene, &options, &device] {
-        auto solids_start = std::chrono::steady_clock::now();
-        std::vector<bool> solid(scene.instances.size(), false);
-        if (options.closed_solids) solid = closed_solid_instances(scene);
-        device.closed_solid_ms =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - solids_start).count();
-        return solid;
-    });
+    // It returns its answer and its time; nothing of `device` is written from its thread.
+    std::future<std::pair<std::vector<bool>, double>> closed_solids =
+        std::async(std::launch::async, [&scene, &options] {
+            auto solids_start = std::chrono::steady_clock::now();
+            std::vector<bool> solid(scene.instances.size(), false);
+            if (options.closed_solids) solid = closed_solid_instances(scene);
+            return std::pair(
+                std::move(solid),
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - solids_start).count());
+        });
 
     // Mesh BVHs, built separately then placed after the top level.
     struct MeshPlacement {
@@ -533,7 +536,8 @@ DeviceScene build_device_scene(const Scene& scene, const BvhBuildOptions& option
     // An instance with a material override reads its own copy of the mesh's per-triangle shading entries (vertex
     // indices and material), one copy per (mesh, material); geometry, vertices and BVH stay shared.
     std::map<std::pair<uint32_t, uint32_t>, uint32_t> override_shading;
-    std::vector<bool> solid = closed_solids.get();
+    auto [solid, closed_solid_ms] = closed_solids.get();
+    device.closed_solid_ms = closed_solid_ms;
     for (size_t i = 0; i < scene.instances.size(); ++i) {
         const prism::Instance& instance = scene.instances[i];
         const MeshPlacement& placement = placements[instance.mesh];
