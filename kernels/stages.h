@@ -189,6 +189,95 @@ RT_FUNC void rt_stage_shadow_layers(KernelGlobals kg, uint index, uint depth) {
     if (rt_max3(reaching) > 0.0f) rt_accumulate(kg, sr.pixel, reaching);
 }
 
+#if defined(RT_WIDE_TRAVERSAL)
+// The cpu backends' traversal stages on a wide scene: items [begin, end) of the ray queue of `depth` (intersect,
+// occlude) or of its shadow rays (shadow), two walks at a time: each walk's steps wait on their node's or leaf's
+// loads, and the other walk's step is independent work for the core meanwhile; a walk that ends hands its result on
+// and starts the next item at once (docs/kernels.md, "Two walks at a time"). Each item's result is what
+// rt_stage_trace or rt_stage_shadow gives it: the walks are rt_trace_wide's, a step at a time.
+RT_STRUCT_BEGIN(WalkItem)
+    float4 origin;     // w = tmin
+    float4 direction;  // w = tmax
+RT_STRUCT_END(WalkItem)
+
+RT_FUNC WalkItem rt_walk_item(KernelGlobals kg, uint base, uint index, bool shadows) {
+    WalkItem item;
+    if (shadows) {
+        ShadowRay sr = RT_FETCH(kg, shadow_rays, index);
+        item.origin = rt_float4(rt_xyz(sr.origin), 0.0f);
+        item.direction = sr.direction;
+    } else {
+        Ray ray = RT_FETCH(kg, rays, base + index);
+        item.origin = ray.origin;
+        item.direction = ray.direction;
+    }
+    return item;
+}
+
+RT_FUNC WideWalk rt_walk_start(KernelGlobals kg, WalkItem item, bool one_instance, bool flat) {
+    return rt_wide_start(kg, rt_xyz(item.origin), rt_xyz(item.direction), item.origin.w, item.direction.w,
+                         one_instance && !flat);
+}
+
+// A finished walk: the hit into the hit queue, or a shadow ray's light onto its pixel unless something blocked it.
+RT_FUNC void rt_walk_done(KernelGlobals kg, uint index, bool shadows, Hit hit) {
+    if (!shadows) {
+        RT_STORE(kg, hits, index, hit);
+    } else if (!(hit.tuv.x < RT_INFINITY)) {
+        ShadowRay sr = RT_FETCH(kg, shadow_rays, index);
+        if (rt_max3(rt_xyz(sr.contribution)) > 0.0f) rt_accumulate(kg, sr.pixel, rt_xyz(sr.contribution));
+    }
+}
+
+RT_FUNC void rt_walk_range(KernelGlobals kg, uint begin, uint end, uint depth, bool any_hit, bool shadows) {
+    FrameParams frame = RT_FETCH(kg, frame, 0u);
+    uint base = rt_queue_base(frame, depth);
+    bool one_instance = (frame.flags & RT_FLAG_ONE_INSTANCE) != 0u;
+    bool flat = (frame.flags & RT_FLAG_FLAT_INSTANCES) != 0u;
+    uint2 stack_a[RT_BVH_WIDE_STACK_SIZE];
+    uint2 stack_b[RT_BVH_WIDE_STACK_SIZE];
+    // Walk a takes item begin and walk b the next one; with a single item, b starts on it too but never steps.
+    uint index_a = begin;
+    uint index_b = rt_min_u(begin + 1u, end - 1u);
+    uint next = begin + 2u;
+    WalkItem item_a = rt_walk_item(kg, base, index_a, shadows);
+    WalkItem item_b = rt_walk_item(kg, base, index_b, shadows);
+    WideWalk a = rt_walk_start(kg, item_a, one_instance, flat);
+    WideWalk b = rt_walk_start(kg, item_b, one_instance, flat);
+    WidePosition at_a = rt_wide_start_position(kg, one_instance, flat);
+    WidePosition at_b = rt_wide_start_position(kg, one_instance, flat);
+    if (index_b == index_a) at_b.going = 0u;
+    while ((at_a.going | at_b.going) != 0u) {
+        if (at_a.going != 0u) {
+            at_a = rt_wide_step(kg, at_a, &a, stack_a, item_a.origin.w, item_a.direction.w, any_hit);
+            if (at_a.going == 0u) {
+                rt_walk_done(kg, index_a, shadows, rt_wide_result(a));
+                if (next < end) {
+                    index_a = next;
+                    next += 1u;
+                    item_a = rt_walk_item(kg, base, index_a, shadows);
+                    a = rt_walk_start(kg, item_a, one_instance, flat);
+                    at_a = rt_wide_start_position(kg, one_instance, flat);
+                }
+            }
+        }
+        if (at_b.going != 0u) {
+            at_b = rt_wide_step(kg, at_b, &b, stack_b, item_b.origin.w, item_b.direction.w, any_hit);
+            if (at_b.going == 0u) {
+                rt_walk_done(kg, index_b, shadows, rt_wide_result(b));
+                if (next < end) {
+                    index_b = next;
+                    next += 1u;
+                    item_b = rt_walk_item(kg, base, index_b, shadows);
+                    b = rt_walk_start(kg, item_b, one_instance, flat);
+                    at_b = rt_wide_start_position(kg, one_instance, flat);
+                }
+            }
+        }
+    }
+}
+#endif
+
 // Fixed point to linear radiance and 8-bit sRGB. The pixel's light times the exposure, through the tone map if the
 // frame has one, is the frame's radiance (what .exr, .hdr and 16-bit PNG files are written from: linear, and
 // unclamped without a tone map) and, in sRGB, its image: every output shows the same picture.
@@ -208,9 +297,21 @@ RT_FUNC void rt_kernel_generate(KernelGlobals kg, uint depth) {
     RT_GRID_LOOP(i, rt_pixel_count(kg)) { rt_stage_generate(kg, i); }
 }
 RT_FUNC void rt_kernel_intersect(KernelGlobals kg, uint depth) {
+#if defined(RT_WIDE_TRAVERSAL)
+    if (RT_FETCH(kg, frame, 0u).bvh_layout == RT_BVH_LAYOUT_WIDE) {
+        RT_GRID_RANGES(begin, end, rt_ray_count(kg, depth)) { rt_walk_range(kg, begin, end, depth, false, false); }
+        return;
+    }
+#endif
     RT_WORK_LOOP(kg, i, rt_ray_count(kg, depth), RT_COUNTER_TAKEN_RAYS + depth) { rt_stage_trace(kg, i, depth, false); }
 }
 RT_FUNC void rt_kernel_occlude(KernelGlobals kg, uint depth) {
+#if defined(RT_WIDE_TRAVERSAL)
+    if (RT_FETCH(kg, frame, 0u).bvh_layout == RT_BVH_LAYOUT_WIDE) {
+        RT_GRID_RANGES(begin, end, rt_ray_count(kg, depth)) { rt_walk_range(kg, begin, end, depth, true, false); }
+        return;
+    }
+#endif
     RT_WORK_LOOP(kg, i, rt_ray_count(kg, depth), RT_COUNTER_TAKEN_RAYS + depth) { rt_stage_trace(kg, i, depth, true); }
 }
 RT_FUNC void rt_kernel_miss(KernelGlobals kg, uint depth) {
@@ -221,6 +322,12 @@ RT_FUNC void rt_kernel_shade(KernelGlobals kg, uint depth) {
 }
 RT_FUNC void rt_kernel_shadow(KernelGlobals kg, uint depth) {
     if (rt_alpha_shadows(kg)) return;
+#if defined(RT_WIDE_TRAVERSAL)
+    if (RT_FETCH(kg, frame, 0u).bvh_layout == RT_BVH_LAYOUT_WIDE) {
+        RT_GRID_RANGES(begin, end, rt_shadow_count(kg, depth)) { rt_walk_range(kg, begin, end, depth, true, true); }
+        return;
+    }
+#endif
     RT_WORK_LOOP(kg, i, rt_shadow_count(kg, depth), RT_COUNTER_TAKEN_SHADOWS + depth) { rt_stage_shadow(kg, i, depth); }
 }
 RT_FUNC void rt_kernel_shadow_layers(KernelGlobals kg, uint depth) {

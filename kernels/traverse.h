@@ -98,8 +98,8 @@ RT_FUNC Hit rt_intersect_leaf(KernelGlobals kg, Hit best, TraversalRay ray, floa
 
 // The wide layout's leaves: rt_intersect_leaf a block of four triangles at a time, with the same per-triangle
 // results and the same winner (rt_hit_wins).
-RT_FUNC Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, float tmax, uint instance, uint first,
-                                uint count) {
+RT_FUNC_INLINE Hit rt_intersect_blocks(KernelGlobals kg, Hit best, TraversalRay ray, float tmax, uint instance,
+                                       uint first, uint count) {
     for (uint b = 0u; b < (count + 3u) / 4u; ++b) {
         TriangleBlock block = RT_FETCH(kg, triangle_blocks, first + b);
         TriangleHits4 hits = rt_intersect_triangles4(block, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w,
@@ -311,142 +311,187 @@ RT_FUNC uint rt_wide_child(BvhWideNode node, uint k) { return rt_lane8_u(node.ch
 // an instance with the identity transform keeps the world ray: the traversal then costs what a one-level BVH costs.
 // A scene with flattened instances (flat: RT_FLAG_FLAT_INSTANCES) is one world-space BVH: the walk starts "inside"
 // at node 0 with the world ray and never meets a top-level leaf; each hit takes its instance from its block.
-RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit,
-                          bool one_instance, bool flat) {
-    Hit best = rt_no_hit();
-    best.tuv.x = tmax;
-    TraversalRay world = rt_traversal_ray(origin, direction, tmin);
-    TraversalRay ray = world;
-    uint instance = RT_NONE;
-    // An entry is (child reference, entry distance's bits): the sort below moves one 8-byte pair per step.
-    uint2 stack[RT_BVH_WIDE_STACK_SIZE];
-    uint sp = 0u;
+//
+// The walk is a state advanced one node or one leaf at a time (rt_wide_step), so that the cpu backends' traversal
+// stages can walk two rays in turn (rt_walk_range, kernels/stages.h). The state that each step reads first (where
+// the walk is, WidePosition) is the step's result, so it stays in registers; the rest (the best hit and the rays,
+// WideWalk) and the stack are the caller's.
+RT_STRUCT_BEGIN(WideWalk)
+    Hit best;
+    TraversalRay world;
+    TraversalRay ray;  // in the current space: world at the top level, object inside an instance
+RT_STRUCT_END(WideWalk)
 
-    uint current = 0u;
+// Where a walk is: what each step reads first, returned by the step so that it stays in registers.
+RT_STRUCT_BEGIN(WidePosition)
+    uint current;  // the node or leaf the next step visits
+    uint sp;
+    uint instance;
+    uint going;  // 0 once the walk is done
+RT_STRUCT_END(WidePosition)
+
+RT_FUNC WideWalk rt_wide_start(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax,
+                               bool one_instance) {
+    WideWalk w;
+    w.best = rt_no_hit();
+    w.best.tuv.x = tmax;
+    w.world = rt_traversal_ray(origin, direction, tmin);
+    w.ray = w.world;
+    // The top level holds one instance: start inside it (its mesh root's boxes are tested anyway).
+    if (one_instance) w.ray = rt_wide_ray_to_object(RT_FETCH(kg, instances, 0u), w.world);
+    return w;
+}
+
+RT_FUNC WidePosition rt_wide_start_position(KernelGlobals kg, bool one_instance, bool flat) {
+    WidePosition p;
+    p.current = 0u;
+    p.sp = 0u;
+    p.instance = RT_NONE;
+    p.going = 1u;
     if (flat) {
-        instance = RT_INSTANCE_PER_LANE;
+        p.instance = RT_INSTANCE_PER_LANE;
     } else if (one_instance) {
-        // The top level holds one instance: start inside it (its mesh root's boxes are tested anyway).
-        instance = 0u;
-        Instance inst = RT_FETCH(kg, instances, 0u);
-        ray = rt_wide_ray_to_object(inst, world);
-        current = inst.root;
+        p.instance = 0u;
+        p.current = RT_FETCH(kg, instances, 0u).root;
     }
-    bool going = true;
-    while (going) {
-        bool descend = false;
-        if ((current & RT_WIDE_LEAF) == 0u) {
-            BvhWideNode node = RT_FETCH(kg, wide_nodes, current);
-            WideBoxHits hits = rt_intersect_wide_node(node, rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin,
-                                                      rt_min(rt_hit_reach(best, tmax), RT_FLT_MAX));
-            uint mask = hits.mask;
-            if (mask != 0u) {
-                uint k0 = rt_lowest_bit(mask);
-                mask &= mask - 1u;
-                uint e0 = rt_wide_child(node, k0);
-                descend = true;
-                if (mask == 0u) {
-                    current = e0;
-                } else {
-                    float t0 = rt_lane8(hits.t, k0);
-                    uint k1 = rt_lowest_bit(mask);
-                    mask &= mask - 1u;
-                    uint e1 = rt_wide_child(node, k1);
-                    float t1 = rt_lane8(hits.t, k1);
-                    if (mask == 0u) {
-                        // Two: go on with the nearer, push the farther.
-                        if (sp < rt_uint(RT_BVH_WIDE_STACK_SIZE)) {
-                            stack[sp].x = t0 <= t1 ? e1 : e0;
-                            stack[sp].y = rt_as_uint(rt_max(t0, t1));
-                            rt_wide_prefetch(kg, stack[sp].x);
-                            sp += 1u;
-                        }
-                        current = t0 <= t1 ? e0 : e1;
-                    } else if ((mask & (mask - 1u)) == 0u && sp + 3u <= rt_uint(RT_BVH_WIDE_STACK_SIZE)) {
-                        // Three (the usual case of "more than two"): each goes straight to its rank, the number of
-                        // the others that belong below it — farther, or as far and earlier in lane order, the order
-                        // the sort below gives ties, so equal hits keep their winner. Compares instead of the
-                        // sort's data-dependent branches, which mispredict on diffuse rays.
-                        uint k2 = rt_lowest_bit(mask);
-                        uint e2 = rt_wide_child(node, k2);
-                        float t2 = rt_lane8(hits.t, k2);
-                        uint r0 = sp + (t1 > t0 ? 1u : 0u) + (t2 > t0 ? 1u : 0u);
-                        uint r1 = sp + (t0 >= t1 ? 1u : 0u) + (t2 > t1 ? 1u : 0u);
-                        uint r2 = sp + (t0 >= t2 ? 1u : 0u) + (t1 >= t2 ? 1u : 0u);
-                        stack[r0].x = e0;
-                        stack[r0].y = rt_as_uint(t0);
-                        stack[r1].x = e1;
-                        stack[r1].y = rt_as_uint(t1);
-                        stack[r2].x = e2;
-                        stack[r2].y = rt_as_uint(t2);
-                        rt_wide_prefetch(kg, e0);
-                        rt_wide_prefetch(kg, e1);
-                        rt_wide_prefetch(kg, e2);
-                        sp += 2u;
-                        current = stack[sp].x;
-                    } else {
-                        // Four or more: push all, sorted so the nearest is on top, and take it.
-                        uint first_pushed = sp;
-                        mask |= (1u << k0) | (1u << k1);
-                        while (mask != 0u) {
-                            uint k = rt_lowest_bit(mask);
-                            mask &= mask - 1u;
-                            if (sp >= rt_uint(RT_BVH_WIDE_STACK_SIZE)) continue;
-                            float t = rt_lane8(hits.t, k);
-                            uint slot = sp;
-                            while (slot > first_pushed && rt_as_float(stack[slot - 1u].y) < t) {
-                                stack[slot] = stack[slot - 1u];
-                                slot -= 1u;
-                            }
-                            stack[slot].x = rt_wide_child(node, k);
-                            stack[slot].y = rt_as_uint(t);
-                            rt_wide_prefetch(kg, stack[slot].x);
-                            sp += 1u;
-                        }
-                        sp -= 1u;
-                        current = stack[sp].x;
-                    }
-                }
-            }
-        } else {
-            uint first = (current & ~RT_WIDE_LEAF) >> 3u;
-            if (instance == RT_NONE) {
-                // A top-level leaf: enter the instance's mesh BVH in object space (t is preserved).
-                instance = first;
-                Instance inst = RT_FETCH(kg, instances, instance);
-                ray = rt_wide_ray_to_object(inst, world);
-                current = inst.root;
-                // The leave marker restores the world ray for the entries below it; with none, the walk ends
-                // with this instance and needs no marker (a ray that enters one instance only).
-                if (sp > 0u && sp < rt_uint(RT_BVH_WIDE_STACK_SIZE)) {
-                    stack[sp].x = RT_STACK_LEAVE_INSTANCE;
-                    stack[sp].y = 0u;
-                    sp += 1u;
-                }
-                descend = true;
+    return p;
+}
+
+// One step: the node or leaf w.current, then, unless it leads on to a child, the next entry popped that can still
+// hold a closer hit (the walk is done when none is left). An entry is (child reference, entry distance's bits):
+// the sort below moves one 8-byte pair per step.
+RT_FUNC_INLINE WidePosition rt_wide_step(KernelGlobals kg, WidePosition p, RT_OUT_ARRAY WideWalk* w,
+                                         RT_OUT_ARRAY uint2* stack, float tmin, float tmax, bool any_hit) {
+    uint sp = p.sp;
+    bool descend = false;
+    if ((p.current & RT_WIDE_LEAF) == 0u) {
+        BvhWideNode node = RT_FETCH(kg, wide_nodes, p.current);
+        WideBoxHits hits = rt_intersect_wide_node(node, rt_xyz(w->ray.origin), rt_xyz(w->ray.inv_direction), tmin,
+                                                  rt_min(rt_hit_reach(w->best, tmax), RT_FLT_MAX));
+        uint mask = hits.mask;
+        if (mask != 0u) {
+            uint k0 = rt_lowest_bit(mask);
+            mask &= mask - 1u;
+            uint e0 = rt_wide_child(node, k0);
+            descend = true;
+            if (mask == 0u) {
+                p.current = e0;
             } else {
-                uint count = (current & 7u) + 1u;
-                best = rt_intersect_blocks(kg, best, ray, tmax, instance, first, count);
-                if (any_hit && best.instance != RT_NONE) return best;
+                float t0 = rt_lane8(hits.t, k0);
+                uint k1 = rt_lowest_bit(mask);
+                mask &= mask - 1u;
+                uint e1 = rt_wide_child(node, k1);
+                float t1 = rt_lane8(hits.t, k1);
+                if (mask == 0u) {
+                    // Two: go on with the nearer, push the farther.
+                    if (sp < rt_uint(RT_BVH_WIDE_STACK_SIZE)) {
+                        stack[sp].x = t0 <= t1 ? e1 : e0;
+                        stack[sp].y = rt_as_uint(rt_max(t0, t1));
+                        rt_wide_prefetch(kg, stack[sp].x);
+                        sp += 1u;
+                    }
+                    p.current = t0 <= t1 ? e0 : e1;
+                } else if ((mask & (mask - 1u)) == 0u && sp + 3u <= rt_uint(RT_BVH_WIDE_STACK_SIZE)) {
+                    // Three (the usual case of "more than two"): each goes straight to its rank, the number of
+                    // the others that belong below it — farther, or as far and earlier in lane order, the order
+                    // the sort below gives ties, so equal hits keep their winner. Compares instead of the
+                    // sort's data-dependent branches, which mispredict on diffuse rays.
+                    uint k2 = rt_lowest_bit(mask);
+                    uint e2 = rt_wide_child(node, k2);
+                    float t2 = rt_lane8(hits.t, k2);
+                    uint r0 = sp + (t1 > t0 ? 1u : 0u) + (t2 > t0 ? 1u : 0u);
+                    uint r1 = sp + (t0 >= t1 ? 1u : 0u) + (t2 > t1 ? 1u : 0u);
+                    uint r2 = sp + (t0 >= t2 ? 1u : 0u) + (t1 >= t2 ? 1u : 0u);
+                    stack[r0].x = e0;
+                    stack[r0].y = rt_as_uint(t0);
+                    stack[r1].x = e1;
+                    stack[r1].y = rt_as_uint(t1);
+                    stack[r2].x = e2;
+                    stack[r2].y = rt_as_uint(t2);
+                    rt_wide_prefetch(kg, e0);
+                    rt_wide_prefetch(kg, e1);
+                    rt_wide_prefetch(kg, e2);
+                    sp += 2u;
+                    p.current = stack[sp].x;
+                } else {
+                    // Four or more: push all, sorted so the nearest is on top, and take it.
+                    uint first_pushed = sp;
+                    mask |= (1u << k0) | (1u << k1);
+                    while (mask != 0u) {
+                        uint k = rt_lowest_bit(mask);
+                        mask &= mask - 1u;
+                        if (sp >= rt_uint(RT_BVH_WIDE_STACK_SIZE)) continue;
+                        float t = rt_lane8(hits.t, k);
+                        uint slot = sp;
+                        while (slot > first_pushed && rt_as_float(stack[slot - 1u].y) < t) {
+                            stack[slot] = stack[slot - 1u];
+                            slot -= 1u;
+                        }
+                        stack[slot].x = rt_wide_child(node, k);
+                        stack[slot].y = rt_as_uint(t);
+                        rt_wide_prefetch(kg, stack[slot].x);
+                        sp += 1u;
+                    }
+                    sp -= 1u;
+                    p.current = stack[sp].x;
+                }
             }
         }
-        if (descend) continue;
+    } else {
+        uint first = (p.current & ~RT_WIDE_LEAF) >> 3u;
+        if (p.instance == RT_NONE) {
+            // A top-level leaf: enter the instance's mesh BVH in object space (t is preserved).
+            p.instance = first;
+            Instance inst = RT_FETCH(kg, instances, p.instance);
+            w->ray = rt_wide_ray_to_object(inst, w->world);
+            p.current = inst.root;
+            // The leave marker restores the world ray for the entries below it; with none, the walk ends
+            // with this instance and needs no marker (a ray that enters one instance only).
+            if (sp > 0u && sp < rt_uint(RT_BVH_WIDE_STACK_SIZE)) {
+                stack[sp].x = RT_STACK_LEAVE_INSTANCE;
+                stack[sp].y = 0u;
+                sp += 1u;
+            }
+            descend = true;
+        } else {
+            uint count = (p.current & 7u) + 1u;
+            w->best = rt_intersect_blocks(kg, w->best, w->ray, tmax, p.instance, first, count);
+            if (any_hit && w->best.instance != RT_NONE) sp = 0u;
+        }
+    }
+    if (!descend) {
         // Pop the next entry that can still hold a closer hit.
-        going = false;
+        bool going = false;
         while (sp > 0u && !going) {
             sp -= 1u;
             uint2 popped = stack[sp];
             if (popped.x == RT_STACK_LEAVE_INSTANCE) {
-                ray = world;
-                instance = RT_NONE;
-            } else if (rt_as_float(popped.y) <= rt_hit_reach(best, tmax)) {
-                current = popped.x;
+                w->ray = w->world;
+                p.instance = RT_NONE;
+            } else if (rt_as_float(popped.y) <= rt_hit_reach(w->best, tmax)) {
+                p.current = popped.x;
                 going = true;
             }
         }
+        p.going = going ? 1u : 0u;
     }
+    p.sp = sp;
+    return p;
+}
+
+RT_FUNC Hit rt_wide_result(WideWalk w) {
+    Hit best = w.best;
     if (best.instance == RT_NONE) best.tuv.x = RT_INFINITY;
     return best;
+}
+
+RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit,
+                          bool one_instance, bool flat) {
+    uint2 stack[RT_BVH_WIDE_STACK_SIZE];
+    WideWalk w = rt_wide_start(kg, origin, direction, tmin, tmax, one_instance && !flat);
+    WidePosition p = rt_wide_start_position(kg, one_instance, flat);
+    while (p.going != 0u) p = rt_wide_step(kg, p, &w, stack, tmin, tmax, any_hit);
+    return rt_wide_result(w);
 }
 
 #endif  // RT_WIDE_TRAVERSAL

@@ -14,6 +14,9 @@
 #endif
 
 #define RT_FUNC static inline
+// A function the compiler must inline (the cpu backends' wide walk: its step and leaf test). Called, they pass the
+// walk's state through memory, and GCC 12 chose to call them where the stages walk two rays in turn.
+#define RT_FUNC_INLINE static inline __attribute__((always_inline))
 #define RT_CONST static constexpr
 #define RT_OUT_ARRAY  // an array parameter is a pointer to the caller's array (GLSL says `out`)
 
@@ -266,6 +269,9 @@ static inline uint rt_cpu_take(uint n, uint* end) {
     }
     return begin;
 }
+// The same ranges whole, for a stage that walks two of its items at a time (rt_walk_range, kernels/stages.h).
+#define RT_GRID_RANGES(begin, end, n) \
+    for (uint rt_n_ = (n), end = 0u, begin = rt_cpu_take(rt_n_, &end); begin < rt_n_; begin = rt_cpu_take(rt_n_, &end))
 #define RT_GRID_LOOP(i, n)                                                                            \
     for (uint rt_n_ = (n), rt_end_ = 0u, rt_begin_ = rt_cpu_take(rt_n_, &rt_end_); rt_begin_ < rt_n_; \
          rt_begin_ = rt_cpu_take(rt_n_, &rt_end_))                                                    \
