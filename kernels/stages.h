@@ -229,51 +229,61 @@ RT_FUNC void rt_walk_done(KernelGlobals kg, uint index, bool shadows, Hit hit) {
     }
 }
 
+// One of rt_walk_range's two walks: the item it walks and where the walk is (its best hit and rays, WideWalk, and
+// its stack are the caller's).
+RT_STRUCT_BEGIN(WalkSlot)
+    WalkItem item;
+    WidePosition at;
+    uint index;  // the item's
+    uint next;   // the range's next item to start, handed from one walk to the other
+    uint end;    // the range's end
+    uint base;   // the ray queue's first slot at this depth
+RT_STRUCT_END(WalkSlot)
+
+RT_FUNC WalkSlot rt_walk_slot(KernelGlobals kg, WalkSlot s, RT_OUT_ARRAY WideWalk* walk, uint index, bool shadows,
+                              bool one_instance, bool flat) {
+    s.index = index;
+    s.item = rt_walk_item(kg, s.base, index, shadows);
+    walk[0] = rt_walk_start(kg, s.item, one_instance, flat);
+    s.at = rt_wide_start_position(kg, one_instance, flat);
+    return s;
+}
+
+// A step of the slot's walk; a walk that ends hands on its result and starts the range's next item.
+RT_FUNC_INLINE WalkSlot rt_walk_advance(KernelGlobals kg, WalkSlot s, RT_OUT_ARRAY WideWalk* walk,
+                                        RT_OUT_ARRAY uint2* stack, bool any_hit, bool shadows, bool one_instance,
+                                        bool flat) {
+    if (s.at.going == 0u) return s;
+    s.at = rt_wide_step(kg, s.at, walk, stack, s.item.origin.w, s.item.direction.w, any_hit);
+    if (s.at.going != 0u) return s;
+    rt_walk_done(kg, s.index, shadows, rt_wide_result(walk[0]));
+    if (s.next >= s.end) return s;
+    s.next += 1u;
+    return rt_walk_slot(kg, s, walk, s.next - 1u, shadows, one_instance, flat);
+}
+
 RT_FUNC void rt_walk_range(KernelGlobals kg, uint begin, uint end, uint depth, bool any_hit, bool shadows) {
     FrameParams frame = RT_FETCH(kg, frame, 0u);
-    uint base = rt_queue_base(frame, depth);
     bool one_instance = (frame.flags & RT_FLAG_ONE_INSTANCE) != 0u;
     bool flat = (frame.flags & RT_FLAG_FLAT_INSTANCES) != 0u;
     uint2 stack_a[RT_BVH_WIDE_STACK_SIZE];
     uint2 stack_b[RT_BVH_WIDE_STACK_SIZE];
+    WideWalk walk_a;
+    WideWalk walk_b;
+    WalkSlot a;
+    a.base = rt_queue_base(frame, depth);
+    a.end = end;
+    a.next = begin + 2u;
+    WalkSlot b = a;
     // Walk a takes item begin and walk b the next one; with a single item, b starts on it too but never steps.
-    uint index_a = begin;
-    uint index_b = rt_min_u(begin + 1u, end - 1u);
-    uint next = begin + 2u;
-    WalkItem item_a = rt_walk_item(kg, base, index_a, shadows);
-    WalkItem item_b = rt_walk_item(kg, base, index_b, shadows);
-    WideWalk a = rt_walk_start(kg, item_a, one_instance, flat);
-    WideWalk b = rt_walk_start(kg, item_b, one_instance, flat);
-    WidePosition at_a = rt_wide_start_position(kg, one_instance, flat);
-    WidePosition at_b = rt_wide_start_position(kg, one_instance, flat);
-    if (index_b == index_a) at_b.going = 0u;
-    while ((at_a.going | at_b.going) != 0u) {
-        if (at_a.going != 0u) {
-            at_a = rt_wide_step(kg, at_a, &a, stack_a, item_a.origin.w, item_a.direction.w, any_hit);
-            if (at_a.going == 0u) {
-                rt_walk_done(kg, index_a, shadows, rt_wide_result(a));
-                if (next < end) {
-                    index_a = next;
-                    next += 1u;
-                    item_a = rt_walk_item(kg, base, index_a, shadows);
-                    a = rt_walk_start(kg, item_a, one_instance, flat);
-                    at_a = rt_wide_start_position(kg, one_instance, flat);
-                }
-            }
-        }
-        if (at_b.going != 0u) {
-            at_b = rt_wide_step(kg, at_b, &b, stack_b, item_b.origin.w, item_b.direction.w, any_hit);
-            if (at_b.going == 0u) {
-                rt_walk_done(kg, index_b, shadows, rt_wide_result(b));
-                if (next < end) {
-                    index_b = next;
-                    next += 1u;
-                    item_b = rt_walk_item(kg, base, index_b, shadows);
-                    b = rt_walk_start(kg, item_b, one_instance, flat);
-                    at_b = rt_wide_start_position(kg, one_instance, flat);
-                }
-            }
-        }
+    a = rt_walk_slot(kg, a, &walk_a, begin, shadows, one_instance, flat);
+    b = rt_walk_slot(kg, b, &walk_b, rt_min_u(begin + 1u, end - 1u), shadows, one_instance, flat);
+    if (b.index == a.index) b.at.going = 0u;
+    while ((a.at.going | b.at.going) != 0u) {
+        a = rt_walk_advance(kg, a, &walk_a, stack_a, any_hit, shadows, one_instance, flat);
+        b.next = a.next;
+        b = rt_walk_advance(kg, b, &walk_b, stack_b, any_hit, shadows, one_instance, flat);
+        a.next = b.next;
     }
 }
 #endif
