@@ -357,7 +357,7 @@ RT_FUNC WidePosition rt_wide_start_position(KernelGlobals kg, bool one_instance,
     return p;
 }
 
-// One step: the node or leaf w.current, then, unless it leads on to a child, the next entry popped that can still
+// One step: the node or leaf p.current, then, unless it leads on to a child, the next entry popped that can still
 // hold a closer hit (the walk is done when none is left). An entry is (child reference, entry distance's bits):
 // the sort below moves one 8-byte pair per step.
 RT_FUNC_INLINE WidePosition rt_wide_step(KernelGlobals kg, WidePosition p, RT_OUT_ARRAY WideWalk* w,

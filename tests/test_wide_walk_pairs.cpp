@@ -89,9 +89,8 @@ TEST_P(WideWalkPairs, EachRayHitsWhatItsOwnWalkHits) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Layouts, WideWalkPairs, ::testing::Bool(),
-                         [](const ::testing::TestParamInfo<bool>& info) {
-                             return info.param ? "FlattenedInstances" : "TwoLevels";
-                         });
+INSTANTIATE_TEST_SUITE_P(Layouts, WideWalkPairs, ::testing::Bool(), [](const ::testing::TestParamInfo<bool>& info) {
+    return info.param ? "FlattenedInstances" : "TwoLevels";
+});
 
 }  // namespace

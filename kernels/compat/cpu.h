@@ -14,8 +14,8 @@
 #endif
 
 #define RT_FUNC static inline
-// A function the compiler must inline (the cpu backends' wide walk: its step and leaf test). Called, they pass the
-// walk's state through memory, and GCC 12 chose to call them where the stages walk two rays in turn.
+// A function the compiler must inline (the cpu backends' wide walk: its step, its leaf test, a walk's advance in
+// rt_walk_range). Called, they pass the walk's state through memory, and GCC 12 chose to call them there.
 #define RT_FUNC_INLINE static inline __attribute__((always_inline))
 #define RT_CONST static constexpr
 #define RT_OUT_ARRAY  // an array parameter is a pointer to the caller's array (GLSL says `out`)
