@@ -221,6 +221,9 @@ TEST(Cli, RaysBenchReportsPrimaryAndDiffuseRaysPerBackend) {
             EXPECT_GT(m["mrays_per_s"].get<double>(), 0.0);
             EXPECT_LE(m["min_ms"].get<double>(), m["median_ms"].get<double>());
             EXPECT_GE(m["agreement"].get<double>(), 0.999);
+            // The second timing: each launch right after its rays' upload.
+            EXPECT_GT(m["after_upload"]["mrays_per_s"].get<double>(), 0.0);
+            EXPECT_LE(m["after_upload"]["min_ms"].get<double>(), m["after_upload"]["max_ms"].get<double>());
         }
     }
     EXPECT_EQ(result["backends"][0]["primary"]["rays"], 64 * 48);

@@ -1,5 +1,6 @@
 #include "core/render/reference_renderer.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 
@@ -105,13 +106,15 @@ FrameResult ReferenceRenderer::render(const Camera& camera, const RenderSettings
     return result;
 }
 
-std::vector<RayHit> ReferenceRenderer::trace(std::span<const RayQuery> rays, bool any_hit) {
+std::vector<RayHit> ReferenceRenderer::trace(std::span<const RayQuery> rays, bool any_hit, uint32_t launches) {
     RenderSettings settings;
     FrameParams frame = make_frame_params(scene_, Camera{}, settings, 0, 0, 0);
     KernelGlobals kg = host_globals(scene_, &frame, nullptr, nullptr, nullptr);
     std::vector<RayHit> out(rays.size());
-    std::atomic<size_t> next{0};
     ThreadPool pool(threads_);
+    last_launch_ms_.clear();
+    for (uint32_t launch = 0; launch < std::max(launches, 1u); ++launch) {
+    std::atomic<size_t> next{0};
     auto start = std::chrono::steady_clock::now();
     pool.run([&](unsigned) {
         const size_t chunk = 4096;
@@ -124,7 +127,9 @@ std::vector<RayHit> ReferenceRenderer::trace(std::span<const RayQuery> rays, boo
             }
         }
     });
-    last_trace_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    last_launch_ms_.push_back(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    }
     return out;
 }
 

@@ -16,11 +16,12 @@ public:
     explicit ReferenceRenderer(const DeviceScene& scene, unsigned threads = 0);
     FrameResult render(const Camera& camera, const RenderSettings& settings,
                        const std::function<void(double fraction)>& progress = {});
-    std::vector<RayHit> trace(std::span<const RayQuery> rays, bool any_hit);
-    double last_trace_ms() const { return last_trace_ms_; }
+    // `launches` times over the rays (Renderer::trace); the host clock times each.
+    std::vector<RayHit> trace(std::span<const RayQuery> rays, bool any_hit, uint32_t launches = 1);
+    const std::vector<double>& last_launch_ms() const { return last_launch_ms_; }
 
 private:
-    double last_trace_ms_ = 0.0;
+    std::vector<double> last_launch_ms_;
     const DeviceScene& scene_;
     unsigned threads_;
 };

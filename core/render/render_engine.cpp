@@ -98,13 +98,19 @@ FrameResult RenderEngine::render(const Camera& camera, const RenderSettings& set
     });
 }
 
-std::vector<RayHit> RenderEngine::trace(std::span<const RayQuery> rays, bool any_hit) {
-    if (reference_) return reference_->trace(rays, any_hit);
-    return renderer_->trace(rays, any_hit);
+std::vector<RayHit> RenderEngine::trace(std::span<const RayQuery> rays, bool any_hit, uint32_t launches) {
+    if (reference_) return reference_->trace(rays, any_hit, launches);
+    return renderer_->trace(rays, any_hit, launches);
+}
+
+const std::vector<double>& RenderEngine::last_launch_ms() const {
+    return reference_ ? reference_->last_launch_ms() : renderer_->last_launch_ms();
 }
 
 double RenderEngine::last_trace_ms() const {
-    return reference_ ? reference_->last_trace_ms() : renderer_->last_trace_ms();
+    double sum = 0.0;
+    for (double ms : last_launch_ms()) sum += ms;
+    return sum;
 }
 
 void RenderEngine::update_instances(DeviceScene& scene, const std::vector<glm::mat4>& transforms, bool rebuild) {

@@ -36,8 +36,11 @@ public:
     GlInteropOffer gl_interop();
     FrameResult render(const Camera& camera, const RenderSettings& settings,
                        const std::function<void(double fraction)>& progress = {});
-    std::vector<RayHit> trace(std::span<const RayQuery> rays, bool any_hit);
-    double last_trace_ms() const;  // intersect time of the last trace(): device timers where the API has them
+    // The rays uploaded once and traced `launches` times back to back (Renderer::trace).
+    std::vector<RayHit> trace(std::span<const RayQuery> rays, bool any_hit, uint32_t launches = 1);
+    // Intersect time of each launch of the last trace(): device timers where the API has them; and their sum.
+    const std::vector<double>& last_launch_ms() const;
+    double last_trace_ms() const;
     // Moving instances: refit (or rebuild) the top level and re-upload it.
     void update_instances(DeviceScene& scene, const std::vector<glm::mat4>& transforms, bool rebuild);
     // The scene at `seconds` into its motion (core/scene/scene_motion.h): its instances placed, the meshes its

@@ -258,14 +258,15 @@ FrameResult Renderer::render(const Camera& camera, const RenderSettings& setting
     }
 }
 
-std::vector<RayHit> Renderer::trace(std::span<const RayQuery> rays, bool any_hit) {
+std::vector<RayHit> Renderer::trace(std::span<const RayQuery> rays, bool any_hit, uint32_t launches) {
+    launches = std::max(launches, 1u);
     std::vector<RayHit> out(rays.size());
     const uint32_t batch = 1u << 22;  // 4M rays: 256 MiB of rays + 128 MiB of hits
     RenderSettings settings;
     settings.width = 1;
     settings.height = 1;
     settings.max_depth = 1;
-    last_trace_ms_ = 0.0;
+    last_launch_ms_.assign(launches, 0.0);
     for (size_t first = 0; first < rays.size(); first += batch) {
         uint32_t n = static_cast<uint32_t>(std::min<size_t>(batch, rays.size() - first));
         uint32_t capacity = std::max(n, ray_capacity_);
@@ -286,18 +287,29 @@ std::vector<RayHit> Renderer::trace(std::span<const RayQuery> rays, bool any_hit
         std::vector<uint32_t> counters(RT_COUNTER_SLOTS, 0u);
         counters[RT_COUNTER_RAYS] = n;
         backend_.write(DeviceArray::frame, &params, sizeof params);
-        backend_.write(DeviceArray::counters, counters.data(), counters.size() * sizeof(uint32_t));
         backend_.write(DeviceArray::rays, device_rays.data(), device_rays.size() * sizeof(Ray));
-        backend_.enqueue(any_hit ? Stage::Occlude : Stage::Intersect, 0);
+        for (uint32_t launch = 0; launch < launches; ++launch) {
+            // Each launch takes its rays from the counters afresh (RT_WORK_LOOP's taken count starts at zero).
+            backend_.write(DeviceArray::counters, counters.data(), counters.size() * sizeof(uint32_t));
+            backend_.enqueue(any_hit ? Stage::Occlude : Stage::Intersect, 0);
+        }
         std::vector<Hit> hits(n);
         backend_.read(DeviceArray::hits, hits.data(), hits.size() * sizeof(Hit));
-        for (const StageTiming& timing : backend_.finish()) last_trace_ms_ += timing.milliseconds;
+        std::vector<StageTiming> timings = backend_.finish();
+        for (size_t launch = 0; launch < std::min<size_t>(timings.size(), launches); ++launch)
+            last_launch_ms_[launch] += timings[launch].milliseconds;
         for (uint32_t i = 0; i < n; ++i) {
             const Hit& h = hits[i];
             out[first + i] = RayHit{h.tuv.x, h.instance, h.primitive, h.tuv.y, h.tuv.z};
         }
     }
     return out;
+}
+
+double Renderer::last_trace_ms() const {
+    double sum = 0.0;
+    for (double ms : last_launch_ms_) sum += ms;
+    return sum;
 }
 
 }  // namespace prism

@@ -95,10 +95,14 @@ public:
     Renderer(Backend& backend, const DeviceScene& scene);
     FrameResult render(const Camera& camera, const RenderSettings& settings,
                        const std::function<void(uint32_t depth, uint32_t max_depth)>& progress = {});
-    // Closest (or any) hit of each ray: the intersect stage alone, in batches that fit the device.
-    std::vector<RayHit> trace(std::span<const RayQuery> rays, bool any_hit);
-    // Device time of the intersect stage in the last trace() (all batches), for throughput measurements.
-    double last_trace_ms() const { return last_trace_ms_; }
+    // Closest (or any) hit of each ray: the intersect stage alone, in batches that fit the device. Each batch's
+    // rays are uploaded once and traced `launches` times back to back (every launch finds the same hits), so that
+    // a benchmark can time launches whose tree is already in the device's caches, as tinybvh's does.
+    std::vector<RayHit> trace(std::span<const RayQuery> rays, bool any_hit, uint32_t launches = 1);
+    // Device time of the intersect stage in each launch of the last trace() (all batches), for throughput
+    // measurements; last_trace_ms() is their sum.
+    const std::vector<double>& last_launch_ms() const { return last_launch_ms_; }
+    double last_trace_ms() const;
     // After update_instance_transforms: re-uploads the instances and the top-level nodes only.
     void update_instances(const DeviceScene& scene);
     // After update_mesh_vertices: re-uploads what the posed mesh changed (its vertices, triangles, triangle blocks
@@ -119,7 +123,7 @@ private:
     uint32_t ray_capacity_ = 0;
     uint32_t shadow_capacity_ = 0;
     uint32_t pixel_capacity_ = 0;
-    double last_trace_ms_ = 0.0;
+    std::vector<double> last_launch_ms_;
     float learned_queue_factor_ = 0.0f;  // what an overflowing frame needed: later frames start there
 };
 
