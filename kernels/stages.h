@@ -11,6 +11,14 @@
 #include "shade.h"
 #include "traverse.h"
 
+// The arrays a stage streams with RT_FETCH_ONCE / RT_STORE_ONCE, for a compat layer that needs a function for each
+// (compat/opencl.h on NVIDIA's platform).
+#if defined(RT_ONCE_ACCESS)
+RT_ONCE_ACCESS(Ray, rays)
+RT_ONCE_ACCESS(Hit, hits)
+RT_ONCE_ACCESS(ShadowRay, shadow_rays)
+#endif
+
 // The traversal stages' loop over n items. Where the compat layer has RT_FIRST_ITEM (the GPUs' warps and
 // subgroups), each warp takes its next items from counter `slot` (zeroed with the frame's counters) with one atomic
 // add whenever it is done with its last, so no warp idles while others still trace a fixed share: with the grid
@@ -62,9 +70,9 @@ RT_FUNC void rt_stage_generate(KernelGlobals kg, uint index) {
 // none of the any-hit walk's code (docs/kernels.md, "Any-hit walks").
 RT_FUNC void rt_stage_trace(KernelGlobals kg, uint index, uint depth, bool any_hit) {
     FrameParams frame = RT_FETCH(kg, frame, 0u);
-    Ray ray = RT_FETCH(kg, rays, rt_queue_base(frame, depth) + index);
+    Ray ray = RT_FETCH_ONCE(kg, rays, rt_queue_base(frame, depth) + index);
     Hit hit = rt_trace(kg, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w, ray.direction.w, any_hit);
-    RT_STORE(kg, hits, index, hit);
+    RT_STORE_ONCE(kg, hits, index, hit);
 }
 
 // Rays that left the scene see the environment (the seed's "Cube Map" kernel).
@@ -177,14 +185,14 @@ RT_FUNC float3 rt_light_reaching(KernelGlobals kg, ShadowRay sr) {
 
 // A light reaches the point unless something lies between.
 RT_FUNC void rt_stage_shadow(KernelGlobals kg, uint index, uint depth) {
-    ShadowRay sr = RT_FETCH(kg, shadow_rays, index);
+    ShadowRay sr = RT_FETCH_ONCE(kg, shadow_rays, index);
     float3 reaching = rt_light_unblocked(kg, sr);
     if (rt_max3(reaching) > 0.0f) rt_accumulate(kg, sr.pixel, reaching);
 }
 
 // What a light leaves through the cut-out and blended surfaces between it and the point.
 RT_FUNC void rt_stage_shadow_layers(KernelGlobals kg, uint index, uint depth) {
-    ShadowRay sr = RT_FETCH(kg, shadow_rays, index);
+    ShadowRay sr = RT_FETCH_ONCE(kg, shadow_rays, index);
     float3 reaching = rt_light_through_layers(kg, sr);
     if (rt_max3(reaching) > 0.0f) rt_accumulate(kg, sr.pixel, reaching);
 }

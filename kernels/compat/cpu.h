@@ -227,6 +227,8 @@ RT_FUNC float rt_int_as_float(int i) { return std::bit_cast<float>(i); }
 // Buffers: `kg` is a struct of pointers generated from kernels/data_arrays.h.
 #define RT_FETCH(kg, array, i) ((kg).array[(i)])
 #define RT_STORE(kg, array, i, value) ((kg).array[(i)] = (value))
+#define RT_FETCH_ONCE(kg, array, i) RT_FETCH(kg, array, i)  // no streaming hint: compat/cuda.h and opencl.h have one
+#define RT_STORE_ONCE(kg, array, i, value) RT_STORE(kg, array, i, value)
 // Atomic add on a uint buffer element, returning the old value. atomic_ref keeps the buffers plain arrays.
 #define RT_ATOMIC_ADD(kg, array, i, value) (std::atomic_ref<uint>((kg).array[(i)]).fetch_add((value)))
 // n consecutive slots of a queue counter (kernels/stages.h, rt_queue_reserve): one atomic add per item.

@@ -108,6 +108,31 @@ static __device__ __forceinline__ T rt_fetch(T* __restrict__ array, uint i) {
 }
 #define RT_FETCH(kg, array, i) rt_fetch((kg).array, (i))
 #define RT_STORE(kg, array, i, value) ((kg).array[(i)] = (value))
+// A traversal stage's ray and hit are touched once: streaming (evict-first) loads and stores, ld/st.global.cs, so
+// that they pass through the L2 cache without pushing the tree out of it. The load is not volatile (unlike
+// __ldcs), so the 16-byte pieces of the struct the stage never reads are not loaded at all.
+template <typename T>
+static __device__ __forceinline__ T rt_fetch_once(const T* __restrict__ array, uint i) {
+    static_assert(sizeof(T) % 16 == 0, "streamed 16 bytes at a time");
+    T value;
+    const uint4* from = reinterpret_cast<const uint4*>(array + i);
+    uint4* to = reinterpret_cast<uint4*>(&value);
+#pragma unroll
+    for (unsigned k = 0; k < sizeof(T) / 16; ++k)
+        asm("ld.global.cs.v4.u32 {%0,%1,%2,%3}, [%4];"
+            : "=r"(to[k].x), "=r"(to[k].y), "=r"(to[k].z), "=r"(to[k].w)
+            : "l"(from + k));
+    return value;
+}
+template <typename T>
+static __device__ __forceinline__ void rt_store_once(T* __restrict__ array, uint i, T value) {
+    static_assert(sizeof(T) % 16 == 0, "streamed 16 bytes at a time");
+    const uint4* from = reinterpret_cast<const uint4*>(&value);
+#pragma unroll
+    for (unsigned k = 0; k < sizeof(T) / 16; ++k) __stcs(reinterpret_cast<uint4*>(array + i) + k, from[k]);
+}
+#define RT_FETCH_ONCE(kg, array, i) rt_fetch_once((kg).array, (i))
+#define RT_STORE_ONCE(kg, array, i, value) rt_store_once((kg).array, (i), (value))
 #define RT_ATOMIC_ADD(kg, array, i, value) atomicAdd(&(kg).array[(i)], (value))
 #define RT_PREFETCH(kg, array, i, n) ((void)0)  // a CPU cache hint; GPUs hide latency with other warps
 // n consecutive slots of a queue counter for each thread (kernels/stages.h, rt_queue_reserve): the threads of a

@@ -89,6 +89,8 @@ uint rt_lane8_u(uvec4 lo, uvec4 hi, uint k) { return k < 4u ? lo[k] : hi[k - 4u]
 // The arrays' accessors (kernels/globals.h): rt_fetch_<array> and rt_store_<array> move whole 16-byte rows.
 #define RT_FETCH(kg, array, i) rt_fetch_##array(i)
 #define RT_STORE(kg, array, i, value) rt_store_##array((i), (value))
+#define RT_FETCH_ONCE(kg, array, i) RT_FETCH(kg, array, i)  // GLSL has no streaming (evict-first) access
+#define RT_STORE_ONCE(kg, array, i, value) RT_STORE(kg, array, i, value)
 #if defined(RT_GLSL_ADDRESS)
 #define RT_ATOMIC_ADD(kg, array, i, value) atomicAdd(rt_array_##array().array##_at[(i)], (value))
 #else

@@ -65,6 +65,40 @@ RT_FUNC uint rt_lowest_bit(uint x) { return 31u - clz(x & (0u - x)); }
 // has no subgroup operations, and NVIDIA's OpenCL has no cl_khr_subgroups: there (RT_OPENCL_NVIDIA_PTX, set by the
 // backend for NVIDIA's platform) the warp's work-items sum their n with PTX warp votes and shuffles, as CUDA does,
 // and one atomic add takes the warp's slots. Elsewhere each work-item takes its own with one atomic add.
+// A traversal stage's ray and hit are touched once: on NVIDIA's platform, streaming (evict-first) loads and stores
+// in PTX, ld/st.global.cs, 16 bytes at a time, as compat/cuda.h's rt_fetch_once. OpenCL C has no templates, so
+// kernels/stages.h instantiates RT_ONCE_ACCESS for each array it streams; the load is not volatile, so the pieces
+// of the struct a stage never reads are not loaded. Elsewhere: plain loads and stores.
+#if defined(RT_OPENCL_NVIDIA_PTX)
+RT_FUNC uint4 rt_ptx_load_once(__global const uint4* p) {
+    uint4 v;
+    asm("ld.global.cs.v4.u32 {%0,%1,%2,%3}, [%4];" : "=r"(v.x), "=r"(v.y), "=r"(v.z), "=r"(v.w) : "l"(p));
+    return v;
+}
+RT_FUNC void rt_ptx_store_once(__global uint4* p, uint4 v) {
+    asm volatile("st.global.cs.v4.u32 [%0], {%1,%2,%3,%4};" ::"l"(p), "r"(v.x), "r"(v.y), "r"(v.z), "r"(v.w)
+                 : "memory");
+}
+// clang-format off
+#define RT_ONCE_ACCESS(type, array)                                                                          \
+    RT_FUNC type rt_fetch_once_##array(__global const type* p) {                                             \
+        union { type value; uint4 piece[sizeof(type) / 16]; } u;                                           \
+        for (uint k = 0u; k < sizeof(type) / 16; ++k) u.piece[k] = rt_ptx_load_once((__global const uint4*)p + k); \
+        return u.value;                                                                                      \
+    }                                                                                                        \
+    RT_FUNC void rt_store_once_##array(__global type* p, type value) {                                       \
+        union { type value; uint4 piece[sizeof(type) / 16]; } u;                                           \
+        u.value = value;                                                                                     \
+        for (uint k = 0u; k < sizeof(type) / 16; ++k) rt_ptx_store_once((__global uint4*)p + k, u.piece[k]); \
+    }
+// clang-format on
+#define RT_FETCH_ONCE(kg, array, i) rt_fetch_once_##array((kg).array + (i))
+#define RT_STORE_ONCE(kg, array, i, value) rt_store_once_##array((kg).array + (i), (value))
+#else
+#define RT_FETCH_ONCE(kg, array, i) RT_FETCH(kg, array, i)
+#define RT_STORE_ONCE(kg, array, i, value) RT_STORE(kg, array, i, value)
+#endif
+
 #if defined(RT_OPENCL_NVIDIA_PTX)
 RT_FUNC uint rt_ptx_active_mask(void) {
     uint mask;
