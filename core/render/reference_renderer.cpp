@@ -114,21 +114,21 @@ std::vector<RayHit> ReferenceRenderer::trace(std::span<const RayQuery> rays, boo
     ThreadPool pool(threads_);
     last_launch_ms_.clear();
     for (uint32_t launch = 0; launch < std::max(launches, 1u); ++launch) {
-    std::atomic<size_t> next{0};
-    auto start = std::chrono::steady_clock::now();
-    pool.run([&](unsigned) {
-        const size_t chunk = 4096;
-        for (size_t first = next.fetch_add(chunk); first < rays.size(); first = next.fetch_add(chunk)) {
-            for (size_t i = first; i < std::min(first + chunk, rays.size()); ++i) {
-                const RayQuery& q = rays[i];
-                Hit h = rt_trace(kg, float3{q.origin[0], q.origin[1], q.origin[2]},
-                                 float3{q.direction[0], q.direction[1], q.direction[2]}, q.tmin, q.tmax, any_hit);
-                out[i] = RayHit{h.tuv.x, h.instance, h.primitive, h.tuv.y, h.tuv.z};
+        std::atomic<size_t> next{0};
+        auto start = std::chrono::steady_clock::now();
+        pool.run([&](unsigned) {
+            const size_t chunk = 4096;
+            for (size_t first = next.fetch_add(chunk); first < rays.size(); first = next.fetch_add(chunk)) {
+                for (size_t i = first; i < std::min(first + chunk, rays.size()); ++i) {
+                    const RayQuery& q = rays[i];
+                    Hit h = rt_trace(kg, float3{q.origin[0], q.origin[1], q.origin[2]},
+                                     float3{q.direction[0], q.direction[1], q.direction[2]}, q.tmin, q.tmax, any_hit);
+                    out[i] = RayHit{h.tuv.x, h.instance, h.primitive, h.tuv.y, h.tuv.z};
+                }
             }
-        }
-    });
-    last_launch_ms_.push_back(
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+        });
+        last_launch_ms_.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
     }
     return out;
 }
