@@ -106,8 +106,8 @@ Gpu open_gpu(const std::string& kernel_dir) {
     const char* text = source.c_str();
     cl_program program = clCreateProgramWithSource(gpu.context, 1, &text, nullptr, &status);
     check(status, "clCreateProgramWithSource");
-    std::string options = "-I " + kernel_dir +
-                          " -cl-std=CL2.0 -cl-strict-aliasing -cl-fast-relaxed-math -cl-single-precision-constant";
+    std::string options =
+        "-I " + kernel_dir + " -cl-std=CL2.0 -cl-strict-aliasing -cl-fast-relaxed-math -cl-single-precision-constant";
     if (nvidia) options += " -cl-nv-opt-level=9";
     if (clBuildProgram(program, 1, &gpu.device, options.c_str(), nullptr, nullptr) != CL_SUCCESS) {
         size_t size = 0;
@@ -158,7 +158,8 @@ SetResult trace_set(const Gpu& gpu, cl_mem nodes, cl_mem indices, cl_mem vertice
     }
     cl_mem buffer = device_buffer(gpu, padded * sizeof(GpuRay), gpu_rays.data());
     cl_mem arguments[4] = {nodes, indices, vertices, buffer};
-    for (cl_uint a = 0; a < 4; ++a) check(clSetKernelArg(gpu.kernel, a, sizeof(cl_mem), &arguments[a]), "clSetKernelArg");
+    for (cl_uint a = 0; a < 4; ++a)
+        check(clSetKernelArg(gpu.kernel, a, sizeof(cl_mem), &arguments[a]), "clSetKernelArg");
     SetResult result;
     for (uint32_t launch = 0; launch <= runs; ++launch) {
         cl_event event = nullptr;
@@ -233,23 +234,28 @@ int main(int argc, char** argv) {
         result["kind"] = "ray_queries_tinybvh";
         result["scene"] = scene_path;
         result["triangles"] = triangles;
-        result["tinybvh"] = {{"version", std::to_string(TINY_BVH_VERSION_MAJOR) + "." +
-                                             std::to_string(TINY_BVH_VERSION_MINOR) + "." +
-                                             std::to_string(TINY_BVH_VERSION_SUB)},
-                             {"layout", "BVH_GPU (Aila-Laine 64-byte nodes)"},
-                             {"build", "BuildHQ (SBVH)"},
-                             {"kernel", "batch_ailalaine (traverse_bvh2.cl)"},
-                             {"nodes", bvh.usedNodes},
-                             {"sah_cost", bvh.bvh.SAHCost()}};
+        result["tinybvh"] = {
+            {"version", std::to_string(TINY_BVH_VERSION_MAJOR) + "." + std::to_string(TINY_BVH_VERSION_MINOR) + "." +
+                            std::to_string(TINY_BVH_VERSION_SUB)},
+            {"layout", "BVH_GPU (Aila-Laine 64-byte nodes)"},
+            {"build", "BuildHQ (SBVH)"},
+            {"kernel", "batch_ailalaine (traverse_bvh2.cl)"},
+            {"nodes", bvh.usedNodes},
+            {"sah_cost", bvh.bvh.SAHCost()}};
         result["device"] = device_string(gpu.device, CL_DEVICE_NAME);
         result["driver"] = device_string(gpu.device, CL_DRIVER_VERSION);
         result["api_version"] = device_string(gpu.device, CL_DEVICE_VERSION);
-        result["settings"] = {{"width", width}, {"height", height}, {"runs", runs}, {"seed", seed},
-                              {"time", "kernel launch, OpenCL events, median of runs after one untimed launch; "
-                                       "rays uploaded once"}};
+        result["settings"] = {{"width", width},
+                              {"height", height},
+                              {"runs", runs},
+                              {"seed", seed},
+                              {"time",
+                               "kernel launch, OpenCL events, median of runs after one untimed launch; "
+                               "rays uploaded once"}};
         result["reference"] = "Embree rtcIntersect1";
         std::printf("%s tinybvh %s BVH_GPU BuildHQ on %s:", scene_path.c_str(),
-                    result["tinybvh"]["version"].get<std::string>().c_str(), result["device"].get<std::string>().c_str());
+                    result["tinybvh"]["version"].get<std::string>().c_str(),
+                    result["device"].get<std::string>().c_str());
         struct Named {
             const char* name;
             const std::vector<RayQuery>& rays;
