@@ -7,7 +7,8 @@
 // compared with Embree's. Timing follows tinybvh's speed test: the rays uploaded once, launches of one work-item
 // per ray in groups of 64 back to back, each timed by its OpenCL event; one untimed launch first, then `--runs`
 // timed ones, median. The program is built with tinybvh's own options for NVIDIA (tiny_ocl.h: OpenCL 2.0,
-// -cl-fast-relaxed-math, -cl-nv-opt-level=9, ISNVIDIA defined).
+// -cl-fast-relaxed-math, -cl-nv-opt-level=9, ISNVIDIA defined); --math replaces its fast-math options, to trace
+// with the IEEE arithmetic Prism's kernels keep (docs/fairness.md).
 //   tinybvh_rays --scene mesh.ply [--width 1920 --height 1080] [--runs 21] [--seed 7] [--json out.json]
 #define CL_TARGET_OPENCL_VERSION 300
 #include <CL/cl.h>
@@ -92,7 +93,9 @@ struct Gpu {
     cl_kernel kernel = nullptr;
 };
 
-Gpu open_gpu(const std::string& kernel_dir) {
+// tinybvh's own build options for the device (tiny_ocl.h); `math`, when not empty, replaces its
+// "-cl-fast-relaxed-math -cl-single-precision-constant" ("none": neither).
+Gpu open_gpu(const std::string& kernel_dir, const std::string& math) {
     Gpu gpu;
     cl_int status = CL_SUCCESS;
     gpu.device = pick_device();
@@ -106,8 +109,10 @@ Gpu open_gpu(const std::string& kernel_dir) {
     const char* text = source.c_str();
     cl_program program = clCreateProgramWithSource(gpu.context, 1, &text, nullptr, &status);
     check(status, "clCreateProgramWithSource");
-    std::string options =
-        "-I " + kernel_dir + " -cl-std=CL2.0 -cl-strict-aliasing -cl-fast-relaxed-math -cl-single-precision-constant";
+    std::string math_options = math.empty()     ? "-cl-fast-relaxed-math -cl-single-precision-constant"
+                               : math == "none" ? ""
+                                                : math;
+    std::string options = "-I " + kernel_dir + " -cl-std=CL2.0 -cl-strict-aliasing " + math_options;
     if (nvidia) options += " -cl-nv-opt-level=9";
     if (clBuildProgram(program, 1, &gpu.device, options.c_str(), nullptr, nullptr) != CL_SUCCESS) {
         size_t size = 0;
@@ -191,7 +196,7 @@ SetResult trace_set(const Gpu& gpu, cl_mem nodes, cl_mem indices, cl_mem vertice
 
 int main(int argc, char** argv) {
     CLI::App app("tinybvh's GPU traversal on prism rays --bench's ray sets (see the source's header)");
-    std::string scene_path, json_path, kernel_dir = PRISM_TINYBVH_DIR;
+    std::string scene_path, json_path, kernel_dir = PRISM_TINYBVH_DIR, math;
     uint32_t width = 1920, height = 1080, runs = 21, seed = 7;
     app.add_option("--scene", scene_path, "one mesh (.ply, .ply.gz, ...)")->required();
     app.add_option("--width", width)->capture_default_str();
@@ -199,6 +204,8 @@ int main(int argc, char** argv) {
     app.add_option("--runs", runs, "timed launches after one untimed")->capture_default_str();
     app.add_option("--seed", seed, "of the diffuse rays")->capture_default_str();
     app.add_option("--kernels", kernel_dir, "folder of tinybvh's traverse.cl")->capture_default_str();
+    app.add_option("--math", math,
+                   "options replacing tinybvh's -cl-fast-relaxed-math -cl-single-precision-constant (none: neither)");
     app.add_option("--json", json_path);
     CLI11_PARSE(app, argc, argv);
     try {
@@ -225,7 +232,7 @@ int main(int argc, char** argv) {
         std::vector<RayQuery> diffuse = bench::diffuse_rays(scene, primary, primary_reference, hits, seed);
         std::vector<RayHit> diffuse_reference = embree.intersect1(diffuse);
 
-        Gpu gpu = open_gpu(kernel_dir);
+        Gpu gpu = open_gpu(kernel_dir, math);
         cl_mem nodes = device_buffer(gpu, bvh.usedNodes * sizeof(tinybvh::BVH_GPU::BVHNode), bvh.bvhNode);
         cl_mem indices = device_buffer(gpu, bvh.bvh.idxCount * sizeof(uint32_t), bvh.bvh.primIdx);
         cl_mem vertices = device_buffer(gpu, soup.size() * sizeof(tinybvh::bvhvec4), soup.data());
@@ -249,6 +256,7 @@ int main(int argc, char** argv) {
                               {"height", height},
                               {"runs", runs},
                               {"seed", seed},
+                              {"math_options", math.empty() ? "tinybvh's" : math},
                               {"time",
                                "kernel launch, OpenCL events, median of runs after one untimed launch; "
                                "rays uploaded once"}};
