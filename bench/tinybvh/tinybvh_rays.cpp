@@ -33,6 +33,7 @@
 #include "bench/embree_oracle.h"
 #include "bench/query_rays.h"
 #include "core/loaders/scene_loader.h"
+#include "core/render/device_scene.h"
 #include "core/util/error.h"
 #include "core/util/median.h"
 
@@ -95,7 +96,7 @@ struct Gpu {
 
 // tinybvh's own build options for the device (tiny_ocl.h); `math`, when not empty, replaces its
 // "-cl-fast-relaxed-math -cl-single-precision-constant" ("none": neither).
-Gpu open_gpu(const std::string& kernel_dir, const std::string& math) {
+Gpu open_gpu(const std::string& kernel_dir, const std::string& math, const std::string& binary_path) {
     Gpu gpu;
     cl_int status = CL_SUCCESS;
     gpu.device = pick_device();
@@ -121,6 +122,16 @@ Gpu open_gpu(const std::string& kernel_dir, const std::string& math) {
         clGetProgramBuildInfo(program, gpu.device, CL_PROGRAM_BUILD_LOG, size, log.data(), nullptr);
         throw Error(kernel_dir + "/traverse.cl: build failed: " + log.substr(0, 2000));
     }
+    if (!binary_path.empty()) {
+        // The program's binary (PTX on NVIDIA's platform), for `ptxas -v` to tell its registers: NVIDIA's OpenCL
+        // reports none.
+        size_t size = 0;
+        check(clGetProgramInfo(program, CL_PROGRAM_BINARY_SIZES, sizeof size, &size, nullptr), "clGetProgramInfo");
+        std::string binary(size, '\0');
+        unsigned char* data = reinterpret_cast<unsigned char*>(binary.data());
+        check(clGetProgramInfo(program, CL_PROGRAM_BINARIES, sizeof data, &data, nullptr), "clGetProgramInfo");
+        std::ofstream(binary_path, std::ios::binary) << binary;
+    }
     gpu.kernel = clCreateKernel(program, "batch_ailalaine", &status);
     check(status, "clCreateKernel(batch_ailalaine)");
     return gpu;
@@ -139,14 +150,127 @@ struct GpuRay {
     float o[4], d[4], rd[4], hit[4];
 };
 
+// The tree tinybvh's kernel walks, in its BVH_GPU form (node 0 the root; a node holds its two children's boxes, or
+// is a leaf of triCount triangles from firstTri in `indices`), with the triangle soup `vertices` its indices name.
+struct GpuTree {
+    std::vector<tinybvh::BVH_GPU::BVHNode> nodes;
+    std::vector<uint32_t> indices;
+    std::vector<tinybvh::bvhvec4> vertices;
+    std::vector<uint32_t> primitive_of_triangle;  // soup triangle -> primitive (file order)
+};
+
+// tinybvh's own: BVH_GPU from BuildHQ (SBVH) over the soup in file order.
+GpuTree tinybvh_tree(const std::vector<tinybvh::bvhvec4>& soup) {
+    const uint32_t triangles = uint32_t(soup.size() / 3);
+    tinybvh::BVH_GPU bvh;
+    bvh.BuildHQ(soup.data(), triangles);
+    GpuTree tree;
+    tree.nodes.assign(bvh.bvhNode, bvh.bvhNode + bvh.usedNodes);
+    tree.indices.assign(bvh.bvh.primIdx, bvh.bvh.primIdx + bvh.bvh.idxCount);
+    tree.vertices = soup;
+    for (uint32_t t = 0; t < triangles; ++t) tree.primitive_of_triangle.push_back(t);
+    return tree;
+}
+
+// Prism's: the stack layout's tree as `prism rays --bench` builds it (default options), each node as a BVH_GPU node
+// (an interior node holds its child pair's boxes), node 0 the mesh's root; the soup in Prism's triangle order, so a
+// leaf's triangles are its slots.
+GpuTree prism_tree(const Scene& scene) {
+    DeviceScene device = build_device_scene(scene, BvhBuildOptions{});
+    const uint32_t root = device.instances[0].root;
+    auto index = [root](uint32_t node) { return node == root ? 0u : node == 0u ? root : node; };
+    auto as_uint = [](float f) {
+        uint32_t u = 0;
+        std::memcpy(&u, &f, sizeof u);
+        return u;
+    };
+    GpuTree tree;
+    tree.nodes.resize(device.nodes.size());
+    std::vector<uint32_t> stack{root};
+    while (!stack.empty()) {
+        uint32_t n = stack.back();
+        stack.pop_back();
+        const BvhNode& node = device.nodes[n];
+        uint32_t first = as_uint(node.lower.w), count = as_uint(node.upper.w);
+        tinybvh::BVH_GPU::BVHNode& out = tree.nodes[index(n)];
+        out = {};
+        if (count > 0) {
+            out.triCount = count;
+            out.firstTri = first;
+            continue;
+        }
+        const BvhNode& a = device.nodes[first];
+        const BvhNode& b = device.nodes[first + 1];
+        out.lmin = tinybvh::bvhvec3(a.lower.x, a.lower.y, a.lower.z);
+        out.lmax = tinybvh::bvhvec3(a.upper.x, a.upper.y, a.upper.z);
+        out.rmin = tinybvh::bvhvec3(b.lower.x, b.lower.y, b.lower.z);
+        out.rmax = tinybvh::bvhvec3(b.upper.x, b.upper.y, b.upper.z);
+        out.left = index(first);
+        out.right = index(first + 1);
+        stack.push_back(first);
+        stack.push_back(first + 1);
+    }
+    const Mesh& mesh = scene.meshes[scene.instances[0].mesh];
+    const glm::mat4& m = scene.instances[0].transform;
+    for (uint32_t slot = 0; slot < device.triangles.size(); ++slot) {
+        uint32_t primitive = as_uint(device.triangles[slot].v0.w);
+        tree.indices.push_back(slot);
+        tree.primitive_of_triangle.push_back(primitive);
+        const glm::uvec3& t = mesh.triangles[primitive];
+        for (uint32_t v : {t.x, t.y, t.z}) {
+            glm::vec4 p = m * glm::vec4(mesh.positions[v], 1.0f);
+            tree.vertices.push_back(tinybvh::bvhvec4(p.x, p.y, p.z, 0.0f));
+        }
+    }
+    return tree;
+}
+
+// The tree's SAH cost with a node visit and a triangle test costing 1 each, relative to the root's area; nodes
+// and leaves reachable from the root counted.
+struct TreeShape {
+    double sah = 0.0;
+    size_t interior = 0, leaves = 0, leaf_triangles = 0;
+};
+
+TreeShape tree_shape(const GpuTree& tree) {
+    auto area = [](const tinybvh::bvhvec3& lo, const tinybvh::bvhvec3& hi) {
+        tinybvh::bvhvec3 e = hi - lo;
+        return double(e.x) * e.y + double(e.y) * e.z + double(e.z) * e.x;
+    };
+    struct Item {
+        uint32_t node;
+        double area;
+    };
+    const auto& root = tree.nodes[0];
+    double root_area = area(tinybvh::tinybvh_min(root.lmin, root.rmin), tinybvh::tinybvh_max(root.lmax, root.rmax));
+    TreeShape shape;
+    std::vector<Item> stack{{0u, root_area}};
+    while (!stack.empty()) {
+        Item item = stack.back();
+        stack.pop_back();
+        const auto& node = tree.nodes[item.node];
+        if (node.triCount > 0) {
+            shape.leaves += 1;
+            shape.leaf_triangles += node.triCount;
+            shape.sah += item.area / root_area * node.triCount;
+            continue;
+        }
+        shape.interior += 1;
+        shape.sah += item.area / root_area;
+        stack.push_back({node.left, area(node.lmin, node.lmax)});
+        stack.push_back({node.right, area(node.rmin, node.rmax)});
+    }
+    return shape;
+}
+
 struct SetResult {
     std::vector<double> ms;
     std::vector<RayHit> hits;
 };
 
 // One set: uploaded once, one untimed launch, then `runs` timed ones back to back (tinybvh's speed test).
-SetResult trace_set(const Gpu& gpu, cl_mem nodes, cl_mem indices, cl_mem vertices, const std::vector<RayQuery>& rays,
-                    uint32_t runs) {
+SetResult trace_set(const Gpu& gpu, const GpuTree& tree, cl_mem nodes, cl_mem indices, cl_mem vertices,
+                    const std::vector<RayQuery>& rays, uint32_t runs) {
     const size_t group = 64;
     size_t padded = (rays.size() + group - 1) / group * group;
     std::vector<GpuRay> gpu_rays(padded);
@@ -186,7 +310,7 @@ SetResult trace_set(const Gpu& gpu, cl_mem nodes, cl_mem indices, cl_mem vertice
         uint32_t triangle = 0;
         std::memcpy(&triangle, &h[3], sizeof triangle);
         bool hit = h[0] < 1e30f;
-        result.hits.push_back(hit ? RayHit{h[0], 0u, triangle, h[1], h[2]}
+        result.hits.push_back(hit ? RayHit{h[0], 0u, tree.primitive_of_triangle.at(triangle), h[1], h[2]}
                                   : RayHit{kInfinity, kNoHit, kNoHit, 0.0f, 0.0f});
     }
     return result;
@@ -196,7 +320,7 @@ SetResult trace_set(const Gpu& gpu, cl_mem nodes, cl_mem indices, cl_mem vertice
 
 int main(int argc, char** argv) {
     CLI::App app("tinybvh's GPU traversal on prism rays --bench's ray sets (see the source's header)");
-    std::string scene_path, json_path, kernel_dir = PRISM_TINYBVH_DIR, math;
+    std::string scene_path, json_path, kernel_dir = PRISM_TINYBVH_DIR, math, tree_name = "tinybvh", binary_path;
     uint32_t width = 1920, height = 1080, runs = 21, seed = 7;
     app.add_option("--scene", scene_path, "one mesh (.ply, .ply.gz, ...)")->required();
     app.add_option("--width", width)->capture_default_str();
@@ -206,6 +330,10 @@ int main(int argc, char** argv) {
     app.add_option("--kernels", kernel_dir, "folder of tinybvh's traverse.cl")->capture_default_str();
     app.add_option("--math", math,
                    "options replacing tinybvh's -cl-fast-relaxed-math -cl-single-precision-constant (none: neither)");
+    app.add_option("--tree", tree_name, "the tree the kernel walks: tinybvh's (BuildHQ) or prism's (stack layout)")
+        ->check(CLI::IsMember({"tinybvh", "prism"}))
+        ->capture_default_str();
+    app.add_option("--program-binary", binary_path, "write the built program's binary (PTX on NVIDIA) here");
     app.add_option("--json", json_path);
     CLI11_PARSE(app, argc, argv);
     try {
@@ -221,8 +349,8 @@ int main(int argc, char** argv) {
                 soup.push_back(tinybvh::bvhvec4(p.x, p.y, p.z, 0.0f));
             }
         const uint32_t triangles = uint32_t(mesh.triangles.size());
-        tinybvh::BVH_GPU bvh;
-        bvh.BuildHQ(soup.data(), triangles);
+        GpuTree tree = tree_name == "prism" ? prism_tree(scene) : tinybvh_tree(soup);
+        TreeShape shape = tree_shape(tree);
 
         oracle::EmbreeScene embree(scene);
         std::vector<RayQuery> primary = bench::framing_camera_rays(scene, width, height);
@@ -232,10 +360,10 @@ int main(int argc, char** argv) {
         std::vector<RayQuery> diffuse = bench::diffuse_rays(scene, primary, primary_reference, hits, seed);
         std::vector<RayHit> diffuse_reference = embree.intersect1(diffuse);
 
-        Gpu gpu = open_gpu(kernel_dir, math);
-        cl_mem nodes = device_buffer(gpu, bvh.usedNodes * sizeof(tinybvh::BVH_GPU::BVHNode), bvh.bvhNode);
-        cl_mem indices = device_buffer(gpu, bvh.bvh.idxCount * sizeof(uint32_t), bvh.bvh.primIdx);
-        cl_mem vertices = device_buffer(gpu, soup.size() * sizeof(tinybvh::bvhvec4), soup.data());
+        Gpu gpu = open_gpu(kernel_dir, math, binary_path);
+        cl_mem nodes = device_buffer(gpu, tree.nodes.size() * sizeof(tree.nodes[0]), tree.nodes.data());
+        cl_mem indices = device_buffer(gpu, tree.indices.size() * sizeof(uint32_t), tree.indices.data());
+        cl_mem vertices = device_buffer(gpu, tree.vertices.size() * sizeof(tinybvh::bvhvec4), tree.vertices.data());
 
         nlohmann::json result = bench::result_header();
         result["kind"] = "ray_queries_tinybvh";
@@ -245,10 +373,14 @@ int main(int argc, char** argv) {
             {"version", std::to_string(TINY_BVH_VERSION_MAJOR) + "." + std::to_string(TINY_BVH_VERSION_MINOR) + "." +
                             std::to_string(TINY_BVH_VERSION_SUB)},
             {"layout", "BVH_GPU (Aila-Laine 64-byte nodes)"},
-            {"build", "BuildHQ (SBVH)"},
-            {"kernel", "batch_ailalaine (traverse_bvh2.cl)"},
-            {"nodes", bvh.usedNodes},
-            {"sah_cost", bvh.bvh.SAHCost()}};
+            {"kernel", "batch_ailalaine (traverse_bvh2.cl)"}};
+        result["tree"] = {
+            {"built_by", tree_name == "prism" ? "Prism (stack layout, default options)" : "tinybvh BuildHQ (SBVH)"},
+            {"interior_nodes", shape.interior},
+            {"leaves", shape.leaves},
+            {"leaf_triangles", shape.leaf_triangles},
+            {"sah_cost", shape.sah},
+            {"sah_cost_terms", "node visit 1, triangle test 1, areas relative to the root's"}};
         result["device"] = device_string(gpu.device, CL_DEVICE_NAME);
         result["driver"] = device_string(gpu.device, CL_DRIVER_VERSION);
         result["api_version"] = device_string(gpu.device, CL_DEVICE_VERSION);
@@ -261,8 +393,8 @@ int main(int argc, char** argv) {
                                "kernel launch, OpenCL events, median of runs after one untimed launch; "
                                "rays uploaded once"}};
         result["reference"] = "Embree rtcIntersect1";
-        std::printf("%s tinybvh %s BVH_GPU BuildHQ on %s:", scene_path.c_str(),
-                    result["tinybvh"]["version"].get<std::string>().c_str(),
+        std::printf("%s tinybvh %s kernel on %s's tree (SAH %.2f, %zu leaves) on %s:", scene_path.c_str(),
+                    result["tinybvh"]["version"].get<std::string>().c_str(), tree_name.c_str(), shape.sah, shape.leaves,
                     result["device"].get<std::string>().c_str());
         struct Named {
             const char* name;
@@ -270,7 +402,7 @@ int main(int argc, char** argv) {
             const std::vector<RayHit>& reference;
         } sets[] = {{"primary", primary, primary_reference}, {"diffuse", diffuse, diffuse_reference}};
         for (const Named& set : sets) {
-            SetResult traced = trace_set(gpu, nodes, indices, vertices, set.rays, runs);
+            SetResult traced = trace_set(gpu, tree, nodes, indices, vertices, set.rays, runs);
             bench::Agreement agreement = bench::compare_hits(traced.hits, set.reference);
             double mid = median(traced.ms);
             result[set.name] = {{"rays", set.rays.size()},
