@@ -383,6 +383,18 @@ TEST_P(BackendContract, RayQueriesMatchTheReferenceHits) {
         EXPECT_GE(double(same), 0.9999 * double(count)) << same << " of " << count << " agree";
         EXPECT_GT(hits, count / 10) << "the rays should hit the scene";
 
+        // Launches back to back on rays uploaded once (`prism rays --bench`'s timing) find the same hits, and
+        // each launch has its own time.
+        std::vector<prism::RayHit> again = engine.trace(rays, false, 3);
+        ASSERT_EQ(again.size(), count);
+        ASSERT_EQ(engine.last_launch_ms().size(), 3u);
+        for (double ms : engine.last_launch_ms()) EXPECT_GE(ms, 0.0);
+        size_t repeated = 0;
+        for (size_t i = 0; i < count; ++i)
+            repeated += again[i].instance == actual[i].instance && again[i].primitive == actual[i].primitive &&
+                        (again[i].t == actual[i].t || !(actual[i].t < INFINITY));
+        EXPECT_EQ(repeated, count);
+
         std::vector<prism::RayHit> expected_any = reference.trace(rays, true), actual_any = engine.trace(rays, true);
         size_t same_any = 0;
         for (size_t i = 0; i < count; ++i) same_any += (expected_any[i].t < INFINITY) == (actual_any[i].t < INFINITY);
