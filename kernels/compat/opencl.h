@@ -61,10 +61,6 @@ RT_FUNC uint rt_lowest_bit(uint x) { return 31u - clz(x & (0u - x)); }
 #define RT_ATOMIC_ADD(kg, array, i, value) atomic_add(&(kg).array[(i)], (value))
 #define RT_PREFETCH(kg, array, i, n) ((void)0)  // a CPU cache hint; GPUs hide latency with other work-items
 
-// n consecutive slots of a queue counter for each work-item (kernels/stages.h, rt_queue_reserve). OpenCL C 1.2
-// has no subgroup operations, and NVIDIA's OpenCL has no cl_khr_subgroups: there (RT_OPENCL_NVIDIA_PTX, set by the
-// backend for NVIDIA's platform) the warp's work-items sum their n with PTX warp votes and shuffles, as CUDA does,
-// and one atomic add takes the warp's slots. Elsewhere each work-item takes its own with one atomic add.
 // A traversal stage's ray and hit are touched once: on NVIDIA's platform, streaming (evict-first) loads and stores
 // in PTX, ld/st.global.cs, 16 bytes at a time, as compat/cuda.h's rt_fetch_once. OpenCL C has no templates, so
 // kernels/stages.h instantiates RT_ONCE_ACCESS for each array it streams; the load is not volatile, so the pieces
@@ -99,6 +95,10 @@ RT_FUNC void rt_ptx_store_once(__global uint4* p, uint4 v) {
 #define RT_STORE_ONCE(kg, array, i, value) RT_STORE(kg, array, i, value)
 #endif
 
+// n consecutive slots of a queue counter for each work-item (kernels/stages.h, rt_queue_reserve). OpenCL C 1.2
+// has no subgroup operations, and NVIDIA's OpenCL has no cl_khr_subgroups: there (RT_OPENCL_NVIDIA_PTX, set by the
+// backend for NVIDIA's platform) the warp's work-items sum their n with PTX warp votes and shuffles, as CUDA does,
+// and one atomic add takes the warp's slots. Elsewhere each work-item takes its own with one atomic add.
 #if defined(RT_OPENCL_NVIDIA_PTX)
 RT_FUNC uint rt_ptx_active_mask(void) {
     uint mask;
