@@ -74,8 +74,13 @@ void add_rays_command(CLI::App& app) {
     command->add_option("--backends", bench.backends, "--bench: comma-separated backends")->capture_default_str();
     command->add_option("--width", bench.width, "--bench: primary rays across")->capture_default_str();
     command->add_option("--height", bench.height, "--bench: primary rays down")->capture_default_str();
-    command->add_option("--runs", bench.runs, "--bench: timed runs (median reported)")->capture_default_str();
-    command->add_option("--warmup", bench.warmup, "--bench: untimed runs first")->capture_default_str();
+    command
+        ->add_option("--runs", bench.runs,
+                     "--bench: timed launches (median reported), back to back on rays uploaded once and, "
+                     "apart, each after its rays' upload")
+        ->capture_default_str();
+    command->add_option("--warmup", bench.warmup, "--bench: untimed launches before the timed back-to-back ones")
+        ->capture_default_str();
     command
         ->add_option("--ray-order", bench.ray_order,
                      "--bench: made (as made or read), coherent (each set sorted by direction octant, then origin "
