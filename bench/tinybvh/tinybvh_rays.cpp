@@ -173,9 +173,9 @@ GpuTree tinybvh_tree(const std::vector<tinybvh::bvhvec4>& soup) {
 }
 
 // Prism's: the stack layout's tree as `prism rays --bench` builds it (default options), each node as a BVH_GPU node
-// (an interior node holds its child pair's boxes), node 0 the mesh's root; the soup in Prism's triangle order, so a
-// leaf's triangles are its slots.
-GpuTree prism_tree(const Scene& scene) {
+// (an interior node holds its child pair's boxes), node 0 the mesh's root; `soup` (file order) put in Prism's triangle
+// order, so a leaf's triangles are its slots.
+GpuTree prism_tree(const Scene& scene, const std::vector<tinybvh::bvhvec4>& soup) {
     DeviceScene device = build_device_scene(scene, BvhBuildOptions{});
     const uint32_t root = device.instances[0].root;
     auto index = [root](uint32_t node) { return node == root ? 0u : node == 0u ? root : node; };
@@ -210,17 +210,11 @@ GpuTree prism_tree(const Scene& scene) {
         stack.push_back(first);
         stack.push_back(first + 1);
     }
-    const Mesh& mesh = scene.meshes[scene.instances[0].mesh];
-    const glm::mat4& m = scene.instances[0].transform;
     for (uint32_t slot = 0; slot < device.triangles.size(); ++slot) {
         uint32_t primitive = as_uint(device.triangles[slot].v0.w);
         tree.indices.push_back(slot);
         tree.primitive_of_triangle.push_back(primitive);
-        const glm::uvec3& t = mesh.triangles[primitive];
-        for (uint32_t v : {t.x, t.y, t.z}) {
-            glm::vec4 p = m * glm::vec4(mesh.positions[v], 1.0f);
-            tree.vertices.push_back(tinybvh::bvhvec4(p.x, p.y, p.z, 0.0f));
-        }
+        tree.vertices.insert(tree.vertices.end(), soup.begin() + 3 * primitive, soup.begin() + 3 * primitive + 3);
     }
     return tree;
 }
@@ -349,7 +343,7 @@ int main(int argc, char** argv) {
                 soup.push_back(tinybvh::bvhvec4(p.x, p.y, p.z, 0.0f));
             }
         const uint32_t triangles = uint32_t(mesh.triangles.size());
-        GpuTree tree = tree_name == "prism" ? prism_tree(scene) : tinybvh_tree(soup);
+        GpuTree tree = tree_name == "prism" ? prism_tree(scene, soup) : tinybvh_tree(soup);
         TreeShape shape = tree_shape(tree);
 
         oracle::EmbreeScene embree(scene);

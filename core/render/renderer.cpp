@@ -306,10 +306,4 @@ std::vector<RayHit> Renderer::trace(std::span<const RayQuery> rays, bool any_hit
     return out;
 }
 
-double Renderer::last_trace_ms() const {
-    double sum = 0.0;
-    for (double ms : last_launch_ms_) sum += ms;
-    return sum;
-}
-
 }  // namespace prism

@@ -100,9 +100,8 @@ public:
     // a benchmark can time launches whose tree is already in the device's caches, as tinybvh's does.
     std::vector<RayHit> trace(std::span<const RayQuery> rays, bool any_hit, uint32_t launches = 1);
     // Device time of the intersect stage in each launch of the last trace() (all batches), for throughput
-    // measurements; last_trace_ms() is their sum.
+    // measurements.
     const std::vector<double>& last_launch_ms() const { return last_launch_ms_; }
-    double last_trace_ms() const;
     // After update_instance_transforms: re-uploads the instances and the top-level nodes only.
     void update_instances(const DeviceScene& scene);
     // After update_mesh_vertices: re-uploads what the posed mesh changed (its vertices, triangles, triangle blocks
