@@ -22,6 +22,9 @@ RT_STAGE(generate, Generate, Before, GridSizesQueue, 0)
 RT_STAGE(intersect, Intersect, Bounce, Queue, 0)
 // Ray queries for any hit (Renderer::trace): a stage of its own, so that each kernel holds one walk.
 RT_STAGE(occlude, Occlude, Bounce, Queue, RT_FLAG_ANY_HIT)
+// The same two for one instance in the stack layout (RT_FLAG_MESH_WALK): kernels of the one-mesh walk.
+RT_STAGE(intersect_mesh, IntersectMesh, Bounce, Queue, RT_FLAG_MESH_WALK)
+RT_STAGE(occlude_mesh, OccludeMesh, Bounce, Queue, RT_FLAG_ANY_HIT_MESH_WALK)
 RT_STAGE(miss, Miss, Bounce, Queue, 0)
 RT_STAGE(shade, Shade, Bounce, QueueGrows, 0)
 RT_STAGE(shadow, Shadow, Bounce, GridSizesQueue, 0)

@@ -68,10 +68,12 @@ RT_FUNC void rt_stage_generate(KernelGlobals kg, uint index) {
 // The closest hit (intersect) or any hit (occlude, ray queries with RT_FLAG_ANY_HIT) of every queued ray. Two
 // stages, not one reading the flag: each kernel is compiled for one walk, so the frame's closest-hit walk carries
 // none of the any-hit walk's code (docs/kernels.md, "Any-hit walks").
-RT_FUNC void rt_stage_trace(KernelGlobals kg, uint index, uint depth, bool any_hit) {
+RT_FUNC void rt_stage_trace(KernelGlobals kg, uint index, uint depth, bool any_hit, bool mesh) {
     FrameParams frame = RT_FETCH(kg, frame, 0u);
     Ray ray = RT_FETCH_ONCE(kg, rays, rt_queue_base(frame, depth) + index);
-    Hit hit = rt_trace(kg, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w, ray.direction.w, any_hit);
+    Hit hit = mesh
+                  ? rt_trace_mesh(kg, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w, ray.direction.w, any_hit)
+                  : rt_trace(kg, rt_xyz(ray.origin), rt_xyz(ray.direction), ray.origin.w, ray.direction.w, any_hit);
     RT_STORE_ONCE(kg, hits, index, hit);
 }
 
@@ -314,23 +316,43 @@ RT_FUNC void rt_stage_resolve(KernelGlobals kg, uint index) {
 RT_FUNC void rt_kernel_generate(KernelGlobals kg, uint depth) {
     RT_GRID_LOOP(i, rt_pixel_count(kg)) { rt_stage_generate(kg, i); }
 }
+RT_FUNC bool rt_mesh_walk(KernelGlobals kg) { return (RT_FETCH(kg, frame, 0u).flags & RT_FLAG_MESH_WALK) != 0u; }
 RT_FUNC void rt_kernel_intersect(KernelGlobals kg, uint depth) {
+    if (rt_mesh_walk(kg)) return;  // intersect_mesh's
 #if defined(RT_WIDE_TRAVERSAL)
     if (RT_FETCH(kg, frame, 0u).bvh_layout == RT_BVH_LAYOUT_WIDE) {
         RT_GRID_RANGES(begin, end, rt_ray_count(kg, depth)) { rt_walk_range(kg, begin, end, depth, false, false); }
         return;
     }
 #endif
-    RT_WORK_LOOP(kg, i, rt_ray_count(kg, depth), RT_COUNTER_TAKEN_RAYS + depth) { rt_stage_trace(kg, i, depth, false); }
+    RT_WORK_LOOP(kg, i, rt_ray_count(kg, depth), RT_COUNTER_TAKEN_RAYS + depth) {
+        rt_stage_trace(kg, i, depth, false, false);
+    }
 }
 RT_FUNC void rt_kernel_occlude(KernelGlobals kg, uint depth) {
+    if (rt_mesh_walk(kg)) return;  // occlude_mesh's
 #if defined(RT_WIDE_TRAVERSAL)
     if (RT_FETCH(kg, frame, 0u).bvh_layout == RT_BVH_LAYOUT_WIDE) {
         RT_GRID_RANGES(begin, end, rt_ray_count(kg, depth)) { rt_walk_range(kg, begin, end, depth, true, false); }
         return;
     }
 #endif
-    RT_WORK_LOOP(kg, i, rt_ray_count(kg, depth), RT_COUNTER_TAKEN_RAYS + depth) { rt_stage_trace(kg, i, depth, true); }
+    RT_WORK_LOOP(kg, i, rt_ray_count(kg, depth), RT_COUNTER_TAKEN_RAYS + depth) {
+        rt_stage_trace(kg, i, depth, true, false);
+    }
+}
+// One instance in the stack layout (RT_FLAG_MESH_WALK, set for no other layout): the one-mesh walk.
+RT_FUNC void rt_kernel_intersect_mesh(KernelGlobals kg, uint depth) {
+    if (!rt_mesh_walk(kg)) return;
+    RT_WORK_LOOP(kg, i, rt_ray_count(kg, depth), RT_COUNTER_TAKEN_RAYS + depth) {
+        rt_stage_trace(kg, i, depth, false, true);
+    }
+}
+RT_FUNC void rt_kernel_occlude_mesh(KernelGlobals kg, uint depth) {
+    if (!rt_mesh_walk(kg)) return;
+    RT_WORK_LOOP(kg, i, rt_ray_count(kg, depth), RT_COUNTER_TAKEN_RAYS + depth) {
+        rt_stage_trace(kg, i, depth, true, true);
+    }
 }
 RT_FUNC void rt_kernel_miss(KernelGlobals kg, uint depth) {
     RT_GRID_LOOP(i, rt_ray_count(kg, depth)) { rt_stage_miss(kg, i, depth); }

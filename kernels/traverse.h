@@ -189,7 +189,7 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
             }
         }
         if (count != RT_STACK_POP) {
-            if (instance == RT_NONE) {
+            if (!one_instance && instance == RT_NONE) {
                 // A top-level leaf holds one instance: enter its mesh BVH in object space.
                 Instance inst = RT_FETCH(kg, instances, first);
                 TraversalRay object_ray = rt_ray_to_object(inst, world);
@@ -216,7 +216,7 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
         while (sp > 0u && !going) {
             sp -= 1u;
             uint2 popped = stack[sp];
-            if (popped.x == RT_STACK_LEAVE_INSTANCE) {
+            if (!one_instance && popped.x == RT_STACK_LEAVE_INSTANCE) {
                 ray = world;
                 instance = RT_NONE;
             } else if (any_hit) {
@@ -495,6 +495,12 @@ RT_FUNC Hit rt_trace_wide(KernelGlobals kg, float3 origin, float3 direction, flo
 }
 
 #endif  // RT_WIDE_TRAVERSAL
+
+// The stack layout's walk of a scene of one instance (RT_FLAG_MESH_WALK): rt_trace_stack with one_instance a
+// constant, so the kernel that calls it holds no code for entering or leaving instances and keeps no world ray.
+RT_FUNC Hit rt_trace_mesh(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit) {
+    return rt_trace_stack(kg, origin, direction, tmin, tmax, any_hit, true);
+}
 
 RT_FUNC Hit rt_trace(KernelGlobals kg, float3 origin, float3 direction, float tmin, float tmax, bool any_hit) {
     // The frame is loaded whole: Mesa 22.3's lavapipe, in the Vulkan backend's buffer-address mode, read

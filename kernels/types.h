@@ -259,6 +259,11 @@ RT_STRUCT_END(Light)
 #define RT_FLAG_ALPHA_SHADOWS 16u
 // The resolve stage tone-maps the image with Khronos PBR Neutral (kernels/display.h); without it, values clip at 1.
 #define RT_FLAG_TONE_MAP_NEUTRAL 32u
+// One instance in the stack layout: the traversal stages' one-mesh variants (intersect_mesh, occlude_mesh) trace
+// the rays with a walk that has no instance to enter or leave, which needs fewer registers (more warps fit), and
+// the general stages return at once. RT_FLAG_ANY_HIT_MESH_WALK: both bits, occlude_mesh's.
+#define RT_FLAG_MESH_WALK 64u
+#define RT_FLAG_ANY_HIT_MESH_WALK (RT_FLAG_ANY_HIT | RT_FLAG_MESH_WALK)
 
 // One per frame (array of one element). The camera basis is precomputed on the host (xyz; w unused).
 RT_STRUCT_BEGIN(FrameParams)

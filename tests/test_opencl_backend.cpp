@@ -181,18 +181,21 @@ TEST(OpenclRegisterBudgets, OneProgramWhereTheDeviceCannotTakeThem) {
 // CUDA's budgets (backends/cuda/stages.cu): the traversal stages at 64 registers, shade at 128, the rest free.
 TEST(OpenclRegisterBudgets, OnNvidiaTheStagesGetCudasBudgets) {
     std::vector<prism::opencl::StageProgram> programs = prism::opencl::stage_programs(true, std::nullopt);
-    ASSERT_EQ(programs.size(), 3u);
+    ASSERT_EQ(programs.size(), 4u);
     expect_each_stage_once(programs);
+    const uint32_t mesh = stage_bit(prism::Stage::IntersectMesh) | stage_bit(prism::Stage::OccludeMesh);
     const uint32_t traversal =
         stage_bit(prism::Stage::Intersect) | stage_bit(prism::Stage::Occlude) | stage_bit(prism::Stage::Shadow);
     const uint32_t shade = stage_bit(prism::Stage::Shade);
-    const uint32_t others = ((1u << prism::stage_count) - 1u) & ~traversal & ~shade;
+    const uint32_t others = ((1u << prism::stage_count) - 1u) & ~mesh & ~traversal & ~shade;
     EXPECT_EQ(programs[0].stages, others);
     EXPECT_EQ(programs[0].options, "-D RT_CL_STAGE_MASK=" + std::to_string(others) + "u");
-    EXPECT_EQ(programs[1].stages, traversal);
-    EXPECT_EQ(programs[1].options, "-D RT_CL_STAGE_MASK=" + std::to_string(traversal) + "u -cl-nv-maxrregcount=64");
-    EXPECT_EQ(programs[2].stages, shade);
-    EXPECT_EQ(programs[2].options, "-D RT_CL_STAGE_MASK=" + std::to_string(shade) + "u -cl-nv-maxrregcount=128");
+    EXPECT_EQ(programs[1].stages, mesh);
+    EXPECT_EQ(programs[1].options, "-D RT_CL_STAGE_MASK=" + std::to_string(mesh) + "u -cl-nv-maxrregcount=56");
+    EXPECT_EQ(programs[2].stages, traversal);
+    EXPECT_EQ(programs[2].options, "-D RT_CL_STAGE_MASK=" + std::to_string(traversal) + "u -cl-nv-maxrregcount=64");
+    EXPECT_EQ(programs[3].stages, shade);
+    EXPECT_EQ(programs[3].options, "-D RT_CL_STAGE_MASK=" + std::to_string(shade) + "u -cl-nv-maxrregcount=128");
 }
 
 TEST(OpenclRegisterBudgets, TheSettingReplacesTheTable) {

@@ -12,6 +12,7 @@
 // instead of 8 fit on an SM; asking for 8 keeps intersect, occlude and shadow at 64 (docs/kernels.md, "Edges"). The
 // other stages (0) take what ptxas chooses.
 constexpr unsigned min_resident_blocks(std::string_view stage) {
+    if (stage == "intersect_mesh" || stage == "occlude_mesh") return 9u;  // the one-mesh walk fits 56 registers
     return stage == "intersect" || stage == "occlude" || stage == "shadow" ? 8u : 0u;
 }
 

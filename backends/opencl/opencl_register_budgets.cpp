@@ -22,6 +22,8 @@ unsigned default_budget(Stage stage) {
         case Stage::Intersect:
         case Stage::Occlude:
         case Stage::Shadow: return 64u;
+        case Stage::IntersectMesh:
+        case Stage::OccludeMesh: return 56u;
         case Stage::Shade: return 128u;
         default: return 0u;
     }

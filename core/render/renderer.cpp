@@ -88,6 +88,8 @@ FrameParams make_frame_params(const DeviceScene& scene, const Camera& camera, co
         flags |= RT_FLAG_ALPHA_SHADOWS;
     p.instance_count = static_cast<uint32_t>(scene.instances.size());
     p.bvh_layout = static_cast<uint32_t>(scene.bvh_options.layout);
+    if ((flags & RT_FLAG_ONE_INSTANCE) != 0u && scene.bvh_options.layout == BvhLayout::Stack)
+        flags |= RT_FLAG_MESH_WALK;
     if (settings.tone_map == ToneMap::Neutral) flags |= RT_FLAG_TONE_MAP_NEUTRAL;
     p.flags = flags;
     p.exposure = std::exp2(settings.exposure);
@@ -291,7 +293,10 @@ std::vector<RayHit> Renderer::trace(std::span<const RayQuery> rays, bool any_hit
         for (uint32_t launch = 0; launch < launches; ++launch) {
             // Each launch takes its rays from the counters afresh (RT_WORK_LOOP's taken count starts at zero).
             backend_.write(DeviceArray::counters, counters.data(), counters.size() * sizeof(uint32_t));
-            backend_.enqueue(any_hit ? Stage::Occlude : Stage::Intersect, 0);
+            const bool mesh = (params.flags & RT_FLAG_MESH_WALK) != 0u;
+            backend_.enqueue(any_hit ? (mesh ? Stage::OccludeMesh : Stage::Occlude)
+                                     : (mesh ? Stage::IntersectMesh : Stage::Intersect),
+                             0);
         }
         std::vector<Hit> hits(n);
         backend_.read(DeviceArray::hits, hits.data(), hits.size() * sizeof(Hit));
