@@ -178,7 +178,8 @@ TEST(OpenclRegisterBudgets, OneProgramWhereTheDeviceCannotTakeThem) {
     }
 }
 
-// CUDA's budgets (backends/cuda/stages.cu): the traversal stages at 64 registers, shade at 128, the rest free.
+// CUDA's budgets (backends/cuda/stages.cu): the one-mesh walks at 56 registers, the other traversal stages at 64,
+// shade at 128, the rest free.
 TEST(OpenclRegisterBudgets, OnNvidiaTheStagesGetCudasBudgets) {
     std::vector<prism::opencl::StageProgram> programs = prism::opencl::stage_programs(true, std::nullopt);
     ASSERT_EQ(programs.size(), 4u);

@@ -16,7 +16,8 @@ namespace {
 // Prism's budgets, for work-groups of 128, CUDA's: intersect, occlude and shadow at 64 registers (8 groups per SM, as
 // __launch_bounds__ holds CUDA's), shade at 128 (4 groups, where nvcc puts CUDA's by itself). Left to itself,
 // NVIDIA's OpenCL compiler gives the shade kernel more, fewer groups fit, and the stage runs slower
-// (docs/kernels.md, "Register budgets on OpenCL"). Stages not named take what the compiler chooses.
+// (docs/kernels.md, "Register budgets on OpenCL"). The one-mesh walks (intersect_mesh, occlude_mesh) at 56, 9 groups,
+// as CUDA's. Stages not named take what the compiler chooses.
 unsigned default_budget(Stage stage) {
     switch (stage) {
         case Stage::Intersect:
