@@ -129,9 +129,13 @@ nlohmann::json bench_frames(RenderEngine& engine, const Scene& scene, const Benc
     nlohmann::json per_depth = nlohmann::json::array();
     uint64_t secondary = 0, shadows = 0;
     double secondary_ms = 0.0, shadow_ms = 0.0;
+    // A depth's rays are traced by intersect, or for a scene of one instance in the stack layout by intersect_mesh
+    // (kernels/stage_list.h); the other one is not launched or returns at once.
+    auto intersect_ms_at = [&](uint32_t d) {
+        return stages.at(Stage::Intersect, d) + stages.at(Stage::IntersectMesh, d);
+    };
     for (uint32_t d = 0; d < s.rays_per_depth.size(); ++d) {
-        // intersect, or for a scene of one instance in the stack layout intersect_mesh (the other returns at once)
-        double intersect_ms = stages.at(Stage::Intersect, d) + stages.at(Stage::IntersectMesh, d);
+        double intersect_ms = intersect_ms_at(d);
         // A frame's shadow rays are traced by the shadow stage, or in scenes with cut-out or blended materials by
         // shadow_layers (kernels/stage_list.h); the other one is not launched or returns at once.
         double shadow_stage_ms = stages.at(Stage::Shadow, d) + stages.at(Stage::ShadowLayers, d);
@@ -155,7 +159,6 @@ nlohmann::json bench_frames(RenderEngine& engine, const Scene& scene, const Benc
     for (size_t i = 0; i < stage_count; ++i) stage_ms[stage_name(Stage(i))] = stages.total(Stage(i));
     double frame = median(frame_ms);
     uint64_t primary = s.rays_per_depth.empty() ? 0 : s.rays_per_depth[0];
-    double primary_ms = stages.at(Stage::Intersect, 0) + stages.at(Stage::IntersectMesh, 0);  // one of them ran
     return {{"frame_ms", frame},
             {"frame_ms_min", *std::min_element(frame_ms.begin(), frame_ms.end())},
             {"frame_ms_max", *std::max_element(frame_ms.begin(), frame_ms.end())},
@@ -165,7 +168,7 @@ nlohmann::json bench_frames(RenderEngine& engine, const Scene& scene, const Benc
              {{"enqueue", median(enqueue_ms)}, {"device_wait", median(wait_ms)}, {"readback", median(readback_ms)}}},
             {"total_rays", s.total_rays()},
             {"mrays_per_s_end_to_end", mrays(s.total_rays(), frame)},
-            {"primary_mrays_per_s", mrays(primary, primary_ms)},
+            {"primary_mrays_per_s", mrays(primary, intersect_ms_at(0))},
             {"secondary_mrays_per_s", mrays(secondary, secondary_ms)},
             {"shadow_mrays_per_s", mrays(shadows, shadow_ms)},
             {"per_depth", per_depth},

@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
                 std::vector<double> cpu, reference;
                 for (int r = 0; r < rounds; ++r) {
                     double t0 = clock();
-                    backend->enqueue(Stage::Intersect, 0);
+                    backend->enqueue(renderer.query_stage(false), 0);
                     backend->finish();
                     double t1 = clock();
                     embree.intersect1(sets[s]);

@@ -18,6 +18,16 @@ void upload(Backend& backend, DeviceArray array, const UninitializedVector<T>& d
 
 float4 to_float4(glm::vec3 v, float w) { return float4{v.x, v.y, v.z, w}; }
 
+// The top level holds exactly instance 0 (RT_FLAG_ONE_INSTANCE).
+bool has_one_instance(const DeviceScene& scene) {
+    return scene.instances.size() == 1 && scene.top_level.primitive_order.size() == 1;
+}
+
+// One instance in the stack layout: the one-mesh stages trace its rays (RT_FLAG_MESH_WALK).
+bool takes_mesh_walk(const DeviceScene& scene) {
+    return has_one_instance(scene) && scene.bvh_options.layout == BvhLayout::Stack;
+}
+
 }  // namespace
 
 uint64_t FrameStats::total_rays() const {
@@ -80,7 +90,7 @@ FrameParams make_frame_params(const DeviceScene& scene, const Camera& camera, co
     p.environment_texture = scene.environment_texture;
     p.ray_capacity = queue_capacity;
     p.shadow_capacity = shadow_capacity;
-    if (scene.instances.size() == 1 && scene.top_level.primitive_order.size() == 1) flags |= RT_FLAG_ONE_INSTANCE;
+    if (has_one_instance(scene)) flags |= RT_FLAG_ONE_INSTANCE;
     if (scene.bvh_options.flatten_instances) flags |= RT_FLAG_FLAT_INSTANCES;  // as built (build_device_scene)
     if (std::any_of(scene.materials.begin(), scene.materials.end(), [](const ::Material& m) {
             return (m.flags & (RT_MATERIAL_ALPHA_MASK | RT_MATERIAL_ALPHA_BLEND)) != 0u;
@@ -88,8 +98,7 @@ FrameParams make_frame_params(const DeviceScene& scene, const Camera& camera, co
         flags |= RT_FLAG_ALPHA_SHADOWS;
     p.instance_count = static_cast<uint32_t>(scene.instances.size());
     p.bvh_layout = static_cast<uint32_t>(scene.bvh_options.layout);
-    if ((flags & RT_FLAG_ONE_INSTANCE) != 0u && scene.bvh_options.layout == BvhLayout::Stack)
-        flags |= RT_FLAG_MESH_WALK;
+    if (takes_mesh_walk(scene)) flags |= RT_FLAG_MESH_WALK;
     if (settings.tone_map == ToneMap::Neutral) flags |= RT_FLAG_TONE_MAP_NEUTRAL;
     p.flags = flags;
     p.exposure = std::exp2(settings.exposure);
@@ -260,8 +269,14 @@ FrameResult Renderer::render(const Camera& camera, const RenderSettings& setting
     }
 }
 
+Stage Renderer::query_stage(bool any_hit) const {
+    if (takes_mesh_walk(scene_)) return any_hit ? Stage::OccludeMesh : Stage::IntersectMesh;
+    return any_hit ? Stage::Occlude : Stage::Intersect;
+}
+
 std::vector<RayHit> Renderer::trace(std::span<const RayQuery> rays, bool any_hit, uint32_t launches) {
     launches = std::max(launches, 1u);
+    const Stage stage = query_stage(any_hit);
     std::vector<RayHit> out(rays.size());
     const uint32_t batch = 1u << 22;  // 4M rays: 256 MiB of rays + 128 MiB of hits
     RenderSettings settings;
@@ -293,10 +308,7 @@ std::vector<RayHit> Renderer::trace(std::span<const RayQuery> rays, bool any_hit
         for (uint32_t launch = 0; launch < launches; ++launch) {
             // Each launch takes its rays from the counters afresh (RT_WORK_LOOP's taken count starts at zero).
             backend_.write(DeviceArray::counters, counters.data(), counters.size() * sizeof(uint32_t));
-            const bool mesh = (params.flags & RT_FLAG_MESH_WALK) != 0u;
-            backend_.enqueue(any_hit ? (mesh ? Stage::OccludeMesh : Stage::Occlude)
-                                     : (mesh ? Stage::IntersectMesh : Stage::Intersect),
-                             0);
+            backend_.enqueue(stage, 0);
         }
         std::vector<Hit> hits(n);
         backend_.read(DeviceArray::hits, hits.data(), hits.size() * sizeof(Hit));

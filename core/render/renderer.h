@@ -99,8 +99,10 @@ public:
     // rays are uploaded once and traced `launches` times back to back (every launch finds the same hits), so that
     // a benchmark can time launches whose tree is already in the device's caches, as tinybvh's does.
     std::vector<RayHit> trace(std::span<const RayQuery> rays, bool any_hit, uint32_t launches = 1);
-    // Device time of the intersect stage in each launch of the last trace() (all batches), for throughput
-    // measurements.
+    // The stage trace() launches: occlude for any hit, intersect for the closest, or their one-mesh variants
+    // (occlude_mesh, intersect_mesh) for a scene of one instance in the stack layout.
+    Stage query_stage(bool any_hit) const;
+    // Device time of that stage in each launch of the last trace() (all batches), for throughput measurements.
     const std::vector<double>& last_launch_ms() const { return last_launch_ms_; }
     // After update_instance_transforms: re-uploads the instances and the top-level nodes only.
     void update_instances(const DeviceScene& scene);
