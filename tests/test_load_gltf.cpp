@@ -841,6 +841,16 @@ TEST(LoadGltf, BrokenMeshoptDataIsNamedInOneLine) {
     expect_error_naming_the_file(
         broken_meshopt("meshopt-fallback.gltf", [&](json& g) { g["bufferViews"][0].erase("extensions"); }),
         "the meshopt fallback buffer 1, which holds no data");
+    // A fallback flag that is not the boolean true does not make a fallback (the fuzzer found a number raising
+    // nlohmann's type_error there): the buffer without a uri is then refused, naming the file.
+    for (const json& flag : {json(1), json("true"), json(nullptr)}) {
+        SCOPED_TRACE(flag.dump());
+        expect_error_naming_the_file(
+            broken_meshopt(
+                "meshopt-fallback-flag.gltf",
+                [&](json& g) { g["buffers"][1]["extensions"]["EXT_meshopt_compression"]["fallback"] = flag; }),
+            "a buffer or image without a uri");
+    }
 }
 
 // ---- Malformed input -------------------------------------------------------------------------------------------

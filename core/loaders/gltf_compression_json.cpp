@@ -16,6 +16,13 @@ const nlohmann::json* extension(const nlohmann::json& object, const char* name) 
     return found != extensions->end() && found->is_object() ? &*found : nullptr;
 }
 
+// Whether `object` holds `key` as the boolean true; any other value (a number, a string) is not true. (json::value
+// with a bool default would throw on a number, and a file's JSON must never raise more than prism::Error.)
+bool is_true(const nlohmann::json& object, const char* key) {
+    auto found = object.find(key);
+    return found != object.end() && found->is_boolean() && found->get<bool>();
+}
+
 bool empty_meshopt_fallbacks(nlohmann::json& document) {
     auto buffers = document.find("buffers");
     if (buffers == document.end() || !buffers->is_array()) return false;
@@ -24,7 +31,7 @@ bool empty_meshopt_fallbacks(nlohmann::json& document) {
         if (!buffer.is_object() || buffer.contains("uri")) continue;
         for (const char* name : kMeshoptExtensions) {
             const nlohmann::json* meshopt = extension(buffer, name);
-            if (!meshopt || meshopt->value("fallback", false) != true) continue;
+            if (!meshopt || !is_true(*meshopt, "fallback")) continue;
             buffer["uri"] = kPlaceholderUri;
             buffer["byteLength"] = kPlaceholderBytes;
             changed = true;

@@ -756,15 +756,21 @@ void load_gltf(const std::filesystem::path& path, Scene& scene, const std::strin
         throw file_error(file, "JSON nests deeper than " + std::to_string(kMaxJsonDepth) + " levels");
     // What tinygltf 2.7 would refuse is taken out of the JSON first, in one parse and one rewrite for every edit.
     nlohmann::json animations, skins;  // taken out for tinygltf, read by the importer
-    if (const std::string_view json = json_text(bytes, binary); mentions_animation(json) || mentions_compression(json))
-        if (std::optional<std::string> rewritten = with_json_edited(bytes, binary, [&](nlohmann::json& document) {
-                RestPoseEdit rest_pose = remove_animation(document);
-                animations = std::move(rest_pose.animations);
-                skins = std::move(rest_pose.skins);
-                const bool prepared = prepare_for_decompression(document);
-                return rest_pose.changed || prepared;
-            }))
-            bytes = std::move(*rewritten);
+    if (const std::string_view json = json_text(bytes, binary);
+        mentions_animation(json) || mentions_compression(json)) {
+        try {
+            if (std::optional<std::string> rewritten = with_json_edited(bytes, binary, [&](nlohmann::json& document) {
+                    RestPoseEdit rest_pose = remove_animation(document);
+                    animations = std::move(rest_pose.animations);
+                    skins = std::move(rest_pose.skins);
+                    const bool prepared = prepare_for_decompression(document);
+                    return rest_pose.changed || prepared;
+                }))
+                bytes = std::move(*rewritten);
+        } catch (const nlohmann::json::exception& exception) {  // the edits check each value's type; this is a net
+            throw file_error(file, library_message(exception.what(), "malformed glTF"));
+        }
+    }
     // The GLB spec pads the JSON chunk to 4 bytes and tinygltf insists; some exporters (trimesh's, for one) did not
     // pad, and other viewers read those files. The chunk is padded here, with a warning.
     bool padded_json = false;
