@@ -200,6 +200,16 @@ TEST(FuzzFindings, GlbBinChunkLongerThanTheFileIsRefused) {
     prism::test::expect_clean_failure(file.string(), "declares 8 bytes");
 }
 
+// fuzz_gltf (CI's 60 s run): a meshopt buffer's `fallback` flag written as a number. The JSON edit made before
+// tinygltf read it with nlohmann's json::value("fallback", false), which throws type_error.302 for a value that is
+// not a boolean, and that std::exception left the loader instead of a prism::Error naming the file. Only the
+// boolean true makes a fallback now; this buffer, without one and without a uri, is refused as any such buffer is.
+TEST(FuzzFindings, GltfMeshoptFallbackFlagThatIsNotABooleanIsNoFallback) {
+    const fs::path file = finding("gltf-meshopt-fallback-flag-is-a-number.gltf");
+    EXPECT_EQ(load_error(file), file.string() + ": a buffer or image without a uri (only a .glb's own buffer may)");
+    prism::test::expect_clean_failure(file.string(), "a buffer or image without a uri");
+}
+
 // fuzz_image (a timeout): stb_image reads TGA, BMP, HDR and JPEG pixels past the end of the file as zeros, so 33
 // bytes of RLE TGA "decoded" to 3072x12832 pixels of nothing (over 10 s under the sanitizers, 0.6 s and 270 MB
 // without). A file too short for the pixels its header declares is now truncated, in every format stb zero-fills;
