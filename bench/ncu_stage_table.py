@@ -2,7 +2,7 @@
 """Per-stage table of an Nsight Compute profile of one frame (docs/kernels.md, "Stages under Nsight Compute").
 
 Reads `ncu --import R --page raw --csv` of a frame profiled with -k regex:'prism_cuda_(intersect|shade|shadow|miss)'
-(four launches per depth, in frame order) and the frame's `prism render --stats` JSON (rays per depth), and prints
+(each depth from its intersect launch on, in frame order) and the frame's `prism render --stats` JSON (rays per depth), and prints
 per launch: time, registers, achieved occupancy, L1 and L2 hit rates, and the bytes DRAM and L2 moved per ray."""
 import argparse
 import csv
@@ -39,10 +39,15 @@ def main():
             else v
 
     print("depth stage      rays     time_ms regs occ% L1hit% L2hit% DRAM_B/ray L2->SM_B/ray")
-    for n, launch in enumerate(launches):
+    depth = -1
+    for launch in launches:
         stage = launch[header.index("Kernel Name")].split("(")[0].replace("prism_cuda_", "")
-        depth = n // 4
-        rays = stats["shadow_rays_per_depth" if stage == "shadow" else "rays_per_depth"][depth]
+        # Each depth starts with its closest-hit launch (intersect, or intersect_mesh for a scene of one mesh);
+        # a frame may launch stages the profile's filter took in besides the four (occlude: shadow rays).
+        if stage.startswith("intersect"):
+            depth += 1
+        shadow = stage == "shadow" or stage.startswith("occlude")
+        rays = stats["shadow_rays_per_depth" if shadow else "rays_per_depth"][depth]
         seconds = value(launch, "time_us")
         dram = value(launch, "dram_read_gb") + value(launch, "dram_write_gb")
         l2 = value(launch, "l2_to_sm_tbps") * seconds
