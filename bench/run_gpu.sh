@@ -7,6 +7,8 @@
 #   PRISM_SKIP_TESTS / PRISM_SKIP_SEED_TABLE / PRISM_SKIP_BANDWIDTH=1 skip a part; PRISM_CPU_BENCH=0 skips the
 #   host-CPU table; PRISM_VULKAN_AB=1 adds Vulkan's fixed-grid and device-address variants.
 #   PRISM_VIEW_BENCH=1: also bench/view_gpu.sh (the viewer's display paths, offscreen through NVIDIA's EGL)
+#   PRISM_RAYS_SIZES="1920x1080 1920x1080 3840x2160": also issue 19's ray sets at these sizes (a size listed twice
+#   runs twice), beside tinybvh's kernel when PRISM_TINYBVH_KERNELS names a tinybvh checkout
 set -uo pipefail
 build=${PRISM_BUILD:-build-gpu}
 data=${PRISM_DATA:-.device-data/scenes}
@@ -72,6 +74,29 @@ if [ "${PRISM_SKIP_BANDWIDTH:-0}" != 1 ]; then
   step "bandwidth"
   # No --plot: the GPU machine may lack matplotlib; draw it afterwards with bench/plot_bench.py from the JSON.
   $prism bandwidth --json "$out/bandwidth-$tag.json" 2>&1 | tee "$out/bandwidth-$tag.txt"
+fi
+if [ -n "${PRISM_RAYS_SIZES:-}" ]; then
+  # Issue 19's ray sets (docs/ray-queries.md): each mesh's primary and diffuse rays through `prism rays --bench` on
+  # every GPU API, and through tinybvh's own kernel on the same rays where the build has bench/tinybvh_rays and
+  # PRISM_TINYBVH_KERNELS names the checkout's folder of traverse.cl. A size listed twice is a second round: the
+  # two tools run in turn, so a drift of the card's clocks shows as a difference between rounds, not between tools.
+  meshes=${PRISM_RAYS_MESHES:-stanford/bunny.ply stanford/dragon.ply.gz}
+  tinybvh=$build/bench/tinybvh_rays
+  declare -A round
+  for size in $PRISM_RAYS_SIZES; do
+    round[$size]=$(( ${round[$size]:-0} + 1 ))
+    width=${size%x*} height=${size#*x} r=r${round[$size]}
+    for mesh in $meshes; do
+      name=$(basename "${mesh%%.*}")
+      step "ray sets: $name at $size, round $r"
+      if [ -x "$tinybvh" ] && [ -n "${PRISM_TINYBVH_KERNELS:-}" ]; then
+        $tinybvh --scene "$data/$mesh" --kernels "$PRISM_TINYBVH_KERNELS" --width "$width" --height "$height" \
+          --json "$out/tinybvh-$name-$size-$r.json" 2>&1 | tee "$out/tinybvh-$name-$size-$r.log" | grep -v '^prism:'
+      fi
+      $prism rays --bench --scene "$data/$mesh" --backends "$backends" --width "$width" --height "$height" \
+        --json "$out/prism-$name-$size-$r.json" 2>&1 | tee "$out/prism-$name-$size-$r.log" | grep -v '^prism:'
+    done
+  done
 fi
 if [ "${PRISM_VIEW_BENCH:-0}" = 1 ]; then
   # prism view --headless (no X server there); PRISM_VIEW_* select scene, size, frames, backends.
