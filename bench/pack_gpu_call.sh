@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# Packs what one GPU call needs beside the working tree into .gpu-carry/payload.tar.xz (git-ignored): the binaries
+# stripped, the scenes the GPU tests and benchmarks read, and tinybvh's kernels when a checkout is named. A call
+# carries its tracked files, .gpu-runtime (../shared/tools/gpu/pack-runtime.sh) and this payload, 64 MiB in all:
+# the build folder and the scenes as they are do not fit, and a run without the cube map renders the builtin
+# scenes under the procedural sky (other images, three failed tests). bench/gpu_call.sh unpacks it there.
+#   bench/pack_gpu_call.sh [build folder, default build-gpu] [tinybvh checkout]
+set -euo pipefail
+build=${1:-build-gpu}
+tinybvh=${2:-}
+scenes=${PRISM_SCENES_SOURCE:-../shared/scenes}
+stage=$(mktemp -d)
+trap 'rm -rf "$stage"' EXIT
+grep -qxF "/.gpu-carry/" .git/info/exclude 2>/dev/null || echo "/.gpu-carry/" >> .git/info/exclude
+
+for binary in apps/prism tests/prism_tests bench/tinybvh_rays; do
+  [ -x "$build/$binary" ] || continue
+  # Under build-gpu/ whatever the folder here: bench/run_gpu.sh's default there.
+  mkdir -p "$stage/build-gpu/$(dirname $binary)"
+  strip -o "$stage/build-gpu/$binary" "$build/$binary"
+done
+[ -x "$stage/build-gpu/apps/prism" ] || { echo "pack_gpu_call: $build/apps/prism is not built" >&2; exit 1; }
+
+# The scenes: the seed table's meshes and cube map, the ray sets' meshes, and every scene the GPU tests load
+# (tests/test_backend_contract.cpp's Agreement cases; docs/examples/spot-lights.json reaches TwoSidedPlane).
+data=$stage/.device-data/scenes
+for path in stanford/bunny.ply stanford/dragon.ply.gz env/cubemap-miramar mcguire/conference \
+    gltf/BoxTextured gltf/GlassVaseFlowers gltf/IridescenceSuzanne gltf/MetalRoughSpheresNoTextures \
+    gltf/TransmissionTest gltf/TwoSidedPlane; do
+  mkdir -p "$data/$(dirname $path)"
+  cp -r "$scenes/$path" "$data/$path"
+done
+chmod -R u+w "$stage"
+# xz packs the plain text tighter than gzip does (the dragon 8.0 -> 5.4 MB): bench/gpu_call.sh gzips it again.
+gunzip "$data/stanford/dragon.ply.gz"
+if [ -n "$tinybvh" ]; then
+  mkdir -p "$stage/.device-data/tinybvh"
+  cp "$tinybvh"/*.cl "$stage/.device-data/tinybvh/"
+fi
+
+mkdir -p .gpu-carry
+tar -cf - -C "$stage" build-gpu .device-data | xz -9e -T2 > .gpu-carry/payload.tar.xz
+mib() { awk -v b="$1" 'BEGIN {printf "%.1f", b / 1048576}'; }
+tracked=$(git ls-files -z | xargs -0 stat -c %s | awk '{s += $1} END {print s}')
+runtime=$(find .gpu-runtime -type f -exec stat -c %s {} + 2>/dev/null | awk '{s += $1} END {print s + 0}')
+payload=$(stat -c %s .gpu-carry/payload.tar.xz)
+total=$((tracked + runtime + payload))
+echo "pack_gpu_call: payload $(mib $payload) MiB; with the tracked files ($(mib $tracked)) and .gpu-runtime" \
+  "($(mib $runtime)) a call carries $(mib $total) of 64 MiB"
+[ "$total" -lt $((64 * 1048576)) ] || { echo "pack_gpu_call: over the 64 MiB a call carries" >&2; exit 1; }
