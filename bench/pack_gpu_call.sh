@@ -11,7 +11,6 @@ tinybvh=${2:-}
 scenes=${PRISM_SCENES_SOURCE:-../shared/scenes}
 stage=$(mktemp -d)
 trap 'rm -rf "$stage"' EXIT
-grep -qxF "/.gpu-carry/" .git/info/exclude 2>/dev/null || echo "/.gpu-carry/" >> .git/info/exclude
 
 for binary in apps/prism tests/prism_tests bench/tinybvh_rays; do
   [ -x "$build/$binary" ] || continue
