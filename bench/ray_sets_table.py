@@ -5,6 +5,11 @@ tinybvh's range over its rounds against each API's, with Prism's ratio to tinybv
 tinybvh, highest over lowest), the lowest hit agreement with Embree, and issue 19's targets at 1920x1080.
 
     bench/ray_sets_table.py bench/results/h200/final-<commit>
+
+With --builds, an A/B of builds instead (bench/ab_builds.sh's LABEL-<mesh>-rN.json): each build's rounds in turn,
+per mesh, ray kind and API, and the change of the mean from the first build to each other one.
+
+    bench/ray_sets_table.py FOLDER --builds main probe
 """
 import argparse
 import glob
@@ -49,10 +54,47 @@ def api_rates(runs, api, kind):
     return rates, agreements
 
 
+def ab_table(folder, labels):
+    runs = {}  # (label, mesh) -> [json, ...] in round order
+    for label in labels:
+        pattern = re.compile(rf"^{re.escape(label)}-(.+)-r(\d+)\.json$")
+        for path in glob.glob(os.path.join(folder, f"{glob.escape(label)}-*-r*.json")):
+            match = pattern.match(os.path.basename(path))
+            if match and match.group(1) != "frames":
+                with open(path) as f:
+                    runs.setdefault((label, match.group(1)), []).append((int(match.group(2)), json.load(f)))
+    meshes = sorted({mesh for (_, mesh) in runs})
+    if not meshes:
+        sys.exit(f"ray_sets_table: {folder}: no ray sets of builds {', '.join(labels)}")
+    print(f"Mrays/s, rounds in order ({' -> '.join(labels)}); in brackets the mean's change from {labels[0]}\n")
+    print("| | CUDA | OpenCL | Vulkan |")
+    print("|---|---|---|---|")
+    lowest_agreement = 1.0
+    for mesh in meshes:
+        for kind in ("primary", "diffuse"):
+            cells = []
+            for api in APIS:
+                groups, means = [], []
+                for label in labels:
+                    ordered = [run for _, run in sorted(runs.get((label, mesh), []), key=lambda r: r[0])]
+                    rates, agreements = api_rates(ordered, api, kind)
+                    lowest_agreement = min([lowest_agreement] + agreements)
+                    groups.append(", ".join(f"{rate:.0f}" for rate in rates) or "-")
+                    means.append(sum(rates) / len(rates) if rates else None)
+                changes = [f"{(m / means[0] - 1) * 100:+.1f}%" for m in means[1:] if m and means[0]]
+                cells.append(" -> ".join(groups) + (f" ({', '.join(changes)})" if changes else ""))
+            print(f"| {mesh} {kind} | " + " | ".join(cells) + " |")
+    print(f"\nLowest hit agreement with Embree over these sets: {lowest_agreement * 100:.4f}%")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("folder")
+    parser.add_argument("--builds", nargs="+", metavar="LABEL", help="an A/B of bench/ab_builds.sh's builds")
     args = parser.parse_args()
+    if args.builds:
+        ab_table(args.folder, args.builds)
+        return
     sets = load(args.folder)
     if not sets:
         sys.exit(f"ray_sets_table: {args.folder}: no tinybvh-*.json or prism-*.json ray sets")
