@@ -79,7 +79,7 @@ def ab_table(folder, labels):
                     ordered = [run for _, run in sorted(runs.get((label, mesh), []), key=lambda r: r[0])]
                     rates, agreements = api_rates(ordered, api, kind)
                     lowest_agreement = min([lowest_agreement] + agreements)
-                    groups.append(", ".join(f"{rate:.0f}" for rate in rates) or "-")
+                    groups.append(", ".join(f"{rate:.0f}" if rate >= 100 else f"{rate:.2f}" for rate in rates) or "-")
                     means.append(sum(rates) / len(rates) if rates else None)
                 changes = [f"{(m / means[0] - 1) * 100:+.1f}%" for m in means[1:] if m and means[0]]
                 cells.append(" -> ".join(groups) + (f" ({', '.join(changes)})" if changes else ""))
