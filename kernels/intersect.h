@@ -6,9 +6,10 @@
 #include "math.h"
 #include "types.h"
 
-// The slab test's last step: the entry distance from the six plane distances, or +inf when the ray misses the
-// box within [tmin, tmax].
-RT_FUNC float rt_slab_entry(float3 t0, float3 t1, float tmin, float tmax) {
+// Entry distance of the ray into the box, or +inf when it misses [tmin, tmax].
+RT_FUNC float rt_intersect_box(float3 lower, float3 upper, float3 origin, float3 inv_dir, float tmin, float tmax) {
+    float3 t0 = (lower - origin) * inv_dir;
+    float3 t1 = (upper - origin) * inv_dir;
     float3 near3 = rt_min3v(t0, t1);
     float3 far3 = rt_max3v(t0, t1);
     float t_near = rt_max(rt_max(near3.x, near3.y), rt_max(near3.z, tmin));
@@ -16,29 +17,16 @@ RT_FUNC float rt_slab_entry(float3 t0, float3 t1, float tmin, float tmax) {
     return t_near <= t_far ? t_near : RT_INFINITY;
 }
 
-// Entry distance of the ray into the box, or +inf when it misses [tmin, tmax].
-RT_FUNC float rt_intersect_box(float3 lower, float3 upper, float3 origin, float3 inv_dir, float tmin, float tmax) {
-    return rt_slab_entry((lower - origin) * inv_dir, (upper - origin) * inv_dir, tmin, tmax);
+RT_FUNC float rt_intersect_node(BvhNode node, float3 origin, float3 inv_dir, float tmin, float tmax) {
+    return rt_intersect_box(rt_xyz(node.lower), rt_xyz(node.upper), origin, inv_dir, tmin, tmax);
 }
 
-// The stack walk's node test: the slab test with the origin's share of every plane distance taken out once per ray,
-// origin_scaled = -origin * inv_dir (rt_origin_scaled), so that a plane costs one multiply-add instead of a subtract
-// and a multiply (Aila & Laine's and tinybvh's form); the walk's node loop is the GPUs' hottest code
-// (docs/kernels.md, "The stack traversal", has what it gained). Its distances differ from rt_intersect_box's by
-// rounding. The escape walk (the seed's), the mesh root's test on entering an instance and the wide layout keep the
-// subtract form: in the two-level stages a scaled origin kept beside the world ray costs ptxas more spill.
-RT_FUNC float3 rt_origin_scaled(float3 origin, float3 inv_dir) { return -(origin * inv_dir); }
-RT_FUNC float rt_intersect_node(BvhNode node, float3 origin_scaled, float3 inv_dir, float tmin, float tmax) {
-    return rt_slab_entry(rt_xyz(node.lower) * inv_dir + origin_scaled, rt_xyz(node.upper) * inv_dir + origin_scaled,
-                         tmin, tmax);
-}
-
-// The eight children of a wide node at once: rt_intersect_box lane by lane, the same arithmetic. min/max order each
-// axis' two distances without a branch: picking the near plane by the direction's sign costs a mispredicted branch per
-// axis whenever consecutive rays point in different octants (diffuse rays: 5% slower overall). An unused lane (a box at
-// +inf on every axis) gets an entry distance of +inf or an exit of -inf; tmax must be finite (at most RT_FLT_MAX), so
-// an entry at +inf is a miss, as in the stack layout. Mask bit k: child k is entered within [tmin, tmax]; lane k of t:
-// its entry.
+// The eight children of a wide node at once: rt_intersect_box lane by lane, the same arithmetic, so a box the
+// binary layouts enter is entered here. min/max order each axis' two distances without a branch: picking the
+// near plane by the direction's sign costs a mispredicted branch per axis whenever consecutive rays point in
+// different octants (diffuse rays: 5% slower overall). An unused lane (a box at +inf on every axis) gets an
+// entry distance of +inf or an exit of -inf; tmax must be finite (at most RT_FLT_MAX), so an entry at +inf is a
+// miss, as in the stack layout. Mask bit k: child k is entered within [tmin, tmax]; lane k of t: its entry.
 RT_STRUCT_BEGIN(WideBoxHits)
     rt_float8 t;
     uint mask;

@@ -37,11 +37,6 @@ RT_FUNC TraversalRay rt_traversal_ray(float3 origin, float3 direction, float tmi
 }
 
 // The same ray in the instance's object space. t is preserved because the direction is not renormalised.
-// The ray's origin as the binary layouts' node test takes it (rt_intersect_node).
-RT_FUNC float3 rt_ray_origin_scaled(TraversalRay ray) {
-    return rt_origin_scaled(rt_xyz(ray.origin), rt_xyz(ray.inv_direction));
-}
-
 RT_FUNC TraversalRay rt_ray_to_object(Instance inst, TraversalRay world) {
     float3 o =
         rt_transform_point(inst.world_to_object0, inst.world_to_object1, inst.world_to_object2, rt_xyz(world.origin));
@@ -159,19 +154,18 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
         instance = 0u;
         root = inst.root;
     }
-    float3 scaled = rt_ray_origin_scaled(ray);
     BvhNode node = RT_FETCH(kg, nodes, root);
     uint first = rt_as_uint(node.lower.w);
     uint count = rt_as_uint(node.upper.w);
-    bool going = rt_intersect_node(node, scaled, rt_xyz(ray.inv_direction), tmin, tmax) < RT_INFINITY;
+    bool going = rt_intersect_node(node, rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin, tmax) < RT_INFINITY;
     while (going) {
         // Walk interior nodes until a leaf (or nothing) is next.
         while (count == 0u) {
             float reach = rt_hit_reach(best, tmax);
             BvhNode a = RT_FETCH(kg, nodes, first);
             BvhNode b = RT_FETCH(kg, nodes, first + 1u);
-            float t_a = rt_intersect_node(a, scaled, rt_xyz(ray.inv_direction), tmin, reach);
-            float t_b = rt_intersect_node(b, scaled, rt_xyz(ray.inv_direction), tmin, reach);
+            float t_a = rt_intersect_node(a, rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin, reach);
+            float t_b = rt_intersect_node(b, rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin, reach);
             bool a_first = t_a <= t_b;
             float t_far = rt_max(t_a, t_b);
             if (t_far < RT_INFINITY && sp < rt_uint(RT_BVH_STACK_SIZE)) {
@@ -200,16 +194,13 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
                 Instance inst = RT_FETCH(kg, instances, first);
                 TraversalRay object_ray = rt_ray_to_object(inst, world);
                 BvhNode mesh_root = RT_FETCH(kg, nodes, inst.root);
-                // The mesh root's box in the subtract form: the scaled origin is worked out only for an instance
-                // the ray enters (ptxas spills more in the two-level stages otherwise).
                 if (sp < rt_uint(RT_BVH_STACK_SIZE) &&
-                    rt_intersect_box(rt_xyz(mesh_root.lower), rt_xyz(mesh_root.upper), rt_xyz(object_ray.origin),
-                                     rt_xyz(object_ray.inv_direction), tmin, rt_hit_reach(best, tmax)) < RT_INFINITY) {
+                    rt_intersect_node(mesh_root, rt_xyz(object_ray.origin), rt_xyz(object_ray.inv_direction), tmin,
+                                      rt_hit_reach(best, tmax)) < RT_INFINITY) {
                     stack[sp].x = RT_STACK_LEAVE_INSTANCE;
                     stack[sp].y = 0u;
                     sp += 1u;
                     ray = object_ray;
-                    scaled = rt_ray_origin_scaled(ray);
                     instance = first;
                     first = rt_as_uint(mesh_root.lower.w);
                     count = rt_as_uint(mesh_root.upper.w);
@@ -227,7 +218,6 @@ RT_FUNC Hit rt_trace_stack(KernelGlobals kg, float3 origin, float3 direction, fl
             uint2 popped = stack[sp];
             if (!one_instance && popped.x == RT_STACK_LEAVE_INSTANCE) {
                 ray = world;
-                scaled = rt_ray_origin_scaled(world);
                 instance = RT_NONE;
             } else if (any_hit) {
                 first = popped.x;
@@ -270,8 +260,8 @@ RT_FUNC Hit rt_trace_escape(KernelGlobals kg, float3 origin, float3 direction, f
         BvhNode node = RT_FETCH(kg, nodes, index);
         uint escape = rt_as_uint(node.lower.w);
         uint info = rt_as_uint(node.upper.w);
-        float t = rt_intersect_box(rt_xyz(node.lower), rt_xyz(node.upper), rt_xyz(ray.origin),
-                                   rt_xyz(ray.inv_direction), tmin, rt_hit_reach(best, tmax));
+        float t =
+            rt_intersect_node(node, rt_xyz(ray.origin), rt_xyz(ray.inv_direction), tmin, rt_hit_reach(best, tmax));
         if (!(t < RT_INFINITY)) {
             index = escape;
         } else if (info == RT_ESCAPE_INTERIOR) {
