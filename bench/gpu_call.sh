@@ -4,7 +4,11 @@
 # seed tables, bandwidth, issue 19's ray sets beside tinybvh), on an H200 also one frame under Nsight Compute, and
 # leaves everything as one archive, $OUT/results.tar.gz (a call brings back at most 8 files).
 #   SIZES: the ray sets' sizes (default "1920x1080 1920x1080 3840x2160": two rounds at 1080p, one at 4K)
-#   NCU_BEFORE_S / NCU_TIMEOUT_S: profile only if the call is younger than this (default 240 s), for at most this long
+#   NCU_BEFORE_S / NCU_TIMEOUT_S: profile only if the call is younger than this (default 420 s), for at most this
+#   long (default 140 s); the run above took 5-6 minutes on an H100
+#   AB_BUILDS="LABEL=BINARY ...": afterwards bench/ab_builds.sh on these builds (bench/pack_gpu_call.sh's
+#   PRISM_PACK_BUILDS packs them as build-LABEL/apps/prism; main's is build-gpu/apps/prism), into ab/ of the archive,
+#   if the call is younger than AB_BEFORE_S (default 400 s)
 set -uo pipefail
 root=$PWD
 results=$(mktemp -d)
@@ -24,7 +28,7 @@ OUT=$results PRISM_CPU_BENCH=0 PRISM_RAYS_SIZES="${SIZES:-1920x1080 1920x1080 38
   PRISM_TINYBVH_KERNELS=.device-data/tinybvh bash bench/run_gpu.sh 2>&1 | tee "$results/run.log" |
   grep -vE '^prism: (rays|loading|building)'
 
-if [[ $gpu == *H200* ]] && [ "$(elapsed)" -lt "${NCU_BEFORE_S:-240}" ]; then
+if [[ $gpu == *H200* ]] && [ "$(elapsed)" -lt "${NCU_BEFORE_S:-420}" ]; then
   # The first four depths of the dragon's 1080p frame, every traversal, miss and shade launch
   # (bench/ncu_stage_table.py reads the raw page with the frame's --stats).
   ncu=$(command -v ncu || ls /usr/local/cuda/bin/ncu /opt/nvidia/nsight-compute/*/ncu 2>/dev/null | head -1)
@@ -37,6 +41,10 @@ if [[ $gpu == *H200* ]] && [ "$(elapsed)" -lt "${NCU_BEFORE_S:-240}" ]; then
     --out /tmp/frame.png --stats "$results/ncu/frame-stats.json" > "$results/ncu/ncu.log" 2>&1
   echo "ncu exit $?"
   [ -f /tmp/frame.ncu-rep ] && "$ncu" --import /tmp/frame.ncu-rep --page raw --csv | gzip > "$results/ncu/frame-raw.csv.gz"
+fi
+if [ -n "${AB_BUILDS:-}" ] && [ "$(elapsed)" -lt "${AB_BEFORE_S:-400}" ]; then
+  echo "== A/B of $AB_BUILDS ($(date -u +%H:%M:%S))"
+  OUT=$results/ab bash bench/ab_builds.sh $AB_BUILDS
 fi
 echo "== done after $(elapsed) s"
 tar -czf "${OUT:-$root}/results.tar.gz" -C "$results" .

@@ -5,6 +5,8 @@
 # the build folder and the scenes as they are do not fit, and a run without the cube map renders the builtin
 # scenes under the procedural sky (other images, three failed tests). bench/gpu_call.sh unpacks it there.
 #   bench/pack_gpu_call.sh [build folder, default build-gpu] [tinybvh checkout]
+#   PRISM_PACK_BUILDS="LABEL=PRISM_BINARY ...": other builds of prism for an A/B, packed as build-LABEL/apps/prism
+#   (xz finds most of a second build in the first: about 0.5 MB each); bench/gpu_call.sh's AB_BUILDS runs them.
 set -euo pipefail
 build=${1:-build-gpu}
 tinybvh=${2:-}
@@ -19,6 +21,14 @@ for binary in apps/prism tests/prism_tests bench/tinybvh_rays; do
   strip -o "$stage/build-gpu/$binary" "$build/$binary"
 done
 [ -x "$stage/build-gpu/apps/prism" ] || { echo "pack_gpu_call: $build/apps/prism is not built" >&2; exit 1; }
+folders=(build-gpu)
+for other in ${PRISM_PACK_BUILDS:-}; do
+  label=${other%%=*} binary=${other#*=}
+  [ -x "$binary" ] || { echo "pack_gpu_call: $binary (build $label) is not built" >&2; exit 1; }
+  mkdir -p "$stage/build-$label/apps"
+  strip -o "$stage/build-$label/apps/prism" "$binary"
+  folders+=("build-$label")
+done
 
 # The scenes: the seed table's meshes and cube map, the ray sets' meshes, and every scene the GPU tests load
 # (tests/test_backend_contract.cpp's Agreement cases; docs/examples/spot-lights.json reaches TwoSidedPlane).
@@ -38,12 +48,15 @@ if [ -n "$tinybvh" ]; then
 fi
 
 mkdir -p .gpu-carry
-tar -cf - -C "$stage" build-gpu .device-data | xz -9e -T2 > .gpu-carry/payload.tar.xz
+# The other builds right after main's, within xz's window of it.
+tar -cf - -C "$stage" "${folders[@]}" .device-data | xz -9e -T2 > .gpu-carry/payload.tar.xz
 mib() { awk -v b="$1" 'BEGIN {printf "%.1f", b / 1048576}'; }
 tracked=$(git ls-files -z | xargs -0 stat -c %s | awk '{s += $1} END {print s}')
 runtime=$(find .gpu-runtime -type f -exec stat -c %s {} + 2>/dev/null | awk '{s += $1} END {print s + 0}')
 payload=$(stat -c %s .gpu-carry/payload.tar.xz)
 total=$((tracked + runtime + payload))
 echo "pack_gpu_call: payload $(mib $payload) MiB; with the tracked files ($(mib $tracked)) and .gpu-runtime" \
-  "($(mib $runtime)) a call carries $(mib $total) of 64 MiB"
-[ "$total" -lt $((64 * 1048576)) ] || { echo "pack_gpu_call: over the 64 MiB a call carries" >&2; exit 1; }
+  "($(mib $runtime)) a call carries $(mib $total) MiB (at most 62)"
+# The device tool counts a call's files with more than their bytes: 63.2 MiB by this sum was refused as over 64, 62.6
+# went (2026-12-07). Hence the margin.
+[ "$total" -lt $((62 * 1048576)) ] || { echo "pack_gpu_call: over the 62 MiB a call safely carries" >&2; exit 1; }

@@ -60,9 +60,13 @@ def ab_table(folder, labels):
         pattern = re.compile(rf"^{re.escape(label)}-(.+)-r(\d+)\.json$")
         for path in glob.glob(os.path.join(folder, f"{glob.escape(label)}-*-r*.json")):
             match = pattern.match(os.path.basename(path))
-            if match and match.group(1) != "frames":
-                with open(path) as f:
-                    runs.setdefault((label, match.group(1)), []).append((int(match.group(2)), json.load(f)))
+            if not match:
+                continue
+            with open(path) as f:
+                result = json.load(f)
+            # Only ray sets: ab_builds.sh's frames (prism bench) sit beside them.
+            if any("primary" in backend for backend in result.get("backends", [])):
+                runs.setdefault((label, match.group(1)), []).append((int(match.group(2)), result))
     meshes = sorted({mesh for (_, mesh) in runs})
     if not meshes:
         sys.exit(f"ray_sets_table: {folder}: no ray sets of builds {', '.join(labels)}")
