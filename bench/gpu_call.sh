@@ -3,7 +3,10 @@
 # bench/pack_gpu_call.sh's payload, lays the scenes where the tests look for them, runs bench/run_gpu.sh (tests,
 # seed tables, bandwidth, issue 19's ray sets beside tinybvh), on an H200 also one frame under Nsight Compute, and
 # leaves everything as one archive, $OUT/results.tar.gz (a call brings back at most 8 files).
-#   SIZES: the ray sets' sizes (default "1920x1080 1920x1080 3840x2160": two rounds at 1080p, one at 4K)
+#   SIZES: the ray sets' sizes (default "1920x1080 1920x1080 3840x2160": two rounds at 1080p, one at 4K; "": none)
+#   Two calls when the payload has no room for everything (docs/results.md, "Reproducing on a GPU machine"): one
+#   packed with PRISM_PACK_TESTS=0 that measures (and runs the A/B), one packed without a tinybvh checkout, run
+#   with PRISM_SKIP_SEED_TABLE=1 PRISM_SKIP_BANDWIDTH=1 SIZES="" NCU_BEFORE_S=0, that runs the GPU tests.
 #   NCU_BEFORE_S / NCU_TIMEOUT_S: profile only if the call is younger than this (default 420 s), for at most this
 #   long (default 140 s); the run above took 5-6 minutes on an H100
 #   AB_BUILDS="LABEL=BINARY ...": afterwards bench/ab_builds.sh on these builds (bench/pack_gpu_call.sh's
@@ -24,8 +27,10 @@ mkdir -p ../shared && ln -sfn "$root/.device-data/scenes" ../shared/scenes
 gpu=$(nvidia-smi --query-gpu=name --format=csv,noheader | head -1)
 echo "unpacked in $(elapsed) s; GPU: $gpu"
 
-OUT=$results PRISM_CPU_BENCH=0 PRISM_RAYS_SIZES="${SIZES:-1920x1080 1920x1080 3840x2160}" \
-  PRISM_TINYBVH_KERNELS=.device-data/tinybvh bash bench/run_gpu.sh 2>&1 | tee "$results/run.log" |
+tinybvh_kernels=.device-data/tinybvh
+[ -d "$tinybvh_kernels" ] || tinybvh_kernels=
+OUT=$results PRISM_CPU_BENCH=0 PRISM_RAYS_SIZES="${SIZES-1920x1080 1920x1080 3840x2160}" \
+  PRISM_TINYBVH_KERNELS=$tinybvh_kernels bash bench/run_gpu.sh 2>&1 | tee "$results/run.log" |
   grep -vE '^prism: (rays|loading|building)'
 
 if [[ $gpu == *H200* ]] && [ "$(elapsed)" -lt "${NCU_BEFORE_S:-420}" ]; then

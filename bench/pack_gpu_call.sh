@@ -7,6 +7,9 @@
 #   bench/pack_gpu_call.sh [build folder, default build-gpu] [tinybvh checkout]
 #   PRISM_PACK_BUILDS="LABEL=PRISM_BINARY ...": other builds of prism for an A/B, packed as build-LABEL/apps/prism
 #   (xz finds most of a second build in the first: about 0.5 MB each); bench/gpu_call.sh's AB_BUILDS runs them.
+#   PRISM_PACK_TESTS=0: leave out the GPU tests (tests/prism_tests and the scenes only they read: 8 MB of xz), for a
+#   call that measures; bench/run_gpu.sh then skips the tests. The results the repository keeps grow the tracked
+#   files a call carries by about 1 MB a GPU session, so a call with probes soon needs the room.
 set -euo pipefail
 build=${1:-build-gpu}
 tinybvh=${2:-}
@@ -14,7 +17,11 @@ scenes=${PRISM_SCENES_SOURCE:-../shared/scenes}
 stage=$(mktemp -d)
 trap 'rm -rf "$stage"' EXIT
 
-for binary in apps/prism tests/prism_tests bench/tinybvh_rays; do
+with_tests=${PRISM_PACK_TESTS:-1}
+binaries=apps/prism
+[ -z "$tinybvh" ] || binaries="$binaries bench/tinybvh_rays"  # with its kernels only
+[ "$with_tests" = 0 ] || binaries="$binaries tests/prism_tests"
+for binary in $binaries; do
   [ -x "$build/$binary" ] || continue
   # Under build-gpu/ whatever the folder here: bench/run_gpu.sh's default there.
   mkdir -p "$stage/build-gpu/$(dirname $binary)"
@@ -33,9 +40,10 @@ done
 # The scenes: the seed table's meshes and cube map, the ray sets' meshes, and every scene the GPU tests load
 # (tests/test_backend_contract.cpp's Agreement cases; docs/examples/spot-lights.json reaches TwoSidedPlane).
 data=$stage/.device-data/scenes
-for path in stanford/bunny.ply stanford/dragon.ply.gz env/cubemap-miramar mcguire/conference \
-    gltf/BoxTextured gltf/GlassVaseFlowers gltf/IridescenceSuzanne gltf/MetalRoughSpheresNoTextures \
-    gltf/TransmissionTest gltf/TwoSidedPlane; do
+scene_paths="stanford/bunny.ply stanford/dragon.ply.gz env/cubemap-miramar"
+[ "$with_tests" = 0 ] || scene_paths="$scene_paths mcguire/conference gltf/BoxTextured gltf/GlassVaseFlowers
+    gltf/IridescenceSuzanne gltf/MetalRoughSpheresNoTextures gltf/TransmissionTest gltf/TwoSidedPlane"
+for path in $scene_paths; do
   mkdir -p "$data/$(dirname $path)"
   cp -r "$scenes/$path" "$data/$path"
 done

@@ -37,7 +37,9 @@ step info
 nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv 2>&1 | tee "$out/nvidia-smi.txt"
 $prism info | tee "$out/info-$tag.txt"
 
-if [ "${PRISM_SKIP_TESTS:-0}" != 1 ]; then
+if [ "${PRISM_SKIP_TESTS:-0}" != 1 ] && [ ! -x "$build/tests/prism_tests" ]; then
+  step "GPU tests: skipped, $build/tests/prism_tests is not here (bench/pack_gpu_call.sh with PRISM_PACK_TESTS=0)"
+elif [ "${PRISM_SKIP_TESTS:-0}" != 1 ]; then
   step "GPU tests (CUDA, OpenCL and Vulkan on the device, Embree oracle)"
   $build/tests/prism_tests --gtest_filter="${PRISM_TEST_FILTER:-*Cuda*:*cuda*:*OpenCL*:*Opencl*:*opencl*:*Vulkan*:*vulkan*}" \
     2>&1 | tee "$out/tests-$tag.log" | grep -E '^\[  (PASSED|FAILED|SKIPPED) |^\[  FAILED|tests ran'
