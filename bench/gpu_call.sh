@@ -6,7 +6,9 @@
 #   SIZES: the ray sets' sizes (default "1920x1080 1920x1080 3840x2160": two rounds at 1080p, one at 4K; "": none)
 #   Two calls when the payload has no room for everything (docs/results.md, "Reproducing on a GPU machine"): one
 #   packed with PRISM_PACK_TESTS=0 that measures (and runs the A/B), one packed without a tinybvh checkout, run
-#   with PRISM_SKIP_SEED_TABLE=1 PRISM_SKIP_BANDWIDTH=1 SIZES="" NCU_BEFORE_S=0, that runs the GPU tests.
+#   with PRISM_SKIP_SEED_TABLE=1 PRISM_SKIP_BANDWIDTH=1 SIZES="" NCU_BEFORE_S=0, that runs the GPU tests. An A/B
+#   of several builds does not fit beside the full run in one call's 10 minutes: the same settings with
+#   AB_BEFORE_S=600 and AB_BUILDS run it alone, on the measuring call's payload.
 #   NCU_BEFORE_S / NCU_TIMEOUT_S: profile only if the call is younger than this (default 420 s), for at most this
 #   long (default 140 s); the run above took 5-6 minutes on an H100
 #   AB_BUILDS="LABEL=BINARY ...": afterwards bench/ab_builds.sh on these builds (bench/pack_gpu_call.sh's
