@@ -9,7 +9,7 @@
 #   (xz finds most of a second build in the first: about 0.5 MB each); bench/gpu_call.sh's AB_BUILDS runs them.
 #   PRISM_PACK_TESTS=0: leave out the GPU tests (tests/prism_tests and the scenes only they read: 6.5 of 17.7 MiB),
 #   for a call that measures; bench/run_gpu.sh then skips the tests. The results the repository keeps grow the
-#   tracked files a call carries by about 1 MB a GPU session, so a call with probes soon needs the room.
+#   tracked files a call carries by about 1 MiB a GPU session, so a call with probes soon needs the room.
 set -euo pipefail
 build=${1:-build-gpu}
 tinybvh=${2:-}
