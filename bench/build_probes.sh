@@ -15,6 +15,10 @@ for probe in "$@"; do
   if [ ! -d "$tree" ]; then
     git -C "$root" worktree add -q --detach "$tree" HEAD
     git -C "$tree" apply "$patch"
+  elif [ "$(git -C "$tree" rev-parse HEAD)" != "$(git -C "$root" rev-parse HEAD)" ]; then
+    # A probe is HEAD plus its patch: an older worktree would measure older kernels under the probe's name.
+    echo "build_probes: $tree is not at HEAD; remove it (git worktree remove --force $tree)" >&2
+    exit 1
   fi
   cmake -S "$tree" -B "$tree/build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CUDA_ARCHITECTURES=90 \
     ${PRISM_TINYBVH_DIR:+-DPRISM_TINYBVH_DIR=$PRISM_TINYBVH_DIR} > "$tree/cmake.log"
